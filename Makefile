@@ -1,0 +1,66 @@
+# hdrc3 developer entry points. `make demo` and `make test` set everything up themselves.
+SHELL := /bin/bash
+.DEFAULT_GOAL := help
+
+PYTHON ?= $(shell command -v python3.11 || command -v python3)
+VENV := .venv
+PY := $(VENV)/bin/python
+BUILD := build
+
+# Stamps are keyed on the content of their inputs, so a no-op setup is a few hash computations.
+DEPS_HASH := $(shell cat pyproject.toml | sha256sum | cut -c1-16)
+IFACE_HASH := $(shell (echo $(DEPS_HASH); find hdrc3_interfaces -type f | LC_ALL=C sort | xargs cat) | sha256sum | cut -c1-16)
+DEPS_STAMP := $(VENV)/.stamp-deps-$(DEPS_HASH)
+IFACE_STAMP := $(VENV)/.stamp-interfaces-$(IFACE_HASH)
+
+# DDS stays on loopback unless the user widens it deliberately.
+export ROS_AUTOMATIC_DISCOVERY_RANGE ?= LOCALHOST
+
+.PHONY: help setup demo test check bench clean
+
+help:
+	@echo "make demo   - set up and run the demo mission"
+	@echo "make test   - set up and run the test suite"
+	@echo "make check  - ruff + mypy"
+	@echo "make bench  - run the benchmarks under bench/"
+	@echo "make setup  - create .venv, install ROS 2 Jazzy wheels, hdrc3 and hdrc3_interfaces"
+
+setup: $(DEPS_STAMP) $(IFACE_STAMP)
+
+$(DEPS_STAMP): pyproject.toml
+	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade 'pip>=24' 'setuptools>=68,<81' wheel
+	$(PY) -m pip install --quiet -e '.[dev,interfaces]'
+	@# ros-rosidl-parser pulls lark-parser 0.12, which owns the same `lark` module as lark 1.x:
+	@# reinstall lark 1.x last so that the module on disk is the one both sides work with.
+	$(PY) -m pip install --quiet --force-reinstall --no-deps "$$($(PY) -c 'import importlib.metadata as m; print("lark==" + m.version("lark"))')"
+	@rm -f $(VENV)/.stamp-deps-*
+	@touch $@
+
+$(IFACE_STAMP): $(DEPS_STAMP)
+	@rm -rf $(BUILD)/hdrc3_interfaces && mkdir -p $(BUILD)/hdrc3_interfaces
+	cd $(BUILD)/hdrc3_interfaces && \
+	  PATH=$(CURDIR)/$(VENV)/bin:$$PATH CMAKE_PREFIX_PATH=$(CURDIR)/$(VENV) AMENT_PREFIX_PATH=$(CURDIR)/$(VENV) \
+	  cmake $(CURDIR)/hdrc3_interfaces -DPython3_EXECUTABLE=$(CURDIR)/$(PY) \
+	    -DCMAKE_INSTALL_PREFIX=$(CURDIR)/$(VENV) -DBUILD_TESTING=OFF > cmake.log 2>&1 || { cat cmake.log; exit 1; }
+	cd $(BUILD)/hdrc3_interfaces && PATH=$(CURDIR)/$(VENV)/bin:$$PATH $(MAKE) -j2 install > make.log 2>&1 || { tail -50 make.log; exit 1; }
+	$(PY) -c "import hdrc3_interfaces.msg, hdrc3_interfaces.srv, hdrc3_interfaces.action"
+	@rm -f $(VENV)/.stamp-interfaces-*
+	@touch $@
+
+demo: setup
+	$(VENV)/bin/hdrc3 demo
+
+test: setup
+	$(PY) -m pytest -n 2 --dist loadgroup -q
+
+check: setup
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+	$(VENV)/bin/mypy
+
+bench: setup
+	@set -e; for b in bench/*.py; do echo "== $$b"; $(PY) $$b; done
+
+clean:
+	rm -rf $(BUILD) $(VENV)
