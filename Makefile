@@ -6,9 +6,11 @@ PYTHON ?= $(shell command -v python3.11 || command -v python3)
 VENV := .venv
 PY := $(VENV)/bin/python
 BUILD := build
+MYPY_PACKAGES := $(filter-out hdrc3_interfaces,$(wildcard hdrc3 hdrc3_[a-z]* sim))
 
-# Stamps are keyed on the content of their inputs, so a no-op setup is a few hash computations.
-DEPS_HASH := $(shell cat pyproject.toml | sha256sum | cut -c1-16)
+# Stamps are keyed on the content of their inputs (for pyproject.toml: the [project] and
+# [build-system] tables only), so a no-op setup is a few hash computations.
+DEPS_HASH := $(shell $(PYTHON) -c 'import hashlib, json, tomllib; d = tomllib.load(open("pyproject.toml", "rb")); print(hashlib.sha256(json.dumps([d["project"], d["build-system"]], sort_keys=True).encode()).hexdigest()[:16])')
 IFACE_HASH := $(shell (echo $(DEPS_HASH); find hdrc3_interfaces -type f | LC_ALL=C sort | xargs cat) | sha256sum | cut -c1-16)
 DEPS_STAMP := $(VENV)/.stamp-deps-$(DEPS_HASH)
 IFACE_STAMP := $(VENV)/.stamp-interfaces-$(IFACE_HASH)
@@ -27,10 +29,10 @@ help:
 
 setup: $(DEPS_STAMP) $(IFACE_STAMP)
 
-$(DEPS_STAMP): pyproject.toml
+$(DEPS_STAMP):
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade 'pip>=24' 'setuptools>=68,<81' wheel
-	$(PY) -m pip install --quiet -e '.[dev,interfaces]'
+	$(PY) -m pip install --quiet -e '.[dev,interfaces]' --config-settings editable_mode=compat
 	@# ros-rosidl-parser pulls lark-parser 0.12, which owns the same `lark` module as lark 1.x:
 	@# reinstall lark 1.x last so that the module on disk is the one both sides work with.
 	$(PY) -m pip install --quiet --force-reinstall --no-deps "$$($(PY) -c 'import importlib.metadata as m; print("lark==" + m.version("lark"))')"
@@ -57,7 +59,7 @@ test: setup
 check: setup
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
-	$(VENV)/bin/mypy
+	$(VENV)/bin/mypy $(MYPY_PACKAGES)
 
 bench: setup
 	@set -e; for b in bench/*.py; do echo "== $$b"; $(PY) $$b; done

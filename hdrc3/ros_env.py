@@ -19,6 +19,7 @@ def apply_localhost_default(environ: MutableMapping[str, str] | None = None) -> 
 
     Returns:
         The discovery range now in force.
+
     """
     env = os.environ if environ is None else environ
     return env.setdefault(DISCOVERY_RANGE_VAR, LOCALHOST)

@@ -1,0 +1,91 @@
+"""`hdrc3 launch`: start, supervise and stop the nodes of one or more agents."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+from hdrc3.errors import ConfigError
+from hdrc3.launch_plan import (
+    CATALOG,
+    LaunchOptions,
+    build_plan,
+    check_domain_id,
+    check_record_path,
+    parse_agents,
+    parse_nodes,
+    parse_speed,
+)
+from hdrc3.launcher import LauncherNode
+from hdrc3.ros_runtime import RosProcess
+
+CONFLICT_WAIT_S = 1.0
+
+
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Add the `launch` subcommand."""
+    nodes = ", ".join(kind.name for kind in CATALOG)
+    parser = subparsers.add_parser(
+        "launch",
+        help="start the hdrc3 nodes of one or more agents",
+        description=f"Start and supervise hdrc3 nodes. Known nodes: {nodes}.",
+    )
+    parser.add_argument("--agents", default="uav0", help="comma-separated agents (default uav0)")
+    parser.add_argument("--world", default="revinge", help="world to simulate (default revinge)")
+    parser.add_argument("--speed", default="1", help="real-time factor, or 'max' (default 1)")
+    parser.add_argument("--record", metavar="FILE.mcap", help="record every topic to MCAP")
+    parser.add_argument("--domain-id", type=int, help="ROS_DOMAIN_ID for every node (0..101)")
+    parser.add_argument("--nodes", help="comma-separated subset of nodes to start")
+    parser.add_argument(
+        "--ready-timeout", type=float, default=60.0, help="seconds to wait for every node"
+    )
+    parser.set_defaults(handler=run)
+
+
+def options_from(args: argparse.Namespace) -> LaunchOptions:
+    """Validate the command line into launch options (raises ConfigError)."""
+    return LaunchOptions(
+        agents=parse_agents(args.agents),
+        nodes=parse_nodes(args.nodes),
+        world=args.world,
+        speed=parse_speed(args.speed),
+        record=check_record_path(args.record),
+        domain_id=check_domain_id(args.domain_id),
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Launch, print READY when every node is up, supervise until SIGINT/SIGTERM."""
+    options = options_from(args)
+    if options.domain_id is not None:
+        os.environ["ROS_DOMAIN_ID"] = str(options.domain_id)
+    specs = build_plan(options)
+    with RosProcess() as process:
+        launcher = LauncherNode(process.context, specs)
+        process.add_node(launcher)
+        if process.spin_until(lambda: bool(launcher.conflicts()), timeout_s=CONFLICT_WAIT_S):
+            domain = os.environ.get("ROS_DOMAIN_ID", "0")
+            raise ConfigError(
+                f"ROS domain {domain} already runs {', '.join(launcher.conflicts())} "
+                "(another hdrc3 launch?); choose another --domain-id"
+            )
+        launcher.supervisor.start_all()
+        ready = process.spin_until(
+            lambda: not launcher.missing() or bool(launcher.failed()),
+            timeout_s=args.ready_timeout,
+            tick=launcher.tick,
+        )
+        code = 0
+        if ready and not launcher.failed():
+            names = ", ".join(s.node_name or s.name for s in specs)
+            print(f"READY: {len(specs)} processes up ({names})", flush=True)
+            process.spin_until_stopped(tick=launcher.tick)
+        elif not process.stop_requested.is_set():
+            problem = launcher.failed() or launcher.missing()
+            print(f"hdrc3 launch: error: not up: {', '.join(problem)}", file=sys.stderr)
+            code = 1
+        launcher.stop()
+        print("stopped", flush=True)
+        launcher.destroy_node()
+    return code

@@ -1,0 +1,171 @@
+"""What `hdrc3 launch` starts: the node catalogue and the plan built from the command line.
+
+Pure core: validates the user's choices (agents, nodes, world, speed, domain, recording) and turns
+them into :class:`~hdrc3.supervisor.ProcessSpec` values; starting them is the launcher's job.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+import re
+import sys
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from hdrc3.errors import ConfigError
+from hdrc3.supervisor import ProcessSpec
+
+_AGENT_NAME = re.compile(r"^[a-z][a-z0-9_]{0,31}$")
+MAX_DOMAIN_ID = 101  # highest id whose DDS ports are valid on Linux with default port mapping
+RECORDER = "recorder"
+
+
+class Scope(enum.Enum):
+    """Whether a node runs once per launch or once per agent (in the agent's namespace)."""
+
+    GLOBAL = "global"
+    AGENT = "agent"
+
+
+@dataclass(frozen=True, slots=True)
+class NodeKind:
+    """One node the launcher knows how to start."""
+
+    name: str
+    executable: str
+    scope: Scope
+    description: str
+    world_params: bool = False
+    """True if the node takes the launch's agents/world/speed as ROS parameters."""
+
+
+CATALOG: tuple[NodeKind, ...] = (
+    NodeKind(
+        "system_monitor",
+        "hdrc3-system-monitor",
+        Scope.GLOBAL,
+        "diagnostics: liveness, restarts, CPU and memory of every supervised node",
+    ),
+)
+ALWAYS_STARTED = frozenset({"system_monitor"})
+
+
+@dataclass(frozen=True, slots=True)
+class LaunchOptions:
+    """Validated choices of one `hdrc3 launch`."""
+
+    agents: tuple[str, ...]
+    nodes: tuple[str, ...]
+    world: str
+    speed: float
+    """Real-time factor; ``math.inf`` means as fast as possible."""
+    record: Path | None
+    domain_id: int | None
+
+
+def parse_agents(text: str) -> tuple[str, ...]:
+    """Parse ``uav0,uav1`` into agent names, rejecting malformed or duplicate names."""
+    agents = tuple(a.strip() for a in text.split(",") if a.strip())
+    if not agents:
+        raise ConfigError("no agent given (expected e.g. --agents uav0,uav1)")
+    for agent in agents:
+        if not _AGENT_NAME.match(agent):
+            raise ConfigError(
+                f"invalid agent name {agent!r}: use lower-case letters, digits and '_', "
+                "starting with a letter (it becomes the ROS namespace /<agent>)"
+            )
+    if len(set(agents)) != len(agents):
+        raise ConfigError(f"agent listed twice in {text!r}")
+    return agents
+
+
+def parse_nodes(text: str | None, catalog: Sequence[NodeKind] = CATALOG) -> tuple[str, ...]:
+    """Parse ``a,b`` into catalogue node names; None selects every node."""
+    known = [kind.name for kind in catalog]
+    if text is None:
+        return tuple(known)
+    nodes = tuple(n.strip() for n in text.split(",") if n.strip())
+    unknown = [n for n in nodes if n not in known]
+    if unknown:
+        raise ConfigError(f"unknown node {unknown[0]!r}; known nodes: {', '.join(known)}")
+    return tuple(n for n in known if n in nodes or n in ALWAYS_STARTED)
+
+
+def parse_speed(text: str) -> float:
+    """Parse a real-time factor: a positive number, or ``max``."""
+    if text.strip().lower() == "max":
+        return math.inf
+    try:
+        speed = float(text)
+    except ValueError:
+        raise ConfigError(
+            f"invalid --speed {text!r}: expected a positive number or 'max'"
+        ) from None
+    if not math.isfinite(speed) or speed <= 0:
+        raise ConfigError(f"invalid --speed {text!r}: expected a positive number or 'max'")
+    return speed
+
+
+def check_domain_id(domain_id: int | None) -> int | None:
+    """Reject ROS domain ids outside 0..101."""
+    if domain_id is not None and not 0 <= domain_id <= MAX_DOMAIN_ID:
+        raise ConfigError(f"invalid --domain-id {domain_id}: expected 0..{MAX_DOMAIN_ID}")
+    return domain_id
+
+
+def check_record_path(path: str | None) -> Path | None:
+    """Check that a recording can be created at ``path``."""
+    if path is None:
+        return None
+    out = Path(path)
+    if out.suffix != ".mcap":
+        raise ConfigError(f"recording file {out} must end in .mcap")
+    if not out.parent.resolve().is_dir():
+        raise ConfigError(f"directory {out.parent} of the recording does not exist")
+    if out.is_dir():
+        raise ConfigError(f"{out} is a directory")
+    return out
+
+
+def _executable(name: str) -> str:
+    """Console scripts live beside the running interpreter (the venv's bin directory)."""
+    candidate = Path(sys.executable).parent / name
+    return str(candidate) if candidate.exists() else name
+
+
+def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) -> list[ProcessSpec]:
+    """Turn validated options into the processes to start (the recorder last)."""
+    specs: list[ProcessSpec] = []
+    for kind in catalog:
+        if kind.name not in options.nodes:
+            continue
+        args: list[str] = ["--ros-args"]
+        if kind.world_params:
+            agents = ",".join(f"'{a}'" for a in options.agents)
+            speed = "0.0" if math.isinf(options.speed) else repr(options.speed)
+            args += ["-p", f"agents:=[{agents}]", "-p", f"world:={options.world}"]
+            args += ["-p", f"speed:={speed}"]
+        if kind.scope is Scope.GLOBAL:
+            specs.append(
+                ProcessSpec(kind.name, (_executable(kind.executable), *args), f"/{kind.name}")
+            )
+            continue
+        for agent in options.agents:
+            specs.append(
+                ProcessSpec(
+                    f"{agent}/{kind.name}",
+                    (_executable(kind.executable), *args, "-r", f"__ns:=/{agent}"),
+                    f"/{agent}/{kind.name}",
+                )
+            )
+    if options.record is not None:
+        specs.append(
+            ProcessSpec(
+                RECORDER,
+                (_executable("hdrc3"), "record", str(options.record), "--all"),
+                "/hdrc3_recorder",
+            )
+        )
+    return specs

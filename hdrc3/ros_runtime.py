@@ -1,0 +1,136 @@
+"""Running an rclpy node as a process: private context, signal handling, bounded spinning.
+
+Every hdrc3 entry point (launcher, recorder, replayer, nodes) uses :class:`RosProcess`, which
+keeps DDS on loopback by default, owns its own :class:`rclpy.context.Context` and turns SIGINT /
+SIGTERM into a stop request that the main loop honours (rclpy's own handler would tear the
+context down under the loop's feet).
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+import threading
+import time
+from collections.abc import Callable, Sequence
+from types import FrameType, TracebackType
+
+import rclpy
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
+
+from hdrc3.ros_env import apply_localhost_default
+
+
+class RosProcess:
+    """Context manager owning an rclpy context, an executor and a stop event."""
+
+    def __init__(
+        self,
+        args: Sequence[str] | None = None,
+        domain_id: int | None = None,
+        handle_signals: bool = True,
+    ) -> None:
+        """Prepare the process; ``args`` are ROS arguments such as ``--ros-args -r __ns:=/a``."""
+        self._args = list(args) if args is not None else None
+        self._domain_id = domain_id
+        self._handle_signals = handle_signals
+        self.context = Context()
+        self.executor: SingleThreadedExecutor | None = None
+        self.stop_requested = threading.Event()
+        self._previous: dict[int, object] = {}
+
+    def __enter__(self) -> RosProcess:
+        apply_localhost_default()
+        rclpy.init(
+            args=self._args,
+            context=self.context,
+            domain_id=self._domain_id,
+            signal_handler_options=SignalHandlerOptions.NO,
+        )
+        self.executor = SingleThreadedExecutor(context=self.context)
+        if self._handle_signals and threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._previous[sig] = signal.signal(sig, self._on_signal)
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        for sig, handler in self._previous.items():
+            signal.signal(sig, handler)  # type: ignore[arg-type]
+        if self.executor is not None:
+            self.executor.shutdown(timeout_sec=1.0)
+        self.context.try_shutdown()
+
+    def _on_signal(self, signum: int, frame: FrameType | None) -> None:
+        self.stop_requested.set()
+
+    def add_node(self, node: Node) -> Node:
+        """Let the executor spin ``node``."""
+        assert self.executor is not None, "use RosProcess as a context manager"
+        self.executor.add_node(node)
+        return node
+
+    def spin_once(self, timeout_s: float = 0.1) -> None:
+        """Handle at most one ready callback, waiting up to ``timeout_s``."""
+        assert self.executor is not None, "use RosProcess as a context manager"
+        self.executor.spin_once(timeout_sec=timeout_s)
+
+    def spin_until(
+        self,
+        done: Callable[[], bool],
+        timeout_s: float,
+        step_s: float = 0.05,
+        tick: Callable[[], None] | None = None,
+    ) -> bool:
+        """Spin until ``done()`` is true, a stop is requested, or the wall-clock timeout passes.
+
+        Args:
+            done: Completion predicate, checked before every spin.
+            timeout_s: Wall-clock bound.
+            step_s: Longest wait for a callback per spin.
+            tick: Called after every spin (e.g. to supervise child processes).
+
+        Returns:
+            Whether ``done()`` became true.
+
+        """
+        deadline = time.monotonic() + timeout_s
+        while not done():
+            if self.stop_requested.is_set() or time.monotonic() >= deadline:
+                return False
+            self.spin_once(step_s)
+            if tick is not None:
+                tick()
+        return True
+
+    def spin_until_stopped(
+        self, step_s: float = 0.1, tick: Callable[[], None] | None = None
+    ) -> None:
+        """Spin until SIGINT/SIGTERM (or :attr:`stop_requested` set), calling ``tick`` each pass."""
+        self.spin_until(lambda: not self.context.ok(), math.inf, step_s, tick)
+
+
+def node_names(node: Node) -> set[str]:
+    """Fully qualified names of the nodes currently visible in the graph."""
+    names = set()
+    for name, namespace in node.get_node_names_and_namespaces():
+        names.add(f"{namespace.rstrip('/')}/{name}")
+    return names
+
+
+def run_node(factory: Callable[[Context], Node], args: Sequence[str] | None = None) -> int:
+    """Entry-point body of a node process: create it, spin until a signal, clean up."""
+    with RosProcess(args=args) as process:
+        node = process.add_node(factory(process.context))
+        try:
+            process.spin_until_stopped()
+        finally:
+            node.destroy_node()
+    return 0

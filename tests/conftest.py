@@ -1,0 +1,45 @@
+"""Shared pytest fixtures: isolated ROS 2 domains and private rclpy contexts."""
+
+from __future__ import annotations
+
+import itertools
+import os
+from collections.abc import Iterator
+
+import pytest
+
+# Each xdist worker owns a disjoint block of domain ids so parallel tests never share a graph.
+_DOMAIN_BLOCK = 20
+_DOMAIN_BASE = 10
+_counter = itertools.count()
+
+
+def _worker_index() -> int:
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0")
+    return int(worker.removeprefix("gw")) if worker.startswith("gw") else 0
+
+
+@pytest.fixture
+def ros_domain(monkeypatch: pytest.MonkeyPatch) -> int:
+    """Give the test its own ROS_DOMAIN_ID and keep discovery on loopback.
+
+    Subprocesses started by the test inherit both variables.
+    """
+    domain = _DOMAIN_BASE + _worker_index() * _DOMAIN_BLOCK + next(_counter) % _DOMAIN_BLOCK
+    monkeypatch.setenv("ROS_DOMAIN_ID", str(domain))
+    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    return domain
+
+
+@pytest.fixture
+def ros_context(ros_domain: int) -> Iterator[object]:
+    """A private, initialised rclpy Context on the test's own domain; shut down afterwards."""
+    import rclpy
+    from rclpy.context import Context
+
+    context = Context()
+    rclpy.init(context=context, domain_id=ros_domain)
+    try:
+        yield context
+    finally:
+        context.try_shutdown()

@@ -1,0 +1,95 @@
+"""`hdrc3 launch` end to end: READY, diagnostics, restart on crash, clean stop, recording."""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from collections import Counter
+from pathlib import Path
+
+import pytest
+from diagnostic_msgs.msg import DiagnosticArray
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+
+from hdrc3.launcher import STATUS_QOS, STATUS_TOPIC
+from hdrc3_interfaces.msg import LaunchStatus, SupervisedProcess
+
+pytestmark = pytest.mark.ros
+
+
+def _spin_until(executor: SingleThreadedExecutor, predicate, timeout: float) -> bool:
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > deadline:
+            return False
+        executor.spin_once(timeout_sec=0.1)
+    return True
+
+
+def test_launch_records_supervises_and_stops_cleanly(hdrc3_cli, ros_context, tmp_path: Path):
+    out = tmp_path / "run.mcap"
+    launch = hdrc3_cli("launch", "--agents", "uav0", "--record", str(out))
+    launch.wait_for_line("READY", timeout=60)
+
+    node = Node("observer", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    statuses: list[LaunchStatus] = []
+    diagnostics: list[DiagnosticArray] = []
+    node.create_subscription(LaunchStatus, STATUS_TOPIC, statuses.append, STATUS_QOS)
+    node.create_subscription(DiagnosticArray, "/diagnostics", diagnostics.append, 10)
+
+    def monitor_entry(level: int):
+        for array in reversed(diagnostics):
+            for status in array.status:
+                if status.name == "hdrc3/system_monitor" and status.level == bytes([level]):
+                    return status
+        return None
+
+    assert _spin_until(executor, lambda: monitor_entry(0) is not None, 20), diagnostics[-1:]
+    pid = dict((v.key, v.value) for v in monitor_entry(0).values)["pid"]
+
+    # A crashed node is reported and restarted.
+    os.kill(int(pid), signal.SIGKILL)
+
+    def restarted() -> bool:
+        return any(
+            p.name == "system_monitor"
+            and p.restarts == 1
+            and p.state == SupervisedProcess.STATE_RUNNING
+            for s in statuses[-1:]
+            for p in s.processes
+        )
+
+    assert _spin_until(executor, restarted, 20), statuses[-1:]
+    launch.wait_for_line("system_monitor: restarted (restart 1)")
+    node.destroy_node()
+
+    begin = time.monotonic()
+    assert launch.interrupt(timeout=10) == 0
+    assert time.monotonic() - begin < 5.0
+    assert "stopped" in launch.lines
+
+    # An independent reader decodes every message with the embedded schemas.
+    counts: Counter[str] = Counter()
+    with out.open("rb") as stream:
+        for _, channel, _, decoded in make_reader(
+            stream, decoder_factories=[DecoderFactory()]
+        ).iter_decoded_messages():
+            assert decoded is not None
+            counts[channel.topic] += 1
+    assert counts["/diagnostics"] >= 1
+    assert counts[STATUS_TOPIC] >= 2
+
+
+def test_second_launch_on_the_same_domain_is_refused(hdrc3_cli):
+    first = hdrc3_cli("launch", "--agents", "uav0")
+    first.wait_for_line("READY", timeout=60)
+    second = hdrc3_cli("launch", "--agents", "uav0")
+    assert second.finish(timeout=30) == 2
+    assert any("already runs /system_monitor" in line for line in second.lines), second.lines
+    assert first.interrupt() == 0

@@ -1,0 +1,114 @@
+import math
+from pathlib import Path
+
+import pytest
+
+from hdrc3.errors import ConfigError
+from hdrc3.launch_plan import (
+    LaunchOptions,
+    NodeKind,
+    Scope,
+    build_plan,
+    check_domain_id,
+    check_record_path,
+    parse_agents,
+    parse_nodes,
+    parse_speed,
+)
+
+CATALOG = (
+    NodeKind("system_monitor", "hdrc3-system-monitor", Scope.GLOBAL, ""),
+    NodeKind("world_sim", "hdrc3-world-sim", Scope.GLOBAL, "", world_params=True),
+    NodeKind("platform_server", "hdrc3-platform-server", Scope.AGENT, ""),
+)
+
+
+@pytest.mark.parametrize(
+    ("text", "agents"),
+    [("uav0", ("uav0",)), ("uav0, uav1", ("uav0", "uav1")), ("a_1,", ("a_1",))],
+)
+def test_parse_agents(text: str, agents: tuple[str, ...]) -> None:
+    assert parse_agents(text) == agents
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("", "no agent given"),
+        ("UAV0", "invalid agent name 'UAV0'"),
+        ("uav-0", "invalid agent name"),
+        ("0uav", "invalid agent name"),
+        ("uav0,uav0", "agent listed twice"),
+    ],
+)
+def test_bad_agents(text: str, message: str) -> None:
+    with pytest.raises(ConfigError, match=message):
+        parse_agents(text)
+
+
+def test_parse_nodes_keeps_catalog_order_and_always_started_nodes() -> None:
+    assert parse_nodes("platform_server", CATALOG) == ("system_monitor", "platform_server")
+    assert parse_nodes(None, CATALOG) == ("system_monitor", "world_sim", "platform_server")
+
+
+def test_unknown_node_lists_known_ones() -> None:
+    with pytest.raises(ConfigError, match="unknown node 'pilot'; known nodes: system_monitor"):
+        parse_nodes("pilot", CATALOG)
+
+
+@pytest.mark.parametrize(("text", "speed"), [("1", 1.0), ("2.5", 2.5), ("max", math.inf)])
+def test_parse_speed(text: str, speed: float) -> None:
+    assert parse_speed(text) == speed
+
+
+@pytest.mark.parametrize("text", ["0", "-1", "fast", "nan", "inf"])
+def test_bad_speed(text: str) -> None:
+    with pytest.raises(ConfigError, match="invalid --speed"):
+        parse_speed(text)
+
+
+@pytest.mark.parametrize("domain", [-1, 102, 232])
+def test_bad_domain(domain: int) -> None:
+    with pytest.raises(ConfigError, match="invalid --domain-id"):
+        check_domain_id(domain)
+
+
+@pytest.mark.parametrize(
+    ("name", "message"),
+    [("run.bag", "must end in .mcap"), ("nodir/run.mcap", "does not exist")],
+)
+def test_bad_record_path(tmp_path: Path, name: str, message: str) -> None:
+    with pytest.raises(ConfigError, match=message):
+        check_record_path(str(tmp_path / name))
+
+
+def test_plan_namespaces_agent_nodes_and_passes_world_params(tmp_path: Path) -> None:
+    options = LaunchOptions(
+        agents=("uav0", "uav1"),
+        nodes=("system_monitor", "world_sim", "platform_server"),
+        world="revinge",
+        speed=math.inf,
+        record=tmp_path / "run.mcap",
+        domain_id=None,
+    )
+    specs = build_plan(options, CATALOG)
+    assert [s.name for s in specs] == [
+        "system_monitor",
+        "world_sim",
+        "uav0/platform_server",
+        "uav1/platform_server",
+        "recorder",
+    ]
+    assert [s.node_name for s in specs] == [
+        "/system_monitor",
+        "/world_sim",
+        "/uav0/platform_server",
+        "/uav1/platform_server",
+        "/hdrc3_recorder",
+    ]
+    world_args = specs[1].argv[1:]
+    assert "agents:=['uav0','uav1']" in world_args
+    assert "world:=revinge" in world_args
+    assert "speed:=0.0" in world_args
+    assert specs[3].argv[-2:] == ("-r", "__ns:=/uav1")
+    assert specs[4].argv[1:] == ("record", str(tmp_path / "run.mcap"), "--all")
