@@ -10,7 +10,8 @@ import pytest
 
 # Each xdist worker owns a disjoint block of domain ids so parallel tests never share a graph.
 _DOMAIN_BLOCK = 20
-_DOMAIN_BASE = 10
+# HDRC3_TEST_DOMAIN_BASE moves the whole block, so that two test runs on one machine never meet.
+_DOMAIN_BASE = int(os.environ.get("HDRC3_TEST_DOMAIN_BASE", "10"))
 _counter = itertools.count()
 
 
