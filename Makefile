@@ -33,9 +33,12 @@ $(DEPS_STAMP):
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade 'pip>=24' 'setuptools>=68,<81' wheel
 	$(PY) -m pip install --quiet -e '.[dev,interfaces]' --config-settings editable_mode=compat
-	@# ros-rosidl-parser pulls lark-parser 0.12, which owns the same `lark` module as lark 1.x:
-	@# reinstall lark 1.x last so that the module on disk is the one both sides work with.
-	$(PY) -m pip install --quiet --force-reinstall --no-deps "$$($(PY) -c 'import importlib.metadata as m; print("lark==" + m.version("lark"))')"
+	@# ros-rosidl-parser pulls lark-parser 0.12, which owns the same `lark` module as lark 1.x
+	@# and adds stale `lark-stubs` that mypy would prefer: remove it, then reinstall lark 1.x so
+	@# that the module on disk is lark 1.x (rosidl's parser works with it).
+	LARK=$$($(PY) -c 'import importlib.metadata as m; print("lark==" + m.version("lark"))') && \
+	  $(PY) -m pip uninstall --quiet --yes lark-parser && \
+	  $(PY) -m pip install --quiet --force-reinstall --no-deps "$$LARK"
 	@rm -f $(VENV)/.stamp-deps-*
 	@touch $@
 

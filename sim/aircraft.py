@@ -1,0 +1,106 @@
+"""One simulated RMAX: flight model + YACS inner loop + the safety pilot's RC transmitter."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from sim.flight_model import FlightModel, InitialPlacement, TerrainHeight, flat_terrain
+from sim.rc_transmitter import FlightModeSwitch, RcTransmitter
+from sim.rmax_params import RmaxParams
+from sim.truth_state import TruthState
+from sim.yacs import CommandSource, Yacs, YacsCommand, YacsGains, YacsInput
+
+
+@dataclass(frozen=True, slots=True)
+class YacsStatus:
+    """What the flight computer can read from the YACS/RC side (input to the Auto Switch)."""
+
+    mode: FlightModeSwitch
+    """RC mode switch position."""
+    rc_link_ok: bool
+    """True while the RC transmitter's signal is received."""
+    engine_running: bool
+    rotor_rpm: float
+    source: CommandSource
+    """Command source the YACS used in the last step."""
+
+
+class Aircraft:
+    """One ``FlightModel``, ``Yacs`` and ``RcTransmitter``; ``step()`` is one 200 Hz tick.
+
+    Typical use::
+
+        ac = Aircraft(placement=InitialPlacement(east=10.0, heading=1.57))
+        ac.rc.set_engine(True)
+        ac.rc.set_mode(FlightModeSwitch.AUTONOMOUS)
+        ac.command(YacsCommand(vertical=1.0))   # climb at 1 m/s
+        for _ in range(200):
+            ac.step()
+        state = ac.truth()
+    """
+
+    def __init__(
+        self,
+        params: RmaxParams | None = None,
+        *,
+        placement: InitialPlacement | None = None,
+        origin: tuple[float, float, float] = (58.4, 15.6, 0.0),
+        terrain_height: TerrainHeight = flat_terrain,
+        fuel: float | None = None,
+        payload: float = 0.0,
+        rate_hz: float = 200.0,
+        gains: YacsGains | None = None,
+    ) -> None:
+        """Build the aircraft on the ground, engine off, RC in manual mode (see ``FlightModel``)."""
+        self.model = FlightModel(
+            params,
+            placement=placement,
+            origin=origin,
+            terrain_height=terrain_height,
+            fuel=fuel,
+            payload=payload,
+            rate_hz=rate_hz,
+        )
+        self.yacs = Yacs(self.model.params, self.model.dt, gains)
+        self.rc = RcTransmitter()
+
+    def command(self, cmd: YacsCommand) -> None:
+        """Send a flight-computer command to the YACS (effective in AUTONOMOUS mode)."""
+        self.yacs.command(cmd)
+
+    def step(self) -> None:
+        """One tick: YACS reads the attitude sensors and the RC, then the flight model moves."""
+        m = self.model
+        rc = self.rc.state
+        meas = YacsInput(
+            roll=m.roll,
+            pitch=m.pitch,
+            p=m.p,
+            q=m.q,
+            r=m.r,
+            climb_rate=m.velocity_enu[2],
+            on_ground=m.on_ground,
+        )
+        m.set_servos(self.yacs.step(rc, meas))
+        m.engine_switch = rc.engine_on
+        m.step()
+
+    def run(self, seconds: float) -> None:
+        """Step for ``seconds`` of simulated time (rounded to whole steps)."""
+        for _ in range(round(seconds / self.model.dt)):
+            self.step()
+
+    def truth(self) -> TruthState:
+        """Exact state now."""
+        return self.model.truth()
+
+    def status(self) -> YacsStatus:
+        """RC/YACS status for the flight computer."""
+        rc = self.rc.state
+        return YacsStatus(
+            mode=rc.mode,
+            rc_link_ok=rc.link_ok,
+            engine_running=self.model.powertrain.running,
+            rotor_rpm=self.model.powertrain.omega * 60.0 / 6.283185307179586,
+            source=self.yacs.source,
+        )

@@ -1,0 +1,1 @@
+"""JSBSim aircraft definitions shipped as package data (``<name>.xml`` beside this file)."""

@@ -1,0 +1,7 @@
+"""Exceptions of the sensor models (misuse, never expected failures)."""
+
+from hdrc3.errors import ConfigError
+
+
+class SensorError(ConfigError):
+    """A sensor was configured or driven with invalid parameters."""

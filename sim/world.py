@@ -1,0 +1,191 @@
+"""The simulated world: static geometry and dynamic objects, as loaded from a world file.
+
+All coordinates are metres in the world's local ENU frame (east, north, up) relative to
+:attr:`World.origin`; heights ``up`` are relative to the origin's altitude. Angles are radians;
+headings clockwise from north. See ``sim/worlds/README.md`` for the file format and
+:mod:`sim.world_loader` for loading and validation.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from sim.geodesy import GeodeticOrigin
+from sim.terrain import Terrain
+
+Point2 = tuple[float, float]
+"""(east, north) in metres."""
+
+
+class ObjectKind(enum.Enum):
+    """Kinds of dynamic objects (mission items of chapter section 11.1)."""
+
+    PERSON = "person"
+    BOX = "box"
+    CARRIER = "carrier"
+    CAR = "car"
+
+
+class BoxContents(enum.Enum):
+    """What a supply box holds (section 11.1.2: food and medical supplies)."""
+
+    FOOD = "food"
+    MEDICINE = "medicine"
+    WATER = "water"
+
+
+class DepotKind(enum.Enum):
+    """Depot types of section 11.1.2 (Figure 37)."""
+
+    SUPPLY = "supply"
+    CARRIER = "carrier"
+
+
+@dataclass(frozen=True, slots=True)
+class Building:
+    """A building: footprint polygon extruded from ``base`` up to ``base + height``."""
+
+    name: str
+    footprint: tuple[Point2, ...]
+    height: float
+    base: float
+    """Ground elevation under the building, m (local up)."""
+
+    @property
+    def top(self) -> float:
+        """Roof elevation, m (local up)."""
+        return self.base + self.height
+
+
+@dataclass(frozen=True, slots=True)
+class Road:
+    """A road: centre polyline with a width."""
+
+    name: str
+    points: tuple[Point2, ...]
+    width: float
+
+
+@dataclass(frozen=True, slots=True)
+class Vegetation:
+    """Trees or bushes: a polygon with a canopy height above the ground."""
+
+    name: str
+    polygon: tuple[Point2, ...]
+    height: float
+
+
+@dataclass(frozen=True, slots=True)
+class NoFlyZone:
+    """A forbidden region (section 7.1.2): polygon between floor and ceiling (local up, m)."""
+
+    name: str
+    polygon: tuple[Point2, ...]
+    floor: float
+    ceiling: float
+
+
+@dataclass(frozen=True, slots=True)
+class Place:
+    """A named point of interest."""
+
+    name: str
+    east: float
+    north: float
+
+
+@dataclass(frozen=True, slots=True)
+class LandingPad:
+    """A helicopter start/landing pad (H1, H2 in Figure 33B)."""
+
+    name: str
+    east: float
+    north: float
+    radius: float
+    heading: float
+    """Preferred heading on the pad, rad clockwise from north."""
+
+
+@dataclass(frozen=True, slots=True)
+class Depot:
+    """A supply or carrier depot: a circular area where boxes or carriers are stored."""
+
+    name: str
+    kind: DepotKind
+    east: float
+    north: float
+    radius: float
+
+
+@dataclass(frozen=True, slots=True)
+class DynamicObject:
+    """A movable object: person lying on the ground, supply box, carrier or car.
+
+    Kind-specific properties are ``None`` where they do not apply: ``temperature`` (surface
+    temperature seen by the thermal camera, K) for persons and cars, ``contents`` for boxes,
+    ``capacity`` (boxes) for carriers; ``mass`` for boxes, carriers and cars.
+    """
+
+    id: str
+    kind: ObjectKind
+    east: float
+    north: float
+    heading: float
+    size: tuple[float, float, float]
+    """Length, width, height in metres (length along ``heading``)."""
+    temperature: float | None = None
+    contents: BoxContents | None = None
+    mass: float | None = None
+    capacity: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class World:
+    """A complete world: origin, terrain, static geometry, named places and dynamic objects."""
+
+    name: str
+    origin: GeodeticOrigin
+    terrain: Terrain
+    buildings: tuple[Building, ...] = ()
+    roads: tuple[Road, ...] = ()
+    vegetation: tuple[Vegetation, ...] = ()
+    no_fly_zones: tuple[NoFlyZone, ...] = ()
+    places: tuple[Place, ...] = ()
+    pads: tuple[LandingPad, ...] = ()
+    depots: tuple[Depot, ...] = ()
+    objects: tuple[DynamicObject, ...] = ()
+    description: str = ""
+    source: Path | None = field(default=None, compare=False)
+    """File the world was loaded from (None for worlds built in code)."""
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """(east_min, north_min, east_max, north_max): the terrain grid's extent."""
+        return self.terrain.bounds
+
+    def pad(self, name: str) -> LandingPad:
+        """Return the landing pad called ``name`` (KeyError if none)."""
+        for pad in self.pads:
+            if pad.name == name:
+                return pad
+        raise KeyError(name)
+
+    def place(self, name: str) -> Place:
+        """Return the named place called ``name`` (KeyError if none)."""
+        for place in self.places:
+            if place.name == name:
+                return place
+        raise KeyError(name)
+
+    def depot(self, name: str) -> Depot:
+        """Return the depot called ``name`` (KeyError if none)."""
+        for depot in self.depots:
+            if depot.name == name:
+                return depot
+        raise KeyError(name)
+
+    def objects_of(self, kind: ObjectKind) -> tuple[DynamicObject, ...]:
+        """All dynamic objects of one kind, in file order."""
+        return tuple(o for o in self.objects if o.kind is kind)

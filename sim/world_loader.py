@@ -1,0 +1,560 @@
+"""Load a world file (TOML, see ``sim/worlds/README.md``) into a validated :class:`World`.
+
+One loader for every consumer (simulator, GIS / path planner, renderer). Any syntax or semantic
+problem raises :class:`WorldError` naming ``file:line`` and the reason; all problems found in one
+pass are listed, the first one leads the message.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, replace
+from importlib import resources
+from pathlib import Path
+from typing import Any, TypeVar
+
+from hdrc3.errors import DataError
+from sim.geodesy import GeodeticOrigin
+from sim.terrain import Terrain
+from sim.world import (
+    BoxContents,
+    Building,
+    Depot,
+    DepotKind,
+    DynamicObject,
+    LandingPad,
+    NoFlyZone,
+    ObjectKind,
+    Place,
+    Point2,
+    Road,
+    Vegetation,
+    World,
+)
+from sim.world_index import LineIndex
+from sim.world_validation import validate_world
+
+_E = TypeVar("_E")
+enum_t = TypeVar("enum_t", DepotKind, ObjectKind, BoxContents)
+
+ZERO_CELSIUS = 273.15
+DEFAULT_SIZES: dict[ObjectKind, tuple[float, float, float]] = {
+    ObjectKind.PERSON: (1.8, 0.5, 0.3),
+    ObjectKind.BOX: (0.4, 0.4, 0.3),
+    ObjectKind.CARRIER: (1.2, 0.8, 0.4),
+    ObjectKind.CAR: (4.5, 1.8, 1.5),
+}
+"""Default object dimensions (length, width, height), m, when the file gives no ``size``."""
+
+_TABLE_KEYS: dict[str, frozenset[str]] = {
+    "world": frozenset({"name", "description"}),
+    "origin": frozenset({"latitude", "longitude", "altitude"}),
+    "terrain": frozenset({"east0", "north0", "spacing", "heights"}),
+}
+_ARRAY_KEYS: dict[str, frozenset[str]] = {
+    "building": frozenset({"name", "footprint", "height", "base"}),
+    "road": frozenset({"name", "points", "width"}),
+    "vegetation": frozenset({"name", "polygon", "height"}),
+    "no_fly_zone": frozenset({"name", "polygon", "floor", "ceiling"}),
+    "place": frozenset({"name", "position"}),
+    "pad": frozenset({"name", "position", "radius", "heading_deg"}),
+    "depot": frozenset({"name", "type", "position", "radius"}),
+    "object": frozenset(
+        {
+            "id",
+            "type",
+            "position",
+            "heading_deg",
+            "size",
+            "temperature_c",
+            "contents",
+            "mass",
+            "capacity",
+        }
+    ),
+}
+_REQUIRED_TABLES = ("world", "origin", "terrain")
+_TOML_POSITION = re.compile(r"\(at (?:line (\d+), column (\d+)|end of document)\)")
+
+
+@dataclass(frozen=True, slots=True)
+class WorldIssue:
+    """One problem in a world file."""
+
+    path: str
+    line: int
+    column: int | None
+    reason: str
+
+    def __str__(self) -> str:
+        """``file:line[:column]: reason``."""
+        col = f":{self.column}" if self.column is not None else ""
+        return f"{self.path}:{self.line}{col}: {self.reason}"
+
+
+class WorldError(DataError):
+    """A world file is unreadable, malformed or semantically invalid."""
+
+    def __init__(self, issues: list[WorldIssue]) -> None:
+        self.issues = tuple(issues)
+        first = self.issues[0]
+        more = f" (and {len(self.issues) - 1} more)" if len(self.issues) > 1 else ""
+        super().__init__(f"{first}{more}")
+
+    @property
+    def line(self) -> int:
+        """Line of the first issue."""
+        return self.issues[0].line
+
+    @property
+    def reason(self) -> str:
+        """Reason of the first issue."""
+        return self.issues[0].reason
+
+
+def world_path(name_or_path: str | Path) -> Path:
+    """Resolve a shipped world name (``"revinge"``) or a file path to a path."""
+    candidate = Path(name_or_path)
+    if candidate.suffix == ".toml" or candidate.exists():
+        return candidate
+    return Path(str(resources.files("sim.worlds").joinpath(f"{name_or_path}.toml")))
+
+
+def shipped_worlds() -> tuple[str, ...]:
+    """Names of the worlds shipped in ``sim/worlds``."""
+    folder = resources.files("sim.worlds")
+    return tuple(sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml")))
+
+
+def load_world(name_or_path: str | Path) -> World:
+    """Load and validate a world by shipped name or file path.
+
+    Raises:
+        WorldError: the file is missing, unreadable, or has a syntax or semantic error.
+
+    """
+    path = world_path(name_or_path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise WorldError(
+            [WorldIssue(str(path), 0, None, f"cannot read world file: {exc}")]
+        ) from exc
+    return parse_world(text, str(path), source=path)
+
+
+def parse_world(text: str, label: str, source: Path | None = None) -> World:
+    """Parse and validate world-file text; ``label`` names it in error messages."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        message = str(exc)
+        found = _TOML_POSITION.search(message)
+        if found and found.group(1):
+            line, col = int(found.group(1)), int(found.group(2))
+        else:  # "at end of document": point past the last character
+            lines = text.splitlines() or [""]
+            line, col = len(lines), len(lines[-1]) + 1
+        reason = _TOML_POSITION.sub("", message).strip()
+        raise WorldError([WorldIssue(label, line, col, f"syntax error: {reason}")]) from exc
+    reader = _Reader(label, LineIndex.of(text))
+    world = reader.world(data, source)
+    # Validation reports entries by index, which only matches the file when every entry was read.
+    if world is not None and not reader.issues:
+        reader.issues.extend(
+            WorldIssue(label, reader.index.line(table, entry, key), None, reason)
+            for table, entry, key, reason in validate_world(world)
+        )
+    if reader.issues:
+        raise WorldError(sorted(reader.issues, key=lambda i: i.line))
+    assert world is not None  # no issues implies every part was read
+    return world
+
+
+class _Skip(Exception):
+    """An entry could not be read; its issue is already recorded."""
+
+
+class _Reader:
+    """Turns parsed TOML into world dataclasses, recording issues with their lines."""
+
+    def __init__(self, label: str, index: LineIndex) -> None:
+        self.label = label
+        self.index = index
+        self.issues: list[WorldIssue] = []
+
+    def fail(self, table: str | None, entry: int, key: str | None, reason: str) -> _Skip:
+        """Record an issue; return the exception that skips the current entry."""
+        self.issues.append(WorldIssue(self.label, self.index.line(table, entry, key), None, reason))
+        return _Skip()
+
+    def world(self, data: dict[str, Any], source: Path | None) -> World | None:
+        """Read the whole document; None if a required part is unusable."""
+        for key in data:
+            if key not in _TABLE_KEYS and key not in _ARRAY_KEYS:
+                known = ", ".join(sorted([*_TABLE_KEYS, *_ARRAY_KEYS]))
+                self.fail(key, 0, None, f"unknown section '{key}' (expected one of: {known})")
+        parts: dict[str, Any] = {}
+        for table in _REQUIRED_TABLES:
+            try:
+                parts[table] = self._table(data, table)
+            except _Skip:
+                parts[table] = None
+        origin = self._guard(lambda: self._origin(parts["origin"]))
+        terrain = self._guard(lambda: self._terrain(parts["terrain"]))
+        name = self._guard(lambda: self._string(parts["world"], "world", 0, "name"))
+        description = self._guard(
+            lambda: self._string(parts["world"], "world", 0, "description", required=False)
+        )
+        objects = tuple(self._entries(data, "object", self._object))
+        world = (
+            World(
+                name=name,
+                origin=origin,
+                terrain=terrain,
+                buildings=tuple(self._entries(data, "building", self._building)),
+                roads=tuple(self._entries(data, "road", self._road)),
+                vegetation=tuple(self._entries(data, "vegetation", self._vegetation)),
+                no_fly_zones=tuple(self._entries(data, "no_fly_zone", self._no_fly_zone)),
+                places=tuple(self._entries(data, "place", self._place)),
+                pads=tuple(self._entries(data, "pad", self._pad)),
+                depots=tuple(self._entries(data, "depot", self._depot)),
+                objects=objects,
+                description=description or "",
+                source=source,
+            )
+            if origin is not None and terrain is not None and name is not None
+            else None
+        )
+        if world is not None and terrain is not None:
+            world = _with_bases(world, terrain)
+        return world
+
+    def _guard(self, read: Callable[[], _E]) -> _E | None:
+        try:
+            return read()
+        except _Skip:
+            return None
+
+    # -- structure --------------------------------------------------------------------------
+
+    def _table(self, data: dict[str, Any], table: str) -> dict[str, Any]:
+        value = data.get(table)
+        if value is None:
+            raise self.fail(None, 0, None, f"missing required section [{table}]")
+        if not isinstance(value, dict):
+            raise self.fail(None, 0, table, f"'{table}' must be a table [{table}]")
+        self._known_keys(value, table, 0, _TABLE_KEYS[table])
+        return value
+
+    def _known_keys(
+        self, value: dict[str, Any], table: str, entry: int, keys: frozenset[str]
+    ) -> None:
+        for key in value:
+            if key not in keys:
+                raise self.fail(
+                    table,
+                    entry,
+                    key,
+                    f"unknown key '{key}' in {table} (expected one of: {', '.join(sorted(keys))})",
+                )
+
+    def _entries(
+        self, data: dict[str, Any], table: str, read: Callable[[dict[str, Any], int], _E]
+    ) -> Iterator[_E]:
+        value = data.get(table, [])
+        if not isinstance(value, list):
+            self.fail(None, 0, table, f"'{table}' must be an array of tables [[{table}]]")
+            return
+        for entry, item in enumerate(value):
+            if not isinstance(item, dict):
+                self.fail(table, entry, None, f"{table} entry must be a table")
+                continue
+            try:
+                self._known_keys(item, table, entry, _ARRAY_KEYS[table])
+                yield read(item, entry)
+            except _Skip:
+                continue
+
+    # -- scalars ----------------------------------------------------------------------------
+
+    def _string(
+        self, value: dict[str, Any] | None, table: str, entry: int, key: str, required: bool = True
+    ) -> str:
+        if value is None:
+            raise _Skip()
+        raw = value.get(key)
+        if raw is None and not required:
+            return ""
+        if raw is None:
+            raise self.fail(table, entry, None, f"{table} has no {key}")
+        if not isinstance(raw, str) or (required and not raw.strip()):
+            raise self.fail(table, entry, key, f"{table} {key} must be a non-empty string")
+        return raw
+
+    def _number(
+        self,
+        value: dict[str, Any] | None,
+        table: str,
+        entry: int,
+        key: str,
+        default: float | None = None,
+        minimum: float | None = None,
+        exclusive: bool = False,
+    ) -> float:
+        if value is None:
+            raise _Skip()
+        raw = value.get(key)
+        what = f"{table} '{value['name']}'" if isinstance(value.get("name"), str) else table
+        if raw is None:
+            if default is not None:
+                return default
+            raise self.fail(table, entry, None, f"{what} has no {key}")
+        if isinstance(raw, bool) or not isinstance(raw, int | float) or not math.isfinite(raw):
+            raise self.fail(
+                table, entry, key, f"{what}: {key} must be a finite number, got {raw!r}"
+            )
+        number = float(raw)
+        if minimum is not None and (number <= minimum if exclusive else number < minimum):
+            relation = ">" if exclusive else ">="
+            raise self.fail(
+                table, entry, key, f"{what}: {key} must be {relation} {minimum}, got {raw}"
+            )
+        return number
+
+    def _points(
+        self, value: dict[str, Any], table: str, entry: int, key: str, minimum: int
+    ) -> tuple[Point2, ...]:
+        raw = value.get(key)
+        what = f"{table} '{value.get('name', value.get('id', '?'))}'"
+        if raw is None:
+            raise self.fail(table, entry, None, f"{what} has no {key}")
+        if not isinstance(raw, list) or not all(_is_point(p) for p in raw):
+            raise self.fail(
+                table, entry, key, f"{what}: {key} must be a list of [east, north] pairs"
+            )
+        if len(raw) < minimum:
+            raise self.fail(
+                table, entry, key, f"{what}: {key} needs at least {minimum} points, got {len(raw)}"
+            )
+        return tuple((float(p[0]), float(p[1])) for p in raw)
+
+    def _point(self, value: dict[str, Any], table: str, entry: int) -> Point2:
+        raw = value.get("position")
+        if raw is None:
+            raise self.fail(table, entry, None, f"{table} has no position")
+        if not _is_point(raw):
+            raise self.fail(table, entry, "position", f"{table} position must be [east, north]")
+        return float(raw[0]), float(raw[1])
+
+    def _enum(
+        self, value: dict[str, Any], table: str, entry: int, key: str, kind: type[enum_t]
+    ) -> enum_t:
+        raw = value.get(key)
+        if raw is None:
+            raise self.fail(table, entry, None, f"{table} has no {key}")
+        options = ", ".join(m.value for m in kind)
+        try:
+            return kind(raw)
+        except ValueError:
+            raise self.fail(
+                table, entry, key, f"unknown {table} {key} {raw!r} (expected one of: {options})"
+            ) from None
+
+    # -- sections ---------------------------------------------------------------------------
+
+    def _origin(self, value: dict[str, Any] | None) -> GeodeticOrigin:
+        lat = self._number(value, "origin", 0, "latitude")
+        lon = self._number(value, "origin", 0, "longitude")
+        alt = self._number(value, "origin", 0, "altitude")
+        try:
+            return GeodeticOrigin(lat, lon, alt)
+        except ValueError as exc:
+            key = "latitude" if "latitude" in str(exc) else "longitude"
+            key = "altitude" if "altitude" in str(exc) else key
+            raise self.fail("origin", 0, key, f"origin out of range: {exc}") from None
+
+    def _terrain(self, value: dict[str, Any] | None) -> Terrain:
+        east0 = self._number(value, "terrain", 0, "east0")
+        north0 = self._number(value, "terrain", 0, "north0")
+        spacing = self._number(value, "terrain", 0, "spacing", minimum=0.0, exclusive=True)
+        assert value is not None  # _number skipped otherwise
+        heights = value.get("heights")
+        if not isinstance(heights, list) or not all(
+            isinstance(r, list) and all(_is_number(h) for h in r) for r in heights
+        ):
+            raise self.fail(
+                "terrain", 0, "heights", "terrain heights must be a list of rows of numbers"
+            )
+        try:
+            grid = tuple(tuple(float(h) for h in row) for row in heights)
+            return Terrain(east0, north0, spacing, grid)
+        except ValueError as exc:
+            raise self.fail("terrain", 0, "heights", f"bad terrain grid: {exc}") from None
+
+    def _building(self, value: dict[str, Any], entry: int) -> Building:
+        name = self._string(value, "building", entry, "name")
+        footprint = self._points(value, "building", entry, "footprint", 3)
+        height = self._number(value, "building", entry, "height", minimum=0.0, exclusive=True)
+        base = (
+            self._number(value, "building", entry, "base", default=math.nan)
+            if "base" in value
+            else math.nan
+        )
+        return Building(name, footprint, height, base)
+
+    def _road(self, value: dict[str, Any], entry: int) -> Road:
+        name = self._string(value, "road", entry, "name")
+        points = self._points(value, "road", entry, "points", 2)
+        width = self._number(value, "road", entry, "width", minimum=0.0, exclusive=True)
+        return Road(name, points, width)
+
+    def _vegetation(self, value: dict[str, Any], entry: int) -> Vegetation:
+        name = self._string(value, "vegetation", entry, "name")
+        polygon = self._points(value, "vegetation", entry, "polygon", 3)
+        height = self._number(value, "vegetation", entry, "height", minimum=0.0, exclusive=True)
+        return Vegetation(name, polygon, height)
+
+    def _no_fly_zone(self, value: dict[str, Any], entry: int) -> NoFlyZone:
+        name = self._string(value, "no_fly_zone", entry, "name")
+        polygon = self._points(value, "no_fly_zone", entry, "polygon", 3)
+        floor = self._number(value, "no_fly_zone", entry, "floor")
+        ceiling = self._number(value, "no_fly_zone", entry, "ceiling")
+        if ceiling <= floor:
+            raise self.fail(
+                "no_fly_zone",
+                entry,
+                "ceiling",
+                f"no_fly_zone '{name}': ceiling {ceiling} must be above floor {floor}",
+            )
+        return NoFlyZone(name, polygon, floor, ceiling)
+
+    def _place(self, value: dict[str, Any], entry: int) -> Place:
+        name = self._string(value, "place", entry, "name")
+        east, north = self._point(value, "place", entry)
+        return Place(name, east, north)
+
+    def _pad(self, value: dict[str, Any], entry: int) -> LandingPad:
+        name = self._string(value, "pad", entry, "name")
+        east, north = self._point(value, "pad", entry)
+        radius = self._number(value, "pad", entry, "radius", minimum=0.0, exclusive=True)
+        heading = self._number(value, "pad", entry, "heading_deg", default=0.0)
+        return LandingPad(name, east, north, radius, math.radians(heading) % math.tau)
+
+    def _depot(self, value: dict[str, Any], entry: int) -> Depot:
+        name = self._string(value, "depot", entry, "name")
+        kind = self._enum(value, "depot", entry, "type", DepotKind)
+        east, north = self._point(value, "depot", entry)
+        radius = self._number(value, "depot", entry, "radius", minimum=0.0, exclusive=True)
+        return Depot(name, kind, east, north, radius)
+
+    def _object(self, value: dict[str, Any], entry: int) -> DynamicObject:
+        ident = self._string(value, "object", entry, "id")
+        kind = self._enum(value, "object", entry, "type", ObjectKind)
+        east, north = self._point(value, "object", entry)
+        heading = math.radians(self._number(value, "object", entry, "heading_deg", default=0.0))
+        size = DEFAULT_SIZES[kind]
+        if "size" in value:
+            raw = value["size"]
+            if not (
+                isinstance(raw, list)
+                and len(raw) == 3
+                and all(_is_number(v) and v > 0 for v in raw)
+            ):
+                raise self.fail(
+                    "object",
+                    entry,
+                    "size",
+                    f"object '{ident}': size must be [length, width, height] > 0",
+                )
+            size = (float(raw[0]), float(raw[1]), float(raw[2]))
+        allowed = _KIND_KEYS[kind]
+        for key in ("temperature_c", "contents", "mass", "capacity"):
+            if key in value and key not in allowed:
+                raise self.fail(
+                    "object",
+                    entry,
+                    key,
+                    f"object '{ident}': {key} does not apply to a {kind.value}",
+                )
+            if key not in value and key in _KIND_REQUIRED[kind]:
+                raise self.fail("object", entry, None, f"{kind.value} '{ident}' has no {key}")
+        temperature = (
+            self._number(value, "object", entry, "temperature_c", minimum=-ZERO_CELSIUS)
+            + ZERO_CELSIUS
+            if "temperature_c" in value
+            else None
+        )
+        contents = (
+            self._enum(value, "object", entry, "contents", BoxContents)
+            if "contents" in value
+            else None
+        )
+        mass = (
+            self._number(value, "object", entry, "mass", minimum=0.0, exclusive=True)
+            if "mass" in value
+            else None
+        )
+        capacity = None
+        if "capacity" in value:
+            raw_capacity = value["capacity"]
+            if (
+                isinstance(raw_capacity, bool)
+                or not isinstance(raw_capacity, int)
+                or raw_capacity < 1
+            ):
+                raise self.fail(
+                    "object",
+                    entry,
+                    "capacity",
+                    f"object '{ident}': capacity must be an integer >= 1",
+                )
+            capacity = raw_capacity
+        return DynamicObject(
+            ident,
+            kind,
+            east,
+            north,
+            heading % math.tau,
+            size,
+            temperature,
+            contents,
+            mass,
+            capacity,
+        )
+
+
+_KIND_KEYS: dict[ObjectKind, frozenset[str]] = {
+    ObjectKind.PERSON: frozenset({"temperature_c"}),
+    ObjectKind.BOX: frozenset({"contents", "mass"}),
+    ObjectKind.CARRIER: frozenset({"capacity", "mass"}),
+    ObjectKind.CAR: frozenset({"temperature_c", "mass"}),
+}
+_KIND_REQUIRED: dict[ObjectKind, frozenset[str]] = {
+    ObjectKind.PERSON: frozenset({"temperature_c"}),
+    ObjectKind.BOX: frozenset({"contents", "mass"}),
+    ObjectKind.CARRIER: frozenset({"capacity", "mass"}),
+    ObjectKind.CAR: frozenset(),
+}
+
+
+def _is_number(raw: object) -> bool:
+    return isinstance(raw, int | float) and not isinstance(raw, bool) and math.isfinite(raw)
+
+
+def _is_point(raw: object) -> bool:
+    return isinstance(raw, list) and len(raw) == 2 and all(_is_number(v) for v in raw)
+
+
+def _with_bases(world: World, terrain: Terrain) -> World:
+    """Fill in missing building bases with the lowest terrain height under the footprint."""
+    buildings = tuple(
+        b
+        if math.isfinite(b.base)
+        else replace(b, base=min(terrain.height(e, n) for e, n in b.footprint))
+        for b in world.buildings
+    )
+    return replace(world, buildings=buildings)

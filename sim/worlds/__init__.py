@@ -1,0 +1,1 @@
+"""Shipped world files (``<name>.toml``); see README.md in this directory for the format."""

@@ -1,0 +1,259 @@
+"""World file loading: the shipped revinge world and table-driven bad worlds with file:line."""
+
+from __future__ import annotations
+
+import math
+import random
+from pathlib import Path
+
+import pytest
+
+from sim.geodesy import enu_to_geodetic
+from sim.world import BoxContents, DepotKind, ObjectKind
+from sim.world_loader import WorldError, load_world, parse_world, shipped_worlds
+
+BASE = """\
+[world]
+name = "test"
+
+[origin]
+latitude = 55.7
+longitude = 13.47
+altitude = 95.0
+
+[terrain]
+east0 = -100.0
+north0 = -100.0
+spacing = 100.0
+heights = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]
+"""
+
+BUILDING = """
+[[building]]
+name = "B1"
+footprint = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]
+height = 8.0
+"""
+
+# Each bad world marks the offending line with "# <-- error".
+BAD_WORLDS = {
+    "syntax": (BASE + "[[building]]\nname = = 'x'  # <-- error\n", "syntax error"),
+    "building without height": (
+        BASE + '[[building]]  # <-- error\nname = "B1"\nfootprint = [[0,0],[1,0],[1,1]]\n',
+        "building 'B1' has no height",
+    ),
+    "building height zero": (
+        BASE + BUILDING.replace("height = 8.0", "height = 0.0  # <-- error"),
+        "height must be > 0.0",
+    ),
+    "height not a number": (
+        BASE + BUILDING.replace("height = 8.0", 'height = "tall"  # <-- error'),
+        "height must be a finite number",
+    ),
+    "footprint two vertices": (
+        BASE + '[[building]]\nname = "B1"\nfootprint = [[0,0],[1,0]]  # <-- error\nheight = 3.0\n',
+        "at least 3 points",
+    ),
+    "self-intersecting footprint": (
+        BASE
+        + '[[building]]\nname = "B1"\n'
+        + "footprint = [[0,0],[10,10],[10,0],[0,10]]  # <-- error\nheight = 3.0\n",
+        "Self-intersection",
+    ),
+    "overlapping pads": (
+        BASE
+        + '[[pad]]\nname = "H1"\nposition = [-50.0, -50.0]\nradius = 5.0\n'
+        + '[[pad]]\nname = "H2"\nposition = [-42.0, -50.0]  # <-- error\nradius = 5.0\n',
+        "pad 'H2' overlaps pad 'H1'",
+    ),
+    "pad inside building": (
+        BASE
+        + BUILDING
+        + '[[pad]]\nname = "H1"\nposition = [5.0, 5.0]  # <-- error\nradius = 3.0\n',
+        "pad 'H1' overlaps building 'B1'",
+    ),
+    "unknown object type": (
+        BASE + '[[object]]\nid = "t1"\ntype = "tank"  # <-- error\nposition = [1.0, 2.0]\n',
+        "unknown object type 'tank'",
+    ),
+    "object inside building": (
+        BASE
+        + BUILDING
+        + '[[object]]\nid = "p1"\ntype = "person"\nposition = [2.0, 3.0]  # <-- error\n'
+        + "temperature_c = 33.0\n",
+        "person 'p1' is inside building 'B1'",
+    ),
+    "person without temperature": (
+        BASE + '[[object]]  # <-- error\nid = "p1"\ntype = "person"\nposition = [-20.0, 3.0]\n',
+        "person 'p1' has no temperature_c",
+    ),
+    "box contents": (
+        BASE
+        + '[[object]]\nid = "b1"\ntype = "box"\nposition = [-20.0, 3.0]\n'
+        + 'contents = "gold"  # <-- error\nmass = 5.0\n',
+        "unknown object contents 'gold'",
+    ),
+    "property of another kind": (
+        BASE
+        + '[[object]]\nid = "c1"\ntype = "car"\nposition = [-20.0, 3.0]\n'
+        + "capacity = 4  # <-- error\n",
+        "capacity does not apply to a car",
+    ),
+    "duplicate names": (
+        BASE + BUILDING + '[[place]]\nname = "B1"  # <-- error\nposition = [-50.0, -50.0]\n',
+        "duplicate name 'B1'",
+    ),
+    "origin out of range": (
+        BASE.replace("latitude = 55.7", "latitude = 95.0  # <-- error"),
+        "origin out of range",
+    ),
+    "unknown key": (
+        BASE + BUILDING.replace("height = 8.0", "heigth = 8.0  # <-- error"),
+        "unknown key 'heigth' in building",
+    ),
+    "unknown section": (BASE + "[[tree]]  # <-- error\nname = 'x'\n", "unknown section 'tree'"),
+    "missing section": (
+        BASE.split("[terrain]")[0].replace("[world]", "[world]  # <-- error", 1),
+        "missing required section [terrain]",
+    ),
+    "no-fly ceiling below floor": (
+        BASE
+        + '[[no_fly_zone]]\nname = "z"\npolygon = [[0,0],[5,0],[5,5]]\nfloor = 50.0\n'
+        + "ceiling = 10.0  # <-- error\n",
+        "ceiling 10.0 must be above floor 50.0",
+    ),
+    "outside terrain": (
+        BASE + '[[place]]\nname = "far"\nposition = [500.0, 0.0]  # <-- error\n',
+        "outside the terrain grid",
+    ),
+    "ragged terrain": (
+        BASE.replace(
+            "heights = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]",
+            "heights = [[0.0, 0.0], [0.0, 1.0, 0.0]]  # <-- error",
+        ),
+        "rectangular grid",
+    ),
+    "unknown depot type": (
+        BASE + '[[depot]]\nname = "d"\ntype = "fuel"  # <-- error\nposition = [0.0, -50.0]\n'
+        "radius = 5.0\n",
+        "unknown depot type 'fuel'",
+    ),
+}
+
+
+def _marked_line(text: str) -> int:
+    lines = text.splitlines()
+    return next(i for i, line in enumerate(lines, start=1) if "# <-- error" in line)
+
+
+@pytest.mark.parametrize("case", sorted(BAD_WORLDS))
+def test_bad_world_is_rejected_with_line_and_reason(case: str, tmp_path: Path) -> None:
+    text, reason = BAD_WORLDS[case]
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(WorldError) as caught:
+        load_world(path)
+    error = caught.value
+    assert error.line == _marked_line(text), str(error)
+    assert reason in error.reason, str(error)
+    assert str(error).startswith(f"{path}:{error.line}:")
+
+
+def test_syntax_error_has_column(tmp_path: Path) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text(BASE + "x = [1, 2\n")
+    with pytest.raises(WorldError) as caught:
+        load_world(path)
+    assert caught.value.issues[0].column is not None
+
+
+def test_all_issues_are_listed_in_line_order() -> None:
+    text = BASE + BUILDING.replace("height = 8.0", "height = -1.0") + '[[object]]\nid = "x"\n'
+    with pytest.raises(WorldError) as caught:
+        parse_world(text, "mem.toml")
+    lines = [i.line for i in caught.value.issues]
+    assert len(lines) == 2 and lines == sorted(lines)
+    assert "(and 1 more)" in str(caught.value)
+
+
+def test_missing_file_is_a_world_error(tmp_path: Path) -> None:
+    with pytest.raises(WorldError, match="cannot read"):
+        load_world(tmp_path / "nope.toml")
+
+
+def test_minimal_world_loads_with_defaults() -> None:
+    world = parse_world(BASE + BUILDING, "mem.toml")
+    (building,) = world.buildings
+    # Lowest terrain under the footprint: the hill (1 m at 0,0) is 0.81 m high at (10, 10).
+    assert building.base == pytest.approx(0.81)
+    assert building.top == pytest.approx(8.81)
+    assert world.description == ""
+
+
+def test_revinge_is_shipped_and_meets_the_brief() -> None:
+    assert "revinge" in shipped_worlds()
+    world = load_world("revinge")
+    assert world.name == "revinge"
+    assert abs(world.origin.latitude - 55.70) < 0.02 and abs(world.origin.longitude - 13.47) < 0.02
+    assert 20 <= len(world.buildings) <= 40
+    assert all(3.0 <= b.height <= 15.0 for b in world.buildings)
+    e0, n0, e1, n1 = world.bounds
+    assert e1 - e0 == pytest.approx(600.0, rel=0.1) and n1 - n0 == pytest.approx(400.0, rel=0.1)
+    assert {p.name for p in world.pads} >= {"H1", "H2"}
+    assert {d.kind for d in world.depots} == {DepotKind.SUPPLY, DepotKind.CARRIER}
+    assert len(world.roads) >= 3 and world.vegetation and world.no_fly_zones and world.places
+    persons = world.objects_of(ObjectKind.PERSON)
+    assert len(persons) == 11 and all(p.temperature is not None for p in persons)
+    boxes = world.objects_of(ObjectKind.BOX)
+    assert {b.contents for b in boxes} >= {BoxContents.FOOD, BoxContents.MEDICINE}
+    supply = next(d for d in world.depots if d.kind is DepotKind.SUPPLY)
+    assert all(
+        math.hypot(b.east - supply.east, b.north - supply.north) < supply.radius for b in boxes
+    )
+    assert world.objects_of(ObjectKind.CARRIER) and world.objects_of(ObjectKind.CAR)
+
+
+def test_revinge_extent_in_wgs84() -> None:
+    world = load_world("revinge")
+    e0, n0, e1, n1 = world.bounds
+    sw = enu_to_geodetic(world.origin, e0, n0, 0.0)
+    ne = enu_to_geodetic(world.origin, e1, n1, 0.0)
+    # 600 m east at 55.7 N is about 0.0096 deg of longitude; 400 m north about 0.0036 deg.
+    assert ne.longitude - sw.longitude == pytest.approx(
+        600.0 / (111_320.0 * math.cos(math.radians(55.7))), rel=0.01
+    )
+    assert ne.latitude - sw.latitude == pytest.approx(400.0 / 111_200.0, rel=0.01)
+
+
+def test_readme_example_is_a_valid_world() -> None:
+    readme = Path(__file__).parents[3] / "sim" / "worlds" / "README.md"
+    example = readme.read_text().split("```toml\n")[1].split("```")[0]
+    world = parse_world(example, "README.md")
+    assert world.name == "tiny" and world.objects[0].temperature == pytest.approx(306.65)
+
+
+def test_mutated_worlds_never_crash_the_loader() -> None:
+    # Deterministic mutations of the shipped file: deleted, duplicated and corrupted lines must
+    # load or raise WorldError, never anything else.
+    lines = (Path(__file__).parents[3] / "sim" / "worlds" / "revinge.toml").read_text().splitlines()
+    rng = random.Random(0)
+    outcomes = {"ok": 0, "error": 0}
+    for _ in range(150):
+        mutated = list(lines)
+        k = rng.randrange(len(mutated))
+        op = rng.randrange(3)
+        if op == 0:
+            del mutated[k]
+        elif op == 1:
+            mutated.insert(k, rng.choice(mutated))
+        else:
+            old = rng.choice(["1", ".", '"', "[", "]", "=", "0"])
+            new = rng.choice(["", "-", "[]", '"x"', "true", "1e999", "nan"])
+            mutated[k] = mutated[k].replace(old, new, 1)
+        try:
+            parse_world("\n".join(mutated), "fuzz.toml")
+            outcomes["ok"] += 1
+        except WorldError as exc:
+            assert exc.issues and all(i.line >= 1 for i in exc.issues)
+            outcomes["error"] += 1
+    assert outcomes["ok"] > 0 and outcomes["error"] > 0
