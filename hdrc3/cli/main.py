@@ -22,6 +22,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "hdrc3.cli.replay",
     "hdrc3.cli.doctor",
     "hdrc3.cli.demo",
+    "hdrc3.cli.hcsm",
     "hdrc3.cli.world",
     "hdrc3.cli.plan",
     "hdrc3.cli.monitor",
