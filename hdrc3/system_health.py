@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import psutil
 
-from hdrc3.supervisor import ProcessState
+from hdrc3.supervisor import ProcessState, ProcessStatus
 
 
 class HealthLevel(enum.IntEnum):
@@ -20,18 +20,6 @@ class HealthLevel(enum.IntEnum):
     WARN = 1
     ERROR = 2
     STALE = 3
-
-
-@dataclass(frozen=True, slots=True)
-class ProcessReport:
-    """What the launcher says about one supervised process."""
-
-    name: str
-    node_name: str
-    pid: int
-    state: ProcessState
-    restarts: int
-    last_exit_code: int
 
 
 @dataclass(frozen=True, slots=True)
@@ -53,7 +41,7 @@ class HealthReport:
 
 
 def assess(
-    process: ProcessReport, node_visible: bool, resources: ResourceSample | None
+    process: ProcessStatus, node_visible: bool, resources: ResourceSample | None
 ) -> HealthReport:
     """Judge one process from its supervision state, graph presence and resource use."""
     if process.state is ProcessState.FAILED:

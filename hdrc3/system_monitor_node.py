@@ -10,8 +10,8 @@ from rclpy.node import Node
 
 from hdrc3.launcher import STATUS_QOS, STATUS_TOPIC
 from hdrc3.ros_runtime import node_names, run_node
-from hdrc3.supervisor import ProcessState
-from hdrc3.system_health import HealthLevel, ProcessReport, ResourceProbe, assess
+from hdrc3.supervisor import ProcessState, ProcessStatus
+from hdrc3.system_health import HealthLevel, ResourceProbe, assess
 from hdrc3_interfaces.msg import LaunchStatus
 
 PUBLISH_PERIOD_S = 1.0
@@ -52,7 +52,7 @@ class SystemMonitorNode(Node):
             self._probe.forget_except(pids)
             for proc in self._latest.processes:
                 report = assess(
-                    ProcessReport(
+                    ProcessStatus(
                         proc.name,
                         proc.node_name,
                         proc.pid,

@@ -2,12 +2,12 @@ import os
 
 import pytest
 
-from hdrc3.supervisor import ProcessState
-from hdrc3.system_health import HealthLevel, ProcessReport, ResourceProbe, ResourceSample, assess
+from hdrc3.supervisor import ProcessState, ProcessStatus
+from hdrc3.system_health import HealthLevel, ResourceProbe, ResourceSample, assess
 
 
-def _report(state: ProcessState, restarts: int = 0, node: str = "/n") -> ProcessReport:
-    return ProcessReport("n", node, 42, state, restarts, 7)
+def _report(state: ProcessState, restarts: int = 0, node: str = "/n") -> ProcessStatus:
+    return ProcessStatus("n", node, 42, state, restarts, 7)
 
 
 @pytest.mark.parametrize(
