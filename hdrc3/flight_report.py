@@ -1,0 +1,236 @@
+"""Flight report from a recording: track, speed profile, events, tracking error, and a PNG.
+
+Reads the Data Interface (`<agent>/helicopter_state`) and the platform events
+(`<agent>/platform_events`) out of an MCAP recording, compares the flown track with the planned
+path, and draws track, speed and event timeline with matplotlib.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pymap3d
+from numpy.typing import NDArray
+from rclpy.serialization import deserialize_message
+
+from hdrc3.errors import DataError
+from hdrc3.mcap_recording import RecordingReader
+from hdrc3.message_types import message_class
+from hdrc3_control.path_segment import PathSegment
+
+_EVENT_KINDS = {0: "FINISHED", 1: "FAILED", 2: "CANCELLED", 3: "SEGMENT_REQUEST", 4: "INFO"}
+
+
+@dataclass(frozen=True, slots=True)
+class TrackPoint:
+    """One Data Interface sample in the local ENU frame."""
+
+    time: float
+    """Seconds since the first sample."""
+    east: float
+    north: float
+    up: float
+    speed: float
+    """Horizontal speed, m/s."""
+    on_ground: bool
+    auto: bool
+
+
+@dataclass(frozen=True, slots=True)
+class EventMark:
+    """One platform event on the timeline."""
+
+    time: float
+    command: str
+    kind: str
+    reason: str
+
+
+@dataclass
+class FlightReport:
+    """What happened in one agent's flight."""
+
+    agent: str
+    track: list[TrackPoint] = field(default_factory=list)
+    events: list[EventMark] = field(default_factory=list)
+    cross_track: list[float] = field(default_factory=list)
+    """Distance of each in-path sample to the planned path, m."""
+
+    @property
+    def distance(self) -> float:
+        """Distance flown along the track, m (3D)."""
+        return float(
+            sum(
+                math.dist((a.east, a.north, a.up), (b.east, b.north, b.up))
+                for a, b in zip(self.track, self.track[1:], strict=False)
+            )
+        )
+
+    @property
+    def max_speed(self) -> float:
+        """Largest horizontal speed, m/s."""
+        return max((p.speed for p in self.track), default=0.0)
+
+    @property
+    def duration(self) -> float:
+        """Time from the first to the last sample, s."""
+        return self.track[-1].time - self.track[0].time if self.track else 0.0
+
+    def cross_track_rms(self) -> float:
+        """RMS distance to the planned path while flying it, m (nan without a plan)."""
+        if not self.cross_track:
+            return math.nan
+        return float(math.sqrt(sum(e * e for e in self.cross_track) / len(self.cross_track)))
+
+    def summary(self) -> list[str]:
+        """One screen of text."""
+        lines = [
+            f"agent {self.agent}: {len(self.track)} state samples over {self.duration:.1f} s",
+            f"  distance flown      {self.distance:8.1f} m",
+            f"  max speed           {self.max_speed:8.1f} m/s",
+        ]
+        if self.cross_track:
+            lines.append(
+                f"  tracking error      {self.cross_track_rms():8.2f} m RMS, "
+                f"{max(self.cross_track):.2f} m max (on the survey path)"
+            )
+        lines.append(f"  events              {len(self.events)}")
+        for event in self.events:
+            if event.kind == "SEGMENT_REQUEST":
+                continue
+            reason = f" ({event.reason})" if event.reason else ""
+            lines.append(f"    {event.time:7.1f} s  {event.command:<22} {event.kind}{reason}")
+        requests = sum(1 for e in self.events if e.kind == "SEGMENT_REQUEST")
+        lines.append(f"    + {requests} segment requests")
+        return lines
+
+
+def _to_enu(
+    origin: tuple[float, float, float], lat: float, lon: float, alt: float
+) -> NDArray[np.float64]:
+    e, n, u = pymap3d.geodetic2enu(lat, lon, alt, *origin)
+    return np.array([e, n, u])
+
+
+def _sample_plan(plan: Sequence[PathSegment], step: float = 0.5) -> NDArray[np.float64]:
+    points = []
+    for segment in plan:
+        count = max(2, int(segment.arc_length() / step))
+        points += [segment.position(s) for s in np.linspace(0.0, 1.0, count)]
+    return np.array(points)
+
+
+def build_report(
+    recording: Path,
+    agent: str,
+    origin: tuple[float, float, float],
+    plan: Sequence[PathSegment] = (),
+    plan_window: tuple[float, float] | None = None,
+) -> FlightReport:
+    """Read one agent's flight out of a recording.
+
+    Args:
+        recording: MCAP file written by `hdrc3 record` / `hdrc3 launch --record`.
+        agent: Agent namespace without slashes, e.g. ``uav0``.
+        origin: World origin (latitude, longitude, altitude) for the ENU frame.
+        plan: Planned path; the cross-track error is measured against it.
+        plan_window: Times (s since the first sample) between which the plan was flown.
+
+    """
+    state_topic = f"/{agent}/helicopter_state"
+    events_topic = f"/{agent}/platform_events"
+    reader = RecordingReader.open(recording)
+    topics = reader.topics()
+    if state_topic not in topics:
+        raise DataError(f"{recording} has no {state_topic}; topics: {', '.join(sorted(topics))}")
+    state_cls = message_class(topics[state_topic])
+    event_cls = message_class(topics[events_topic]) if events_topic in topics else None
+    report = FlightReport(agent)
+    t0: float | None = None
+    for message in reader.messages([state_topic, events_topic]):
+        if message.topic == state_topic:
+            msg = deserialize_message(message.data, state_cls)
+            stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+            t0 = stamp if t0 is None else t0
+            e, n, u = _to_enu(origin, msg.latitude, msg.longitude, msg.altitude)
+            report.track.append(
+                TrackPoint(
+                    stamp - t0,
+                    float(e),
+                    float(n),
+                    float(u),
+                    math.hypot(msg.velocity_north, msg.velocity_east),
+                    bool(msg.on_ground_flag),
+                    bool(msg.auto_flag),
+                )
+            )
+        elif event_cls is not None:
+            msg = deserialize_message(message.data, event_cls)
+            stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+            report.events.append(
+                EventMark(
+                    stamp - (t0 if t0 is not None else stamp),
+                    msg.command,
+                    _EVENT_KINDS.get(msg.kind, str(msg.kind)),
+                    msg.reason,
+                )
+            )
+    if plan and plan_window is not None:
+        samples = _sample_plan(plan)
+        for point in report.track:
+            if plan_window[0] <= point.time <= plan_window[1]:
+                here = np.array([point.east, point.north, point.up])
+                report.cross_track.append(float(np.min(np.linalg.norm(samples - here, axis=1))))
+    return report
+
+
+def plot_report(report: FlightReport, out: Path, plan: Sequence[PathSegment] = ()) -> Path:
+    """Draw track (with the plan), speed profile and event timeline into one PNG."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax_track, ax_speed) = plt.subplots(1, 2, figsize=(14, 6))
+    east = [p.east for p in report.track]
+    north = [p.north for p in report.track]
+    if plan:
+        samples = _sample_plan(plan)
+        ax_track.plot(samples[:, 0], samples[:, 1], "--", color="grey", label="planned path")
+    ax_track.plot(east, north, color="tab:blue", label="flown track")
+    if report.track:
+        ax_track.plot(east[0], north[0], "go", label="start")
+        ax_track.plot(east[-1], north[-1], "rs", label="end")
+    ax_track.set_xlabel("east [m]")
+    ax_track.set_ylabel("north [m]")
+    ax_track.set_aspect("equal", adjustable="datalim")
+    ax_track.set_title(f"{report.agent}: track")
+    ax_track.legend(loc="best")
+    ax_track.grid(True)
+    times = [p.time for p in report.track]
+    ax_speed.plot(times, [p.speed for p in report.track], label="horizontal speed [m/s]")
+    ax_speed.plot(times, [p.up for p in report.track], label="altitude (ENU up) [m]")
+    for event in report.events:
+        if event.kind == "SEGMENT_REQUEST":
+            ax_speed.axvline(event.time, color="lightgrey", linewidth=0.8)
+            continue
+        ax_speed.axvline(event.time, color="tab:red", linestyle=":")
+        ax_speed.annotate(
+            f"{event.command} {event.kind}",
+            (event.time, ax_speed.get_ylim()[1]),
+            rotation=90,
+            va="top",
+            fontsize=7,
+        )
+    ax_speed.set_xlabel("sim time [s]")
+    ax_speed.set_title("speed, altitude and command timeline")
+    ax_speed.legend(loc="center right")
+    ax_speed.grid(True)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
