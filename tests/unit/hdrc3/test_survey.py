@@ -1,3 +1,4 @@
+import itertools
 import math
 
 import numpy as np
@@ -13,7 +14,7 @@ def test_legs_are_joined_by_turns(legs: int, segments: int) -> None:
     assert len(path) == segments
     assert [s.end_velocity for s in path][-1] == 0.0
     assert all(s.end_velocity > 0 for s in path[:-1])
-    for a, b in zip(path, path[1:], strict=False):
+    for a, b in itertools.pairwise(path):
         assert np.allclose(a.end, b.start)
         assert np.allclose(a.tangent(1.0), b.tangent(0.0))  # tangent-continuous
 
