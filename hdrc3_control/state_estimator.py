@@ -1,0 +1,335 @@
+"""Navigation Kalman filter: IMU-driven position/velocity, aided by GPS, barometer and vision.
+
+State ``x = [p_enu(3), v_enu(3), b_acc_enu(3), b_baro]``. The IMU's specific force, rotated to ENU
+with the attitude sensor's angles, drives the prediction at the IMU rate (200 Hz); GPS position and
+velocity (10 Hz), barometric height (25 Hz), vision position (landing) and, on the skids, a
+zero-velocity and ground-height reference correct it. Between GPS fixes and during GPS dropouts
+the filter dead-reckons on the IMU; :meth:`StateEstimator.health` reports how trustworthy it is.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from filterpy.kalman import KalmanFilter
+from numpy.typing import NDArray
+
+from hdrc3.errors import ConfigError
+from hdrc3_control.commands import EstimatedState, EstimatorHealth, G, Vec3, wrap_2pi
+from hdrc3_control.measurements import (
+    AttitudeMeasurement,
+    BaroMeasurement,
+    GpsMeasurement,
+    GroundContactMeasurement,
+    ImuMeasurement,
+    VisionPoseMeasurement,
+)
+
+_N = 10
+_P, _V, _BA, _BB = slice(0, 3), slice(3, 6), slice(6, 9), 9
+
+
+@dataclass(frozen=True, slots=True)
+class EstimatorConfig:
+    """Noise model and health thresholds."""
+
+    accel_sigma: float = 0.4
+    """Process noise on acceleration (IMU noise, attitude error, vibration), m/s^2."""
+    accel_bias_walk: float = 0.01
+    """Accelerometer bias random walk, m/s^2/sqrt(s)."""
+    baro_bias_walk: float = 0.03
+    """Barometer drift random walk, m/sqrt(s)."""
+    gps_horizontal_sigma: float = 0.6
+    gps_vertical_sigma: float = 30.0
+    """GPS height error is large and correlated over minutes (white-noise equivalent is huge):
+    the barometer, referenced on the ground before take-off, carries the vertical."""
+    gps_velocity_sigma: float = 0.15
+    baro_sigma: float = 0.3
+    ground_sigma: float = 0.05
+    """Height reference and zero velocity while on the skids, m and m/s."""
+    cg_above_skids: float = 0.45
+    """Height of the CG above the skid bottoms, m (what the ground reference adds)."""
+    gate_sigma: float = 5.0
+    """Innovations beyond this many sigma are rejected as outliers."""
+    gate_reset_count: int = 10
+    """After this many consecutive GPS rejections the filter trusts GPS again (re-acquisition)."""
+    aiding_timeout: float = 0.5
+    """Without GPS/vision for longer than this the filter is dead-reckoning (DEGRADED), s."""
+    max_dead_reckoning: float = 10.0
+    """Dead reckoning longer than this is LOST, s."""
+    imu_timeout: float = 0.1
+    attitude_timeout: float = 0.5
+    frozen_count: int = 20
+    """This many identical consecutive IMU samples mean a frozen IMU."""
+
+    def __post_init__(self) -> None:
+        """Reject non-positive noise figures and timeouts."""
+        values = (
+            self.accel_sigma,
+            self.gps_horizontal_sigma,
+            self.gps_vertical_sigma,
+            self.gps_velocity_sigma,
+            self.baro_sigma,
+            self.ground_sigma,
+            self.aiding_timeout,
+            self.max_dead_reckoning,
+            self.imu_timeout,
+            self.attitude_timeout,
+        )
+        if not all(math.isfinite(v) and v > 0.0 for v in values):
+            raise ConfigError(f"estimator noise figures and timeouts must be > 0, got {values}")
+
+
+def body_to_enu(roll: float, pitch: float, heading: float, vec: Vec3) -> NDArray[np.float64]:
+    """Rotate a body-FRD vector into ENU (Euler 3-2-1 angles, heading clockwise from north)."""
+    cr, sr = math.cos(roll), math.sin(roll)
+    cp, sp = math.cos(pitch), math.sin(pitch)
+    ch, sh = math.cos(heading), math.sin(heading)
+    x, y, z = vec
+    north = cp * ch * x + (sr * sp * ch - cr * sh) * y + (cr * sp * ch + sr * sh) * z
+    east = cp * sh * x + (sr * sp * sh + cr * ch) * y + (cr * sp * sh - sr * ch) * z
+    down = -sp * x + sr * cp * y + cr * cp * z
+    return np.array([east, north, -down])
+
+
+class StateEstimator:
+    """The navigation filter; feed measurements in time order, read :meth:`estimate`."""
+
+    def __init__(self, config: EstimatorConfig | None = None) -> None:
+        """Create an uninitialised filter (it initialises on the first GPS or vision fix)."""
+        self.config = config or EstimatorConfig()
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget everything; the next position fix initialises the filter again."""
+        self._kf = KalmanFilter(dim_x=_N, dim_z=3, dim_u=3)
+        self._initialised = False
+        self._time: float | None = None
+        self._attitude: AttitudeMeasurement | None = None
+        self._rates: Vec3 = (0.0, 0.0, 0.0)
+        self._last_imu: ImuMeasurement | None = None
+        self._same_imu = 0
+        self._imu_time = -math.inf
+        self._aiding_time = -math.inf
+        self._on_ground = False
+        self._ground_height = 0.0
+        self._baro: BaroMeasurement | None = None
+        self._rejected = 0
+        self._rpm = 0.0
+        self._fq_cache: tuple[float, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
+        self._fq_cache = (-1.0, np.eye(_N), np.zeros((_N, _N)), np.zeros((_N, 3)))
+        self.rejections = 0
+        """Measurements rejected by the innovation gate since the last reset."""
+
+    @property
+    def initialised(self) -> bool:
+        """True once a position fix has initialised the filter."""
+        return self._initialised
+
+    # ------------------------------------------------------------------ inputs
+    def update_attitude(self, meas: AttitudeMeasurement) -> None:
+        """Take the attitude sensor's angles (used to rotate the IMU's specific force)."""
+        self._attitude = meas
+
+    def update_rpm(self, rpm: float) -> None:
+        """Remember the last rotor rpm reading (passed through to the estimate)."""
+        self._rpm = rpm
+
+    def update_imu(self, meas: ImuMeasurement) -> None:
+        """Predict to the IMU sample's time with its specific force (the filter's clock)."""
+        frozen = self._last_imu is not None and (
+            meas.specific_force == self._last_imu.specific_force
+            and meas.angular_rate == self._last_imu.angular_rate
+        )
+        self._same_imu = self._same_imu + 1 if frozen else 0
+        self._last_imu = meas
+        self._imu_time = meas.time
+        self._rates = meas.angular_rate
+        if not self._initialised or self._attitude is None:
+            self._time = meas.time
+            return
+        dt = meas.time - (self._time if self._time is not None else meas.time)
+        self._time = meas.time
+        if dt <= 0.0 or dt > 0.5:
+            return
+        acc = body_to_enu(
+            self._attitude.roll, self._attitude.pitch, self._attitude.heading, meas.specific_force
+        )
+        acc[2] -= G
+        f, q, b = self._transition(dt)
+        self._kf.F, self._kf.Q, self._kf.B = f, q, b
+        self._kf.predict(u=acc)
+
+    def update_gps(self, meas: GpsMeasurement) -> bool:
+        """Correct with a GPS fix; returns False if the gate rejected it."""
+        c = self.config
+        z = np.array([*meas.position, *meas.velocity])
+        if not self._initialised:
+            self._initialise(np.array(meas.position), np.array(meas.velocity))
+            self._aiding_time = meas.time
+            return True
+        h = np.zeros((6, _N))
+        h[0:3, _P] = np.eye(3)
+        h[3:6, _V] = np.eye(3)
+        gh, gv, vs = c.gps_horizontal_sigma, c.gps_vertical_sigma, c.gps_velocity_sigma
+        r = np.diag([gh**2, gh**2, gv**2, vs**2, vs**2, vs**2])
+        force = self._rejected >= c.gate_reset_count
+        if not self._correct(z, h, r, force=force):
+            self._rejected += 1
+            return False
+        self._rejected = 0
+        self._aiding_time = meas.time
+        return True
+
+    def update_baro(self, meas: BaroMeasurement) -> bool:
+        """Correct the height with a barometric reading (height + baro bias)."""
+        self._baro = meas
+        if not self._initialised:
+            return False
+        h = np.zeros((1, _N))
+        h[0, 2] = 1.0
+        h[0, _BB] = 1.0
+        return self._correct(np.array([meas.height]), h, np.array([[self.config.baro_sigma**2]]))
+
+    def update_ground_contact(self, meas: GroundContactMeasurement) -> None:
+        """On the skids: zero velocity and the CG at a known height above the terrain."""
+        self._on_ground = meas.on_ground
+        self._ground_height = meas.ground_height
+        if not (meas.on_ground and self._initialised):
+            return
+        c = self.config
+        h = np.zeros((4, _N))
+        h[0, 2] = 1.0
+        h[1:4, _V] = np.eye(3)
+        z = np.array([meas.ground_height + c.cg_above_skids, 0.0, 0.0, 0.0])
+        self._correct(z, h, np.eye(4) * c.ground_sigma**2, force=True)
+
+    def update_vision(self, meas: VisionPoseMeasurement) -> bool:
+        """Correct with a vision position fix (the landing hook); counts as aiding like GPS."""
+        if not self._initialised:
+            self._initialise(np.array(meas.position), np.zeros(3))
+            self._aiding_time = meas.time
+            return True
+        h = np.zeros((3, _N))
+        h[:, _P] = np.eye(3)
+        accepted = self._correct(np.array(meas.position), h, np.eye(3) * meas.sigma**2)
+        if accepted:
+            self._aiding_time = meas.time
+        return accepted
+
+    # ------------------------------------------------------------------ outputs
+    def health(self, now: float) -> EstimatorHealth:
+        """OK with current aiding, DEGRADED while dead-reckoning, LOST when unusable."""
+        c = self.config
+        if (
+            not self._initialised
+            or self._attitude is None
+            or now - self._imu_time > c.imu_timeout
+            or now - self._attitude.time > c.attitude_timeout
+            or self._same_imu >= c.frozen_count
+            or now - self._aiding_time > c.max_dead_reckoning
+        ):
+            return EstimatorHealth.LOST
+        if now - self._aiding_time > c.aiding_timeout:
+            return EstimatorHealth.DEGRADED
+        return EstimatorHealth.OK
+
+    def aiding_age(self, now: float) -> float:
+        """Seconds since the last accepted GPS or vision fix."""
+        return now - self._aiding_time
+
+    def estimate(self, now: float) -> EstimatedState:
+        """The current solution; raises ConfigError before the filter is initialised."""
+        if not self._initialised or self._attitude is None:
+            raise ConfigError("state estimator not initialised (no position fix or attitude yet)")
+        x = self._kf.x
+        p = self._kf.P
+        att = self._attitude
+        return EstimatedState(
+            time=now,
+            position=(float(x[0]), float(x[1]), float(x[2])),
+            velocity=(float(x[3]), float(x[4]), float(x[5])),
+            roll=att.roll,
+            pitch=att.pitch,
+            heading=wrap_2pi(att.heading),
+            rates=self._rates,
+            on_ground=self._on_ground,
+            health=self.health(now),
+            position_sigma=math.sqrt(max(0.0, float(p[0, 0] + p[1, 1]) / 2.0)),
+            rotor_rpm=self._rpm,
+        )
+
+    def covariance(self) -> NDArray[np.float64]:
+        """Copy of the state covariance (for consistency checks)."""
+        return np.array(self._kf.P, copy=True)
+
+    def state_vector(self) -> NDArray[np.float64]:
+        """Copy of the state vector [p, v, accel bias, baro bias]."""
+        return np.array(self._kf.x, copy=True)
+
+    # ------------------------------------------------------------------ internals
+    def _initialise(self, position: NDArray[np.float64], velocity: NDArray[np.float64]) -> None:
+        c = self.config
+        x = np.zeros(_N)
+        x[_P] = position
+        x[_V] = velocity
+        if self._baro is not None:
+            x[_BB] = self._baro.height - position[2]
+        self._kf.x = x
+        self._kf.P = np.diag(
+            [
+                c.gps_horizontal_sigma**2,
+                c.gps_horizontal_sigma**2,
+                c.gps_vertical_sigma**2,
+                *([c.gps_velocity_sigma**2] * 3),
+                *([0.1**2] * 3),
+                5.0**2,
+            ]
+        )
+        self._initialised = True
+
+    def _transition(
+        self, dt: float
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        cached_dt, f, q, b = self._fq_cache
+        if abs(cached_dt - dt) < 1e-9:
+            return f, q, b
+        c = self.config
+        f = np.eye(_N)
+        f[_P, _V] = np.eye(3) * dt
+        f[_P, _BA] = -np.eye(3) * 0.5 * dt * dt
+        f[_V, _BA] = -np.eye(3) * dt
+        b = np.zeros((_N, 3))
+        b[_P, :] = np.eye(3) * 0.5 * dt * dt
+        b[_V, :] = np.eye(3) * dt
+        q = np.zeros((_N, _N))
+        g = np.array([[0.5 * dt * dt], [dt]])
+        block = (g @ g.T) * c.accel_sigma**2
+        for axis in range(3):
+            idx = [axis, axis + 3]
+            q[np.ix_(idx, idx)] = block
+        q[_BA, _BA] = np.eye(3) * c.accel_bias_walk**2 * dt
+        q[_BB, _BB] = c.baro_bias_walk**2 * dt
+        self._fq_cache = (dt, f, q, b)
+        return f, q, b
+
+    def _correct(
+        self,
+        z: NDArray[np.float64],
+        h: NDArray[np.float64],
+        r: NDArray[np.float64],
+        *,
+        force: bool = False,
+    ) -> bool:
+        kf = self._kf
+        y = z - h @ kf.x
+        s = h @ kf.P @ h.T + r
+        nis = float(y @ np.linalg.solve(s, y))
+        if not force and nis > self.config.gate_sigma**2 * len(z):
+            self.rejections += 1
+            return False
+        kf.dim_z = len(z)
+        kf.update(z, R=r, H=h)
+        return True

@@ -1,0 +1,77 @@
+"""Landing: touchdown detection, refusal, and the take-off/hover/path/land sequence in the sim."""
+
+from __future__ import annotations
+
+import math
+from types import ModuleType
+
+import pytest
+
+from hdrc3_control.commands import EstimatedState
+from hdrc3_control.landing import Landing, LandingPhase, LandingTarget
+from hdrc3_control.path_following import PathEvent, PathStatus
+
+PAD = LandingTarget(0.0, 0.0, 0.0, 0.0)
+
+
+def _state(z: float, on_ground: bool = False, vz: float = 0.0) -> EstimatedState:
+    return EstimatedState(0.0, (0.0, 0.0, z), (0.0, 0.0, vz), 0.0, 0.0, 0.0, on_ground=on_ground)
+
+
+@pytest.mark.parametrize(("height", "rate"), [(20.0, 1.0), (8.0, 0.5), (4.0, 0.25), (0.6, 0.25)])
+def test_descent_rate_slows_down_near_the_ground(height: float, rate: float) -> None:
+    fn = Landing()
+    fn.start(_state(height + 0.45), PAD)
+    out = fn.update(_state(height + 0.45), 0.0, 0.02)
+    assert out.phase is LandingPhase.DESCENT
+    assert out.command.vertical == pytest.approx(-rate)
+
+
+def test_touchdown_needs_consecutive_contacts_then_engine_shutdown() -> None:
+    fn = Landing()
+    fn.start(_state(1.0), PAD)
+    phases = []
+    contacts = [True, False, True, True, True] + [True] * 60
+    for k, contact in enumerate(contacts):
+        out = fn.update(_state(0.45, contact), k * 0.02, 0.02)
+        phases.append(out.phase)
+    assert phases[:4] == [LandingPhase.DESCENT] * 4
+    assert phases[4] is LandingPhase.TOUCHDOWN
+    assert out.phase is LandingPhase.LANDED and out.engine_shutdown
+    assert out.touchdown_time == pytest.approx(0.08)
+
+
+def test_refused_on_the_ground() -> None:
+    assert Landing().start(_state(0.45, True), PAD) is LandingPhase.REFUSED_ON_GROUND
+
+
+def test_takeoff_hover_path_land_sequence(harness: ModuleType) -> None:
+    f = harness.SimFlight(seed=9, placement=harness.FIGURE7_START)
+    f.start_engine()
+    up = harness.takeoff(f, 12.0)
+    assert up.ok
+    settle = harness.hover(f, up.outputs[-1].hover_point, 20.0, up.integral, until_stable=True)
+    assert settle.ok
+    path = harness.figure7_path(f.state().position)
+    run = harness.fly_path(f, path, settle.integral)
+    assert run.ok and run.outputs[-1].status is PathStatus.ARRIVED
+    events = [e for o in run.outputs for e in o.events]
+    assert events == [
+        PathEvent.REQUEST_SEGMENT,
+        PathEvent.SEGMENT_SWITCHED,
+        PathEvent.REQUEST_SEGMENT,
+        PathEvent.SEGMENT_SWITCHED,
+        PathEvent.ARRIVED,
+    ]
+    assert max(o.speed_ref - o.speed_limit for o in run.outputs) <= 1e-9
+    hp = run.outputs[-1].hover_point
+    hold = harness.hover(
+        f, harness.HoverSetpoint(hp, f.state().heading), 30.0, run.integral, until_stable=True
+    )
+    assert hold.ok
+    e, n, _ = hp
+    down = harness.land(f, LandingTarget(e, n, 0.0, f.state().heading), hold.integral)
+    assert down.ok and down.outputs[-1].engine_shutdown
+    vz, vh = harness.touchdown_velocity(f, down.first_tick)
+    assert vz <= 0.35 and vh <= 0.15
+    assert math.hypot(f.truth().position_enu[0] - e, f.truth().position_enu[1] - n) < 5.0

@@ -1,0 +1,143 @@
+"""Navigation filter: consistency, dead reckoning through GPS dropouts, health, gating, vision."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import pytest
+
+from hdrc3.errors import ConfigError
+from hdrc3_control.commands import EstimatorHealth, G
+from hdrc3_control.measurements import (
+    AttitudeMeasurement,
+    BaroMeasurement,
+    GpsMeasurement,
+    ImuMeasurement,
+    VisionPoseMeasurement,
+)
+from hdrc3_control.state_estimator import StateEstimator, body_to_enu
+
+VEL = np.array([3.0, -2.0, 0.5])
+P0 = np.array([10.0, 20.0, 30.0])
+
+
+@dataclass
+class Scenario:
+    """Straight, unaccelerated flight with white sensor noise and a constant accelerometer bias."""
+
+    seed: int = 0
+    accel_bias: tuple[float, float, float] = (0.03, -0.03, 0.02)
+    gps_off: tuple[float, float] = (math.inf, math.inf)
+    vision: bool = False
+    est: StateEstimator = field(default_factory=StateEstimator)
+    health: dict[float, EstimatorHealth] = field(default_factory=dict)
+
+    def run(self, seconds: float, record: list[tuple[float, np.ndarray, np.ndarray]]) -> None:
+        rng = np.random.default_rng(self.seed)
+        for k in range(round(seconds * 200)):
+            t = k / 200.0
+            truth = np.concatenate([P0 + VEL * t, VEL])
+            if k % 4 == 0:
+                self.est.update_attitude(AttitudeMeasurement(t, 0.0, 0.0, 0.3))
+            f = np.array([0.0, 0.0, -G]) + np.array(self.accel_bias) + 0.05 * rng.standard_normal(3)
+            w = 0.003 * rng.standard_normal(3)
+            self.est.update_imu(ImuMeasurement(t, tuple(f), tuple(w)))  # type: ignore[arg-type]
+            if k % 20 == 0 and not self.gps_off[0] <= t < self.gps_off[1]:
+                pos = truth[:3] + rng.normal(0.0, [0.5, 0.5, 2.0])
+                vel = truth[3:] + 0.1 * rng.standard_normal(3)
+                self.est.update_gps(GpsMeasurement(t, tuple(pos), tuple(vel)))  # type: ignore[arg-type]
+            if k % 8 == 0:
+                self.est.update_baro(BaroMeasurement(t, truth[2] + 0.3 * rng.standard_normal()))
+            if self.vision and k % 10 == 0:
+                pos = truth[:3] + 0.05 * rng.standard_normal(3)
+                self.est.update_vision(VisionPoseMeasurement(t, tuple(pos)))  # type: ignore[arg-type]
+            self.health[t] = self.est.health(t)
+            if self.est.initialised:
+                record.append(
+                    (t, truth, self.est.state_vector()[:6], self.est.covariance()[:6, :6])
+                )  # type: ignore[arg-type]
+
+
+def test_body_to_enu_rotations() -> None:
+    np.testing.assert_allclose(body_to_enu(0.0, 0.0, 0.0, (1.0, 0.0, 0.0)), [0, 1, 0], atol=1e-12)
+    np.testing.assert_allclose(
+        body_to_enu(0.0, 0.0, math.pi / 2, (1.0, 0.0, 0.0)), [1, 0, 0], atol=1e-12
+    )
+    np.testing.assert_allclose(
+        body_to_enu(0.3, -0.2, 1.0, (0.0, 0.0, -1.0))[2], math.cos(0.3) * math.cos(0.2)
+    )
+
+
+def test_uninitialised_filter_is_lost_and_refuses_an_estimate() -> None:
+    est = StateEstimator()
+    assert est.health(0.0) is EstimatorHealth.LOST
+    with pytest.raises(ConfigError):
+        est.estimate(0.0)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_filter_is_consistent(seed: int) -> None:
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    Scenario(seed=seed).run(30.0, rec)
+    nees = [float((x - t) @ np.linalg.solve(p, x - t)) for _, t, x, p in rec[2000:]]  # type: ignore[misc]
+    # 6 states: a consistent filter has mean NEES ~6, a conservative one less; never far above
+    assert 0.5 < float(np.mean(nees)) < 9.0
+    err = np.array([x - t for _, t, x, _ in rec[2000:]])  # type: ignore[misc]
+    assert np.sqrt(np.mean(err[:, 0] ** 2 + err[:, 1] ** 2)) < 0.5
+    assert np.sqrt(np.mean(err[:, 3:] ** 2)) < 0.1
+
+
+@pytest.mark.parametrize(("dropout", "max_error"), [(3.0, 1.0), (5.0, 2.0)])
+def test_dead_reckoning_through_a_gps_dropout(dropout: float, max_error: float) -> None:
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    sc = Scenario(gps_off=(20.0, 20.0 + dropout))
+    sc.run(20.0 + dropout - 0.01, rec)
+    assert sc.est.health(sc.est._time or 0.0) is EstimatorHealth.DEGRADED
+    _, truth, x, _ = rec[-1]  # type: ignore[misc]
+    assert float(np.linalg.norm(x[:2] - truth[:2])) < max_error
+
+
+def test_health_goes_lost_after_max_dead_reckoning_and_recovers() -> None:
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    sc = Scenario(gps_off=(5.0, 17.0))
+    sc.run(19.0, rec)
+    assert [sc.health[t] for t in (4.0, 5.4, 14.9, 15.2, 16.9)] == [
+        EstimatorHealth.OK,
+        EstimatorHealth.OK,
+        EstimatorHealth.DEGRADED,
+        EstimatorHealth.LOST,
+        EstimatorHealth.LOST,
+    ]
+    # GPS is back at 17 s (re-acquired through the gate reset if the drift is large)
+    assert sc.health[18.5] is EstimatorHealth.OK
+
+
+def test_frozen_imu_is_lost() -> None:
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    sc = Scenario()
+    sc.run(2.0, rec)
+    for k in range(25):
+        sc.est.update_imu(ImuMeasurement(2.0 + k / 200, (0.1, 0.2, -9.7), (0.0, 0.0, 0.0)))
+    assert sc.est.health(2.12) is EstimatorHealth.LOST
+
+
+def test_gps_outlier_is_rejected() -> None:
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    sc = Scenario()
+    sc.run(10.0, rec)
+    before = sc.est.state_vector()
+    jump = tuple(before[:3] + np.array([60.0, 0.0, 0.0]))
+    assert not sc.est.update_gps(GpsMeasurement(10.0, jump, tuple(before[3:6])))  # type: ignore[arg-type]
+    np.testing.assert_allclose(sc.est.state_vector(), before)
+    assert sc.est.rejections == 1
+
+
+def test_vision_hook_keeps_the_solution_aided_without_gps() -> None:
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    sc = Scenario(gps_off=(5.0, 100.0), vision=True)
+    sc.run(15.0, rec)
+    assert sc.est.health(14.99) is EstimatorHealth.OK
+    _, truth, x, _ = rec[-1]  # type: ignore[misc]
+    assert float(np.linalg.norm(x[:3] - truth[:3])) < 0.2
