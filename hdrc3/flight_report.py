@@ -86,6 +86,20 @@ class FlightReport:
             return math.nan
         return float(math.sqrt(sum(e * e for e in self.cross_track) / len(self.cross_track)))
 
+    def measure_cross_track(self, plan: Sequence[PathSegment], window: tuple[float, float]) -> None:
+        """Measure each sample's distance to the planned path while it was flown.
+
+        Args:
+            plan: Planned path.
+            window: Times (s since the first sample) between which the plan was flown.
+        """
+        samples = _sample_plan(plan)
+        self.cross_track = [
+            float(np.min(np.linalg.norm(samples - np.array([p.east, p.north, p.up]), axis=1)))
+            for p in self.track
+            if window[0] <= p.time <= window[1]
+        ]
+
     def summary(self) -> list[str]:
         """One screen of text."""
         lines = [
@@ -124,22 +138,13 @@ def _sample_plan(plan: Sequence[PathSegment], step: float = 0.5) -> NDArray[np.f
     return np.array(points)
 
 
-def build_report(
-    recording: Path,
-    agent: str,
-    origin: tuple[float, float, float],
-    plan: Sequence[PathSegment] = (),
-    plan_window: tuple[float, float] | None = None,
-) -> FlightReport:
+def build_report(recording: Path, agent: str, origin: tuple[float, float, float]) -> FlightReport:
     """Read one agent's flight out of a recording.
 
     Args:
         recording: MCAP file written by `hdrc3 record` / `hdrc3 launch --record`.
         agent: Agent namespace without slashes, e.g. ``uav0``.
         origin: World origin (latitude, longitude, altitude) for the ENU frame.
-        plan: Planned path; the cross-track error is measured against it.
-        plan_window: Times (s since the first sample) between which the plan was flown.
-
     """
     state_topic = f"/{agent}/helicopter_state"
     events_topic = f"/{agent}/platform_events"
@@ -179,12 +184,6 @@ def build_report(
                     msg.reason,
                 )
             )
-    if plan and plan_window is not None:
-        samples = _sample_plan(plan)
-        for point in report.track:
-            if plan_window[0] <= point.time <= plan_window[1]:
-                here = np.array([point.east, point.north, point.up])
-                report.cross_track.append(float(np.min(np.linalg.norm(samples - here, axis=1))))
     return report
 
 

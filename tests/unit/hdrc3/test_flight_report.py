@@ -36,7 +36,8 @@ def test_report_measures_track_speed_and_cross_track(tmp_path: Path) -> None:
     rec = tmp_path / "flight.mcap"
     _record(rec, offset_north=2.0)
     plan = [PathSegment.straight((0.0, 0.0, 30.0), (100.0, 0.0, 30.0), 10.0)]
-    report = build_report(rec, "uav0", ORIGIN, plan, plan_window=(0.0, 10.0))
+    report = build_report(rec, "uav0", ORIGIN)
+    report.measure_cross_track(plan, window=(0.0, 10.0))
     assert len(report.track) == 11
     assert report.distance == pytest.approx(100.0, abs=0.05)
     assert report.max_speed == pytest.approx(10.0)
