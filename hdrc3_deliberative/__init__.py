@@ -1,0 +1,1 @@
+"""Deliberative layer (§9): TAL-based TALplanner with control formulas."""

@@ -1,0 +1,136 @@
+"""Random problem generators for the shipped domains (deterministic for a given seed)."""
+
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import dataclass
+from pathlib import Path
+
+DOMAINS_DIR = Path(__file__).parent / "domains"
+LOGISTICS_DOMAIN = DOMAINS_DIR / "logistics" / "domain.pddl"
+LOGISTICS_CONTROL = DOMAINS_DIR / "logistics" / "control.tal"
+UAV_DOMAIN = DOMAINS_DIR / "uav_logistics" / "domain.tal"
+UAV_CONTROL = DOMAINS_DIR / "uav_logistics" / "control.tal"
+UAV_SCENARIO = DOMAINS_DIR / "uav_logistics" / "scenario.tal"
+
+
+@dataclass(frozen=True)
+class LogisticsSize:
+    """Size of a generated Logistics problem (IPC-2000 style: one truck per city)."""
+
+    packages: int
+    cities: int
+    airplanes: int
+    locations_per_city: int = 2
+
+
+def logistics_problem(size: LogisticsSize, seed: int, name: str = "") -> str:
+    """A PDDL problem with IPC-2000 naming (apn, apt, pos, cit, tru, obj).
+
+    Every city has one airport and ``locations_per_city - 1`` other locations and a truck;
+    airplanes start at random airports; packages start and end at random places.
+    """
+    if size.packages < 1 or size.cities < 1 or size.airplanes < 1 or size.locations_per_city < 1:
+        raise ValueError("sizes must be positive")
+    rng = random.Random(seed)
+    cities = [f"cit{i + 1}" for i in range(size.cities)]
+    airports = [f"apt{i + 1}" for i in range(size.cities)]
+    others = [
+        [f"pos{c + 1}-{j + 1}" for j in range(size.locations_per_city - 1)]
+        for c in range(size.cities)
+    ]
+    places = [[airports[c], *others[c]] for c in range(size.cities)]
+    all_places = [p for ps in places for p in ps]
+    trucks = [f"tru{i + 1}" for i in range(size.cities)]
+    planes = [f"apn{i + 1}" for i in range(size.airplanes)]
+    packages = [f"obj{i + 1}" for i in range(size.packages)]
+    init = [f"(in-city {p} {cities[c]})" for c in range(size.cities) for p in places[c]]
+    init += [f"(at {t} {rng.choice(places[c])})" for c, t in enumerate(trucks)]
+    init += [f"(at {a} {rng.choice(airports)})" for a in planes]
+    goals = []
+    for pkg in packages:
+        init.append(f"(at {pkg} {rng.choice(all_places)})")
+        goals.append(f"(at {pkg} {rng.choice(all_places)})")
+    objects = [
+        " ".join(planes) + " - airplane",
+        " ".join(airports) + " - airport",
+        " ".join(p for ps in others for p in ps) + " - location" if any(others) else "",
+        " ".join(cities) + " - city",
+        " ".join(trucks) + " - truck",
+        " ".join(packages) + " - package",
+    ]
+    body = "\n    ".join(o for o in objects if o)
+    lines = "\n    ".join(init)
+    goal_lines = "\n           ".join(goals)
+    pname = name or f"logistics-{size.packages}-{size.cities}-{size.airplanes}-{seed}"
+    return (
+        f"(define (problem {pname})\n  (:domain logistics)\n  (:objects\n    {body})\n"
+        f"  (:init\n    {lines})\n  (:goal (and {goal_lines})))\n"
+    )
+
+
+@dataclass(frozen=True)
+class UavSize:
+    """Size of a generated UAV logistics scenario (§11.1.2)."""
+
+    helicopters: int
+    bodies: int
+    boxes: int
+    carriers: int = 1
+    supply_depots: int = 1
+    carrier_depots: int = 1
+    area: float = 400.0
+
+
+def uav_problem(size: UavSize, seed: int, name: str = "") -> str:
+    """A TAL-language problem for the UAV logistics domain.
+
+    Body locations are scattered over a square area (as from a saliency map); boxes of food
+    and medicine start at supply depots, carriers at carrier depots; each body needs the
+    boxes assigned to it.
+    """
+    rng = random.Random(seed)
+
+    def spot() -> tuple[float, float, float]:
+        return (round(rng.uniform(0, size.area), 1), round(rng.uniform(0, size.area), 1), 0.0)
+
+    lines = [
+        f"problem {name or f'uav-{size.helicopters}-{size.bodies}-{size.boxes}-{seed}'} "
+        "for uav-logistics"
+    ]
+    depots = [f"supply{i + 1}" for i in range(size.supply_depots)]
+    cdepots = [f"carrierdepot{i + 1}" for i in range(size.carrier_depots)]
+    bodies = [f"body{i + 1}" for i in range(size.bodies)]
+    for group, tname in ((depots, "supply-depot"), (cdepots, "carrier-depot"), (bodies, "body")):
+        for obj in group:
+            x, y, z = spot()
+            lines.append(f"object {obj}: {tname} @ ({x}, {y}, {z})")
+    helis = [f"heli{i + 1}" for i in range(size.helicopters)]
+    lines.append(f"object {', '.join(helis)}: helicopter")
+    boxes = []
+    for i in range(size.boxes):
+        kind = "food-box" if i % 2 == 0 else "medicine-box"
+        boxes.append(f"box{i + 1}")
+        lines.append(f"object box{i + 1}: {kind}")
+    carriers = [f"carrier{i + 1}" for i in range(size.carriers)]
+    if carriers:
+        lines.append(f"object {', '.join(carriers)}: carrier")
+    for h in helis:
+        base = rng.choice(depots)
+        lines.append(
+            f"init at({h}, {base}), free({h}), hovering({h}), "
+            f"lift-capacity({h}) = 30, fuel({h}) = 5000"
+        )
+    for b in boxes:
+        lines.append(f"init at({b}, {rng.choice(depots)}), weight({b}) = {rng.choice((4, 6, 8))}")
+    for c in carriers:
+        lines.append(f"init at({c}, {rng.choice(cdepots)}), load({c}) = 5, slots({c}) = 4")
+    for i, b in enumerate(boxes):
+        lines.append(f"goal at({b}, {bodies[i % len(bodies)]})")
+    return "\n".join(lines) + "\n"
+
+
+def distance(a: tuple[float, float, float], b: tuple[float, float, float]) -> float:
+    """Euclidean distance (m)."""
+    return math.dist(a, b)

@@ -1,0 +1,552 @@
+"""Grounding: domain + problem -> compact planning task of bitset-encoded ground operators.
+
+Boolean fluent atoms are interned as bit positions of a Python int; numeric features are
+indices into a tuple. Operators are instantiated by relaxed reachability (only instances whose
+positive fluent preconditions can become true), static predicates are evaluated away, and
+flight durations/costs come from the motion-plan-info hook.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import replace
+
+from hdrc3_deliberative.errors import PlanningInputError
+from hdrc3_deliberative.model import (
+    Atom,
+    AtomEffect,
+    BinOp,
+    Comparison,
+    Condition,
+    Domain,
+    EffectTime,
+    Equality,
+    FuncTerm,
+    Literal,
+    Num,
+    NumEffect,
+    NumExpr,
+    Operator,
+    Pos,
+    Problem,
+)
+from hdrc3_deliberative.motion_plan_info import MotionPlanInfo, StraightLineMotionPlanInfo
+from hdrc3_deliberative.names import FLIGHT_FUNCTIONS, NameChecker, TypeTable
+from hdrc3_deliberative.task import GroundAtom, GroundOp, NumericEffect, NumFn, NumTest, Task
+
+_COMPARE: dict[str, Callable[[float, float], bool]] = {
+    "<": lambda a, b: a < b,
+    "<=": lambda a, b: a <= b + 1e-9,
+    ">": lambda a, b: a > b,
+    ">=": lambda a, b: a >= b - 1e-9,
+    "=": lambda a, b: abs(a - b) <= 1e-9,
+    "!=": lambda a, b: abs(a - b) > 1e-9,
+}
+
+
+class _FactIndex:
+    """Reachable facts by predicate and by (predicate, position, value)."""
+
+    def __init__(self) -> None:
+        self.by_pred: dict[str, list[tuple[str, ...]]] = {}
+        self.by_arg: dict[tuple[str, int, str], list[tuple[str, ...]]] = {}
+
+    def add(self, pred: str, args: tuple[str, ...]) -> None:
+        """Record a new fact (callers ensure it is new)."""
+        self.by_pred.setdefault(pred, []).append(args)
+        for i, value in enumerate(args):
+            self.by_arg.setdefault((pred, i, value), []).append(args)
+
+
+def _fail(message: str, pos: Pos) -> PlanningInputError:
+    return PlanningInputError(message, pos.source, pos.line, pos.column)
+
+
+class Grounder:
+    """Builds a :class:`Task`; one instance per (domain, problem)."""
+
+    def __init__(
+        self, domain: Domain, problem: Problem, motion: MotionPlanInfo | None = None
+    ) -> None:
+        self.domain = domain
+        self.problem = problem
+        self.motion = motion or StraightLineMotionPlanInfo()
+        self.types = TypeTable(domain, problem)
+        if problem.domain != domain.name:
+            raise _fail(
+                f"problem is for domain '{problem.domain}', not '{domain.name}'",
+                Pos(problem.source, 1, 1),
+            )
+        NameChecker(domain, problem, self.types).check()
+        effect_preds = {
+            e.literal.atom.pred
+            for op in domain.operators
+            for e in op.effects
+            if isinstance(e, AtomEffect)
+        }
+        self.static_preds = frozenset(domain.predicates) - effect_preds
+        num_targets = {
+            e.target.pred for op in domain.operators for e in op.effects if isinstance(e, NumEffect)
+        }
+        self.fluent_funcs = frozenset(num_targets)
+        self.static_values: dict[GroundAtom, float] = {}
+        self.init_num_values: dict[GroundAtom, float] = {}
+        for atom, value in problem.init_values:
+            key = (atom.pred, tuple(t.name for t in atom.args))
+            (self.init_num_values if atom.pred in num_targets else self.static_values)[key] = value
+        self._n_atoms = 0
+        self._getters: dict[int, Callable[[dict[str, str]], GroundAtom]] = {}
+        self._type_members: dict[str, frozenset[str]] = {}
+        self.static_facts: set[GroundAtom] = set()
+        self.init_fluents: set[GroundAtom] = set()
+        for atom in problem.init:
+            key = (atom.pred, tuple(t.name for t in atom.args))
+            (self.static_facts if atom.pred in self.static_preds else self.init_fluents).add(key)
+
+    def _position(self, obj: str) -> tuple[float, float, float]:
+        if obj not in self.problem.positions:
+            raise _fail(
+                f"object '{obj}' has no position '@ (x, y, z)' for flight queries",
+                Pos(self.problem.source),
+            )
+        return self.problem.positions[obj]
+
+    def _num(
+        self, expr: NumExpr, env: dict[str, str], num_index: dict[GroundAtom, int]
+    ) -> NumFn | float | None:
+        """Compile to a constant (float), a closure over the numeric state, or None (undefined)."""
+        if isinstance(expr, Num):
+            return expr.value
+        if isinstance(expr, FuncTerm):
+            args = tuple(env.get(t.name, t.name) for t in expr.atom.args)
+            if expr.atom.pred in FLIGHT_FUNCTIONS:
+                info = self.motion.query(args[0], self._position(args[1]), self._position(args[2]))
+                if not info.feasible:
+                    return None
+                return info.duration if expr.atom.pred == "flight-time" else info.cost
+            key = (expr.atom.pred, args)
+            if expr.atom.pred in self.fluent_funcs:
+                if key not in num_index:
+                    raise _fail(
+                        f"no initial value for numeric feature {key[0]}({', '.join(key[1])})",
+                        expr.atom.pos,
+                    )
+                idx = num_index[key]
+                return lambda nums: nums[idx]
+            return self.static_values.get(key)
+        left = self._num(expr.left, env, num_index)
+        right = self._num(expr.right, env, num_index)
+        if left is None or right is None:
+            return None
+        op = expr.op
+        if isinstance(left, float) and isinstance(right, float):
+            return _arith(op, left, right)
+        lf = _as_fn(left)
+        rf = _as_fn(right)
+        return lambda nums: _arith(op, lf(nums), rf(nums))
+
+    def _members(self, tname: str) -> frozenset[str]:
+        """Objects of a type (cached)."""
+        found = self._type_members.get(tname)
+        if found is None:
+            found = frozenset(self.types.objects.get(tname, ()))
+            self._type_members[tname] = found
+        return found
+
+    def _ga(self, atom: Atom, env: dict[str, str]) -> GroundAtom:
+        """Ground an atom under a binding; per-atom getters avoid re-reading its terms."""
+        getter = self._getters.get(id(atom))
+        if getter is None:
+            getter = _atom_getter(atom)
+            self._getters[id(atom)] = getter
+        return getter(env)
+
+    def _num_reads(
+        self, expr: NumExpr, env: dict[str, str], num_index: dict[GroundAtom, int]
+    ) -> int:
+        """Mask of the numeric fluents an expression reads."""
+        if isinstance(expr, BinOp):
+            return self._num_reads(expr.left, env, num_index) | self._num_reads(
+                expr.right, env, num_index
+            )
+        if isinstance(expr, FuncTerm) and expr.atom.pred in self.fluent_funcs:
+            key = self._ga(expr.atom, env)
+            if key in num_index:
+                return 1 << (self._n_atoms + num_index[key])
+        return 0
+
+    # --- matching --------------------------------------------------------------------------
+
+    def _bindings(
+        self,
+        op: Operator,
+        facts: _FactIndex,
+        seed: tuple[Atom, list[tuple[str, ...]]] | None = None,
+    ) -> Iterator[dict[str, str]]:
+        """Parameter bindings whose positive preconditions are (relaxed-)reachable.
+
+        With ``seed`` (semi-naive evaluation) that atom is matched only against the given new
+        facts, the others against all facts.
+        """
+        positives = [c.atom for c in op.pre if isinstance(c, Literal) and c.positive]
+        params = {p.name: p.type for p in op.params}
+        members = {name: self._members(tname) for name, tname in params.items()}
+        env: dict[str, str] = {}
+
+        def extend(remaining: list[Atom]) -> Iterator[dict[str, str]]:
+            if not remaining:
+                yield from free([p.name for p in op.params if p.name not in env])
+                return
+            # seed first, then the most constrained atom; candidates from the most selective
+            # bound position
+            if seed is not None and seed[0] in remaining:
+                best = seed[0]
+            else:
+                best = max(
+                    remaining,
+                    key=lambda a: sum(1 for t in a.args if t.name in env or t.name not in params),
+                )
+            rest = [a for a in remaining if a is not best]
+            candidates: list[tuple[str, ...]] | None = None
+            for i, term in enumerate(best.args):
+                value = env.get(term.name) if term.name in params else term.name
+                if value is not None:
+                    found = facts.by_arg.get((best.pred, i, value), [])
+                    if candidates is None or len(found) < len(candidates):
+                        candidates = found
+            if candidates is None:
+                candidates = facts.by_pred.get(best.pred, [])
+            if seed is not None and best is seed[0]:
+                candidates = seed[1]
+            for args in candidates:
+                bound: list[str] = []
+                ok = True
+                for term, value in zip(best.args, args, strict=True):
+                    if term.name in params:
+                        current = env.get(term.name)
+                        if current is None:
+                            if value not in members[term.name]:
+                                ok = False
+                                break
+                            env[term.name] = value
+                            bound.append(term.name)
+                        elif current != value:
+                            ok = False
+                            break
+                    elif term.name != value:
+                        ok = False
+                        break
+                if ok:
+                    yield from extend(rest)
+                for name in bound:
+                    del env[name]
+
+        def free(names: list[str]) -> Iterator[dict[str, str]]:
+            if not names:
+                yield dict(env)
+                return
+            name = names[0]
+            for obj in self.types.objects.get(params[name], ()):
+                env[name] = obj
+                yield from free(names[1:])
+                del env[name]
+
+        yield from extend(positives)
+
+    def ground(self) -> Task:
+        """Instantiate reachable operators and encode everything as bitsets."""
+        facts = _FactIndex()
+        for pred, args in sorted(self.static_facts | self.init_fluents):
+            facts.add(pred, args)
+        reached = set(self.init_fluents)
+        instances: dict[tuple[str, tuple[str, ...]], tuple[Operator, dict[str, str]]] = {}
+        delta: dict[str, list[tuple[str, ...]]] | None = None  # None: first, full round
+        while delta is None or delta:
+            new_delta: dict[str, list[tuple[str, ...]]] = {}
+            for op in self.domain.operators:
+                if delta is None:
+                    found = list(self._bindings(op, facts))
+                else:
+                    found = []
+                    for c in op.pre:
+                        if isinstance(c, Literal) and c.positive and c.atom.pred in delta:
+                            found.extend(self._bindings(op, facts, (c.atom, delta[c.atom.pred])))
+                for env in found:
+                    key = (op.name, tuple(env[p.name] for p in op.params))
+                    if key in instances or not self._static_ok(op, env):
+                        continue
+                    instances[key] = (op, env)
+                    for eff in op.effects:
+                        if isinstance(eff, AtomEffect) and eff.literal.positive:
+                            atom = self._ga(eff.literal.atom, env)
+                            if atom not in reached:
+                                reached.add(atom)
+                                facts.add(atom[0], atom[1])
+                                new_delta.setdefault(atom[0], []).append(atom[1])
+            delta = new_delta
+        return self._encode(instances, reached)
+
+    def _static_ok(self, op: Operator, env: dict[str, str]) -> bool:
+        for cond in op.pre:
+            if isinstance(cond, Equality):
+                if (
+                    env.get(cond.left.name, cond.left.name)
+                    == env.get(cond.right.name, cond.right.name)
+                ) != cond.positive:
+                    return False
+            elif (
+                isinstance(cond, Literal)
+                and cond.atom.pred in self.static_preds
+                and (self._ga(cond.atom, env) in self.static_facts) != cond.positive
+            ):
+                return False
+        return True
+
+    def _encode(
+        self,
+        instances: dict[tuple[str, tuple[str, ...]], tuple[Operator, dict[str, str]]],
+        reached: set[GroundAtom],
+    ) -> Task:
+        goal_atoms = {_ground_atom(c.atom, {}) for c in self.problem.goal if isinstance(c, Literal)}
+        atoms = sorted(reached | {a for a in goal_atoms if a[0] not in self.static_preds})
+        atom_bit = {a: i for i, a in enumerate(atoms)}
+        num_index: dict[GroundAtom, int] = {}
+        for key in sorted(self.init_num_values):
+            num_index[key] = len(num_index)
+        self._n_atoms = len(atoms)
+        agents = sorted({env[op.agent] for op, env in instances.values() if op.agent is not None})
+        ops: list[GroundOp] = []
+        for key in sorted(instances, key=lambda k: (k[0], k[1])):
+            op, env = instances[key]
+            ground = self._ground_op(len(ops), op, env, atom_bit, num_index)
+            if ground is not None:
+                ops.append(ground)
+        n_atoms, n_nums = len(atoms), len(num_index)
+        agent_bit = {a: n_atoms + n_nums + i for i, a in enumerate(agents)}
+        # agents are exclusive: each action of an agent writes that agent's token
+        ops = [_with_agent_token(g, agent_bit) if g.agent is not None else g for g in ops]
+        init_bits = 0
+        for atom in self.init_fluents:
+            init_bits |= 1 << atom_bit[atom]
+        missing = [k for k in num_index if k not in self.init_num_values]
+        if missing:
+            pred, args = missing[0]
+            raise _fail(
+                f"no initial value for numeric feature {pred}({', '.join(args)})",
+                Pos(self.problem.source),
+            )
+        init_nums = tuple(self.init_num_values[k] for k in num_index)
+        goal_pos = goal_neg = 0
+        goal_num: list[NumTest] = []
+        for cond in self.problem.goal:
+            if isinstance(cond, Literal):
+                atom = _ground_atom(cond.atom, {})
+                if atom[0] in self.static_preds:
+                    if (atom in self.static_facts) != cond.positive:
+                        goal_pos |= 1 << len(atoms)  # an unreachable bit: goal is false
+                    continue
+                if cond.positive:
+                    goal_pos |= 1 << atom_bit[atom]
+                else:
+                    goal_neg |= 1 << atom_bit[atom]
+            elif isinstance(cond, Comparison):
+                test = self._compare(cond, {}, num_index)
+                if test is None:
+                    goal_pos |= 1 << len(atoms)
+                else:
+                    goal_num.append(test)
+            elif (cond.left.name == cond.right.name) != cond.positive:
+                goal_pos |= 1 << len(atoms)
+        resource_indices = tuple(i for k, i in num_index.items() if k[0] in self.domain.resources)
+        by_pred: dict[str, dict[tuple[str, ...], int]] = {}
+        for atom, bit in atom_bit.items():
+            by_pred.setdefault(atom[0], {})[atom[1]] = 1 << bit
+        return Task(
+            domain=self.domain,
+            problem=self.problem,
+            atoms=atoms,
+            atom_bit=atom_bit,
+            num_features=list(num_index),
+            num_index=num_index,
+            init_bits=init_bits,
+            init_nums=init_nums,
+            goal_pos=goal_pos,
+            goal_neg=goal_neg,
+            goal_num=tuple(goal_num),
+            goal_atoms=frozenset(goal_atoms),
+            static_facts=frozenset(self.static_facts),
+            static_preds=self.static_preds,
+            objects_by_type=dict(self.types.objects),
+            ops=ops,
+            resource_indices=resource_indices,
+            by_pred=by_pred,
+        )
+
+    def _compare(
+        self, cond: Comparison, env: dict[str, str], num_index: dict[GroundAtom, int]
+    ) -> NumTest | None:
+        left = self._num(cond.left, env, num_index)
+        right = self._num(cond.right, env, num_index)
+        if left is None or right is None:
+            return None
+        cmp = _COMPARE[cond.op]
+        lf, rf = _as_fn(left), _as_fn(right)
+        return lambda nums: cmp(lf(nums), rf(nums))
+
+    def _conds(
+        self,
+        conds: tuple[Condition, ...],
+        env: dict[str, str],
+        atom_bit: dict[GroundAtom, int],
+        num_index: dict[GroundAtom, int],
+    ) -> tuple[int, int, list[NumTest], int] | None:
+        """(positive mask, negative mask, numeric tests, read mask) or None if unsatisfiable."""
+        pos = neg = reads = 0
+        tests: list[NumTest] = []
+        for cond in conds:
+            if isinstance(cond, Literal):
+                atom = self._ga(cond.atom, env)
+                if atom[0] in self.static_preds:
+                    if (atom in self.static_facts) != cond.positive:
+                        return None
+                    continue
+                bit = atom_bit.get(atom)
+                if bit is None:
+                    if cond.positive:
+                        return None
+                    continue
+                if cond.positive:
+                    pos |= 1 << bit
+                else:
+                    neg |= 1 << bit
+            elif isinstance(cond, Equality):
+                if (
+                    env.get(cond.left.name, cond.left.name)
+                    == env.get(cond.right.name, cond.right.name)
+                ) != cond.positive:
+                    return None
+            else:
+                test = self._compare(cond, env, num_index)
+                if test is None:
+                    return None
+                tests.append(test)
+                reads |= self._num_reads(cond.left, env, num_index)
+                reads |= self._num_reads(cond.right, env, num_index)
+        return pos, neg, tests, reads | pos | neg
+
+    def _ground_op(
+        self,
+        index: int,
+        op: Operator,
+        env: dict[str, str],
+        atom_bit: dict[GroundAtom, int],
+        num_index: dict[GroundAtom, int],
+    ) -> GroundOp | None:
+        pre = self._conds(op.pre, env, atom_bit, num_index)
+        prevail = self._conds(op.prevail, env, atom_bit, num_index)
+        duration = self._num(op.duration, env, num_index)
+        if pre is None or prevail is None or duration is None or callable(duration):
+            return None
+        if duration <= 0:
+            raise _fail(f"operator '{op.name}' has non-positive duration {duration}", op.pos)
+        add = delete = start_add = start_delete = writes = 0
+        add_atoms: list[GroundAtom] = []
+        del_atoms: list[GroundAtom] = []
+        num_effects: list[NumericEffect] = []
+        reads = pre[3]
+        for eff in op.effects:
+            if isinstance(eff, AtomEffect):
+                atom = self._ga(eff.literal.atom, env)
+                bit = 1 << atom_bit[atom] if atom in atom_bit else 0
+                if not bit:
+                    continue  # deleting an atom that can never be true
+                writes |= bit
+                if eff.literal.positive:
+                    add |= bit
+                    delete &= ~bit
+                    add_atoms.append(atom)
+                    if eff.time is EffectTime.START:
+                        start_add |= bit
+                else:
+                    delete |= bit
+                    del_atoms.append(atom)
+                    if eff.time is EffectTime.START:
+                        start_delete |= bit
+            else:
+                target = self._ga(eff.target, env)
+                if target not in num_index:
+                    raise _fail(
+                        f"no initial value for numeric feature {target[0]}({', '.join(target[1])})",
+                        eff.target.pos,
+                    )
+                value = self._num(eff.value, env, num_index)
+                if value is None:
+                    return None
+                reads |= self._num_reads(eff.value, env, num_index)
+                num_effects.append(
+                    NumericEffect(num_index[target], eff.op, _as_fn(value), eff.time)
+                )
+                writes |= 1 << (self._n_atoms + num_index[target])
+        delete &= ~add
+        agent = env[op.agent] if op.agent is not None else None
+        return GroundOp(
+            index=index,
+            name=op.name,
+            args=tuple(env[p.name] for p in op.params),
+            agent=agent,
+            duration=float(duration),
+            pre_pos=pre[0],
+            pre_neg=pre[1],
+            add=add,
+            delete=delete,
+            start_add=start_add,
+            start_delete=start_delete,
+            num_pre=tuple(pre[2]),
+            num_effects=tuple(num_effects),
+            prevail_pos=prevail[0],
+            prevail_neg=prevail[1],
+            prevail_num=tuple(prevail[2]),
+            reads=reads,
+            writes=writes,
+            add_atoms=tuple(add_atoms),
+            del_atoms=tuple(del_atoms),
+        )
+
+
+def _with_agent_token(op: GroundOp, agent_bit: dict[str, int]) -> GroundOp:
+    assert op.agent is not None
+    token = 1 << agent_bit[op.agent]
+    return replace(op, writes=op.writes | token)
+
+
+def _atom_getter(atom: Atom) -> Callable[[dict[str, str]], GroundAtom]:
+    names = tuple(t.name for t in atom.args)
+    pred = atom.pred
+    if len(names) == 1:
+        only = names[0]
+        return lambda env: (pred, (env.get(only, only),))
+    if len(names) == 2:
+        first, second = names
+        return lambda env: (pred, (env.get(first, first), env.get(second, second)))
+    return lambda env: (pred, tuple(env.get(n, n) for n in names))
+
+
+def _ground_atom(atom: Atom, env: dict[str, str]) -> GroundAtom:
+    return (atom.pred, tuple(env.get(t.name, t.name) for t in atom.args))
+
+
+def _arith(op: str, a: float, b: float) -> float:
+    if op == "+":
+        return a + b
+    if op == "-":
+        return a - b
+    if op == "*":
+        return a * b
+    return a / b if b else float("inf")
+
+
+def _as_fn(value: NumFn | float) -> NumFn:
+    if callable(value):
+        return value
+    constant = float(value)
+    return lambda nums: constant

@@ -1,0 +1,145 @@
+"""Type hierarchy and name checks: undefined predicates, types, objects and functions.
+
+Every reference in a domain and problem is checked before grounding, so errors name the
+offending identifier and carry the position of the statement that uses it.
+"""
+
+from __future__ import annotations
+
+from hdrc3_deliberative.errors import PlanningInputError
+from hdrc3_deliberative.model import (
+    ROOT_TYPE,
+    Atom,
+    AtomEffect,
+    BinOp,
+    Condition,
+    Domain,
+    Equality,
+    FuncTerm,
+    Literal,
+    NumExpr,
+    Pos,
+    Problem,
+    Term,
+)
+
+FLIGHT_FUNCTIONS = ("flight-time", "flight-cost")
+
+
+def _fail(message: str, pos: Pos) -> PlanningInputError:
+    return PlanningInputError(message, pos.source, pos.line, pos.column)
+
+
+class TypeTable:
+    """Type hierarchy and typed object lists with undefined-name checks."""
+
+    def __init__(self, domain: Domain, problem: Problem) -> None:
+        self.parent = dict(domain.types)
+        self.parent.pop(ROOT_TYPE, None)
+        for tname, parent in sorted(self.parent.items()):
+            self.check_type(parent, Pos(domain.source), f"the parent of type '{tname}'")
+        self.obj_type: dict[str, str] = {}
+        for param in (*domain.constants, *problem.objects):
+            self.check_type(param.type, Pos(problem.source), f"object '{param.name}'")
+            self.obj_type[param.name] = param.type
+        self.ancestors: dict[str, frozenset[str]] = {t: self._up(t) for t in self.parent}
+        self.ancestors[ROOT_TYPE] = frozenset({ROOT_TYPE})
+        by_type: dict[str, list[str]] = {t: [] for t in self.ancestors}
+        for obj in sorted(self.obj_type):
+            for anc in self.ancestors[self.obj_type[obj]]:
+                by_type[anc].append(obj)
+        self.objects = {t: tuple(objs) for t, objs in by_type.items()}
+
+    def _up(self, tname: str) -> frozenset[str]:
+        seen = {tname, ROOT_TYPE}
+        while tname in self.parent and self.parent[tname] not in seen:
+            tname = self.parent[tname]
+            seen.add(tname)
+        return frozenset(seen)
+
+    def check_type(self, tname: str, pos: Pos, what: str) -> None:
+        """Raise if ``tname`` is not declared."""
+        if tname != ROOT_TYPE and tname not in self.parent:
+            raise PlanningInputError(
+                f"undefined type '{tname}' of {what}", pos.source, pos.line, pos.column
+            )
+
+
+class NameChecker:
+    """Checks that a domain and problem only use declared names, with matching arities."""
+
+    def __init__(self, domain: Domain, problem: Problem, types: TypeTable) -> None:
+        self.domain = domain
+        self.problem = problem
+        self.types = types
+
+    def _check_atom(
+        self, atom: Atom, scope: dict[str, str], table: dict[str, tuple[str, ...]], kind: str
+    ) -> None:
+        if atom.pred not in table:
+            raise _fail(f"undefined {kind} '{atom.pred}'", atom.pos)
+        expected = table[atom.pred]
+        if len(expected) != len(atom.args):
+            raise _fail(
+                f"{kind} '{atom.pred}' takes {len(expected)} arguments, got {len(atom.args)}",
+                atom.pos,
+            )
+        for term in atom.args:
+            self._check_term(term, scope, atom.pos)
+
+    def _check_term(self, term: Term, scope: dict[str, str], pos: Pos) -> None:
+        if term.name not in scope and term.name not in self.types.obj_type:
+            raise _fail(f"undefined object or variable '{term.name}'", pos)
+
+    def _check_num(self, expr: NumExpr, scope: dict[str, str], pos: Pos) -> None:
+        if isinstance(expr, BinOp):
+            self._check_num(expr.left, scope, pos)
+            self._check_num(expr.right, scope, pos)
+        elif isinstance(expr, FuncTerm):
+            if expr.atom.pred in FLIGHT_FUNCTIONS:
+                if len(expr.atom.args) != 3:
+                    raise _fail(f"'{expr.atom.pred}' takes (agent, from, to)", expr.atom.pos)
+                for term in expr.atom.args:
+                    self._check_term(term, scope, expr.atom.pos)
+            else:
+                self._check_atom(expr.atom, scope, self.domain.functions, "function")
+
+    def _check_conditions(
+        self, conds: tuple[Condition, ...], scope: dict[str, str], pos: Pos
+    ) -> None:
+        for cond in conds:
+            if isinstance(cond, Literal):
+                self._check_atom(cond.atom, scope, self.domain.predicates, "predicate")
+            elif isinstance(cond, Equality):
+                self._check_term(cond.left, scope, pos)
+                self._check_term(cond.right, scope, pos)
+            else:
+                self._check_num(cond.left, scope, pos)
+                self._check_num(cond.right, scope, pos)
+
+    def check(self) -> None:
+        """Raise PlanningInputError for the first undefined or misused name."""
+        for pname, ptypes in {**self.domain.predicates, **self.domain.functions}.items():
+            for tname in ptypes:
+                self.types.check_type(tname, Pos(self.domain.source), f"'{pname}'")
+        for op in self.domain.operators:
+            scope = {p.name: p.type for p in op.params}
+            for p in op.params:
+                self.types.check_type(p.type, op.pos, f"parameter '{p.name}' of '{op.name}'")
+            if op.agent is not None and op.agent not in scope:
+                raise _fail(f"agent '{op.agent}' of '{op.name}' is not a parameter", op.pos)
+            self._check_conditions(op.pre + op.prevail, scope, op.pos)
+            self._check_num(op.duration, scope, op.pos)
+            for eff in op.effects:
+                if isinstance(eff, AtomEffect):
+                    self._check_atom(eff.literal.atom, scope, self.domain.predicates, "predicate")
+                else:
+                    self._check_atom(eff.target, scope, self.domain.functions, "function")
+                    self._check_num(eff.value, scope, op.pos)
+        for atom in self.problem.init:
+            self._check_atom(atom, {}, self.domain.predicates, "predicate")
+        for atom, _ in self.problem.init_values:
+            self._check_atom(atom, {}, self.domain.functions, "function")
+        self._check_conditions(self.problem.goal, {}, Pos(self.problem.source))
+
+    # --- numeric expressions ---------------------------------------------------------------

@@ -1,0 +1,199 @@
+from __future__ import annotations
+
+import random
+
+import pytest
+
+from hdrc3_deliberative.control import ControlCompiler
+from hdrc3_deliberative.errors import PlanningInputError
+from hdrc3_deliberative.generators import (
+    LOGISTICS_CONTROL,
+    LOGISTICS_DOMAIN,
+    LogisticsSize,
+    logistics_problem,
+)
+from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
+from hdrc3_deliberative.pruning import ControlProgram
+from hdrc3_deliberative.result import PlanStatus
+from hdrc3_deliberative.task import Task
+
+DOMAIN = """domain grid
+type cell
+type special: cell
+type robot
+predicate at(r: robot, c: cell)
+predicate adj(a: cell, b: cell)
+predicate painted(c: cell)
+operator move(r: robot, a: cell, b: cell)
+  agent r
+  pre at(r, a) and adj(a, b)
+  effect [t'] not at(r, a), at(r, b)
+end
+operator paint(r: robot, c: cell)
+  agent r
+  pre at(r, c) and not painted(c)
+  effect [t'] painted(c)
+end
+operator scrub(r: robot, c: cell)
+  agent r
+  pre at(r, c) and painted(c)
+  effect [t'] not painted(c)
+end
+"""
+PROBLEM = """problem p for grid
+object c1, c2, c3: cell
+object hot: special
+object r1: robot
+init at(r1, c1), adj(c1, c2), adj(c2, c1), adj(c2, c3), adj(c3, c2), adj(c2, hot), adj(hot, c3)
+goal painted(c3)
+"""
+
+
+def setup(rules: str, problem: str = PROBLEM) -> tuple[Task, ControlProgram]:
+    tp = TaskPlanner()
+    d, p, spec = tp.read(PlanRequest(DOMAIN, problem, rules, control_source="c.tal"))
+    task = tp.ground(d, p)
+    return task, ControlCompiler(task, spec).compile()
+
+
+def state(task: Task, *atoms: str) -> int:
+    bits = 0
+    for text in atoms:
+        pred, rest = text.rstrip(")").split("(")
+        bits |= task.mask_of((pred, tuple(a.strip() for a in rest.split(","))))
+    return bits
+
+
+def op(task: Task, label: str):  # type: ignore[no-untyped-def]
+    return next(o for o in task.ops if o.label == label)
+
+
+SHAPES = {
+    # a change to true, explicit in the antecedent: add-triggered
+    "add": "rule r: forall c: cell . [t] not painted(c) and [t+1] painted(c) -> goal(painted(c))",
+    # a change to false, explicit: delete-triggered
+    "del": "rule r: forall c: cell . [t] painted(c) and [t+1] not painted(c) -> false",
+    # persistence form [t] p ... -> [t+1] p: delete-triggered
+    "keep": "rule r: forall c: cell . [t] painted(c) and goal(painted(c)) -> [t+1] painted(c)",
+    # negative persistence form: add-triggered
+    "keep-off": "rule r: forall c: cell . [t] not painted(c) and not goal(painted(c))"
+    " -> [t+1] not painted(c)",
+}
+
+
+@pytest.mark.parametrize(
+    ("shape", "on_add"), [("add", True), ("del", False), ("keep", False), ("keep-off", True)]
+)
+def test_triggered_shapes(shape: str, on_add: bool) -> None:
+    task, program = setup(SHAPES[shape])
+    rule = program.rules[0]
+    assert (
+        rule.trigger is not None
+        and rule.trigger.on_add is on_add
+        and rule.trigger.pred == "painted"
+    )
+    paint_c1 = op(task, "(paint r1 c1)")
+    paint_c3 = op(task, "(paint r1 c3)")
+    before = state(task, "at(r1, c1)")
+    after_c1 = before | paint_c1.add
+    if on_add:  # painting a cell that is not a goal violates both add-shapes
+        assert program.step_violation(paint_c1, before, after_c1) == "r"
+        assert program.step_violation(paint_c3, before, before | paint_c3.add) is None
+    else:  # scrubbing a painted (goal) cell violates
+        scrub = op(task, "(scrub r1 c3)")
+        painted = state(task, "at(r1, c3)", "painted(c3)")
+        assert program.step_violation(scrub, painted, painted & ~scrub.delete) == "r"
+    # moving does not touch 'painted': the rule is not among move's incremental constraints
+    assert program.incremental_rules("move") == ()
+
+
+def test_untriggered_state_rule_initial_and_incremental() -> None:
+    rules = "rule avoid: forall r: robot, c: cell . special(c) -> not at(r, c)"
+    task, program = setup(rules)
+    assert program.rules[0].trigger is None
+    start = state(task, "at(r1, c1)")
+    assert program.initial_violation(start) is None
+    move = op(task, "(move r1 c2 hot)")
+    before = state(task, "at(r1, c2)")
+    assert program.step_violation(move, before, (before & ~move.delete) | move.add) == "avoid"
+    assert program.initial_violation(state(task, "at(r1, hot)")) == "avoid"
+
+
+def test_final_rule_and_planning_outcomes() -> None:
+    # the planner must respect the always-rule (no detour via hot) and the final rule
+    tp = TaskPlanner()
+    rules = (
+        "rule avoid: forall r: robot, c: cell . special(c) -> not at(r, c)\n"
+        "final home: at(r1, c2)\n"
+    )
+    result = tp.plan(PlanRequest(DOMAIN, PROBLEM, rules), timeout=5)
+    assert result.status is PlanStatus.SOLVED
+    labels = [o.label for o in result.plan]
+    assert "(move r1 c2 hot)" not in labels
+    assert labels[-1] == "(move r1 c3 c2)"
+    # a start inside the forbidden cell: the initial constraint proves unsolvability
+    bad_start = PROBLEM.replace("init at(r1, c1)", "init at(r1, hot)")
+    result = tp.plan(PlanRequest(DOMAIN, bad_start, rules), timeout=5)
+    assert result.status is PlanStatus.UNSOLVABLE_PROVEN
+    assert "avoid" in result.reason
+
+
+def test_exists_forall_equality_and_goal_modality() -> None:
+    rules = (
+        "rule r: forall c: cell . [t] not painted(c) and [t+1] painted(c) ->\n"
+        "  exists d: cell . adj(c, d) and d != c and (forall e: cell . goal(painted(e)) -> e = c)"
+    )
+    task, program = setup(rules)
+    paint_c3 = op(task, "(paint r1 c3)")
+    paint_c1 = op(task, "(paint r1 c1)")
+    s = state(task, "at(r1, c1)")
+    assert program.step_violation(paint_c3, s, s | paint_c3.add) is None
+    assert program.step_violation(paint_c1, s, s | paint_c1.add) == "r"
+
+
+@pytest.mark.parametrize(
+    ("rules", "message"),
+    [
+        ("rule r: forall c: cell . [t] paint(c)", "undefined predicate 'paint'"),
+        ("rule r: forall c: cel . [t] painted(c)", "undefined type 'cel'"),
+        ("rule r: painted(c9)", "undefined object or variable 'c9'"),
+        ("rule r: at(r1)", "takes 2 arguments, got 1"),
+        ("prefer fly", "undefined operator 'fly'"),
+        ("agents drone", "undefined agent type 'drone'"),
+    ],
+)
+def test_control_errors(rules: str, message: str) -> None:
+    with pytest.raises(PlanningInputError, match=message):
+        setup(rules)
+
+
+def test_control_error_position() -> None:
+    with pytest.raises(PlanningInputError) as err:
+        setup("\nrule r: forall c: cell .\n  [t] paint(c)")
+    assert str(err.value).startswith("c.tal:3:7:")
+
+
+def test_incremental_constraints_agree_with_full_evaluation() -> None:
+    """Triggered (incremental) checks equal the whole rule evaluated on each transition."""
+    tp = TaskPlanner()
+    problem = logistics_problem(LogisticsSize(4, 2, 1), seed=5)
+    d, p, spec = tp.read(
+        PlanRequest(LOGISTICS_DOMAIN.read_text(), problem, LOGISTICS_CONTROL.read_text())
+    )
+    task = tp.ground(d, p)
+    program = ControlCompiler(task, spec).compile()
+    assert all(rule.trigger is not None for rule in program.rules)
+    rng = random.Random(7)
+    checked = 0
+    bits = task.init_bits
+    for _ in range(150):
+        applicable = [o for o in task.ops if bits & o.pre_pos == o.pre_pos and not bits & o.pre_neg]
+        for candidate in applicable:
+            after = (bits & ~candidate.delete) | candidate.add
+            incremental = program.step_violation(candidate, bits, after)
+            full = next((r.name for r in program.rules if not r.full(bits, after)), None)
+            assert incremental == full, candidate.label
+            checked += 1
+        chosen = rng.choice(applicable)
+        bits = (bits & ~chosen.delete) | chosen.add
+    assert checked > 500
