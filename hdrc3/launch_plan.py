@@ -48,6 +48,34 @@ CATALOG: tuple[NodeKind, ...] = (
         Scope.GLOBAL,
         "diagnostics: liveness, restarts, CPU and memory of every supervised node",
     ),
+    NodeKind(
+        "world_sim",
+        "hdrc3-world-sim",
+        Scope.GLOBAL,
+        "simulated world: /clock, the aircraft of every agent, their sensors and ground truth",
+        world_params=True,
+    ),
+    NodeKind(
+        "control_kernel",
+        "hdrc3-control-kernel",
+        Scope.AGENT,
+        "PFC: flight modes driven by HCSMs at 50 Hz",
+        world_params=True,
+    ),
+    NodeKind(
+        "platform_server",
+        "hdrc3-platform-server",
+        Scope.AGENT,
+        "DRC: FCL/PPCL services, platform events and the 25 Hz Data Interface (chapter 6.2)",
+        world_params=True,
+    ),
+    NodeKind(
+        "perception_kernel",
+        "hdrc3-perception-kernel",
+        Scope.AGENT,
+        "PPC: pan-tilt, camera and laser control modes behind PPCL (chapter 5.2)",
+        world_params=True,
+    ),
 )
 ALWAYS_STARTED = frozenset({"system_monitor"})
 
@@ -106,6 +134,21 @@ def parse_speed(text: str) -> float:
     if not math.isfinite(speed) or speed <= 0:
         raise ConfigError(f"invalid --speed {text!r}: expected a positive number or 'max'")
     return speed
+
+
+def check_world(world: str) -> str:
+    """Accept a shipped world name or an existing world file (``.toml``)."""
+    from sim.world_loader import shipped_worlds  # the world data ships with the sim package
+
+    shipped = shipped_worlds()
+    if world in shipped:
+        return world
+    path = Path(world)
+    if path.suffix == ".toml" and path.is_file():
+        return str(path.resolve())
+    raise ConfigError(
+        f"unknown world {world!r}: not a world file; shipped worlds: {', '.join(shipped)}"
+    )
 
 
 def check_domain_id(domain_id: int | None) -> int | None:

@@ -15,7 +15,7 @@ from pathlib import Path
 import jsbsim
 
 from hdrc3.errors import ConfigError
-from sim.enu_frame import EnuFrame
+from sim.geodesy import GeodeticOrigin, LocalFrame
 from sim.powertrain import Powertrain
 from sim.rmax_params import RmaxParams
 from sim.rotor import flap_step, ground_effect_factor, lag, rotor_loads
@@ -59,7 +59,7 @@ class ServoCommand:
 
 @dataclass(frozen=True, slots=True)
 class InitialPlacement:
-    """Where an aircraft starts: on the ground, engine off."""
+    """Where an aircraft starts: on the ground (or ``height`` above it, level), engine off."""
 
     east: float = 0.0
     """m, local ENU."""
@@ -67,6 +67,8 @@ class InitialPlacement:
     """m, local ENU."""
     heading: float = 0.0
     """rad, clockwise from north."""
+    height: float = 0.0
+    """Skid bottoms above the terrain, m (0: standing on the ground)."""
 
 
 def _clip(value: float, low: float, high: float) -> float:
@@ -110,7 +112,7 @@ class FlightModel:
             raise ConfigError(f"rate must be positive, got {rate_hz}")
         self.dt = 1.0 / rate_hz
         self._terrain = terrain_height
-        self._frame = EnuFrame(*origin)
+        self._frame = LocalFrame(GeodeticOrigin(*origin))
         self.powertrain = Powertrain(p, fuel_kg)
         self._payload = payload
         self._servo = ServoCommand()
@@ -164,10 +166,11 @@ class FlightModel:
     def _place(self, place: InitialPlacement) -> None:
         fdm = self._fdm
         ground = self._terrain(place.east, place.north)
-        lat, lon, alt = self._frame.to_geodetic(place.east, place.north, ground)
+        fix = self._frame.to_geodetic(place.east, place.north, ground)
+        lat, lon, alt = fix.latitude, fix.longitude, fix.altitude
         if not fdm.run_ic():  # first pass computes the mass balance (CG height with payload)
             raise ConfigError("JSBSim rejected the initial conditions")
-        cg_alt = alt + self._n_cg_z.get_double_value() * IN + 0.005
+        cg_alt = alt + place.height + self._n_cg_z.get_double_value() * IN + 0.005
         fdm["ic/lat-geod-deg"] = lat
         fdm["ic/long-gc-deg"] = lon
         fdm["ic/terrain-elevation-ft"] = alt / FT

@@ -13,6 +13,7 @@ from hdrc3.launch_plan import (
     build_plan,
     check_domain_id,
     check_record_path,
+    check_world,
     parse_agents,
     parse_nodes,
     parse_speed,
@@ -48,7 +49,7 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
     return LaunchOptions(
         agents=parse_agents(args.agents),
         nodes=parse_nodes(args.nodes),
-        world=args.world,
+        world=check_world(args.world),
         speed=parse_speed(args.speed),
         record=check_record_path(args.record),
         domain_id=check_domain_id(args.domain_id),

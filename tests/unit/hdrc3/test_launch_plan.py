@@ -3,6 +3,7 @@ from pathlib import Path
 
 import pytest
 
+from hdrc3 import launch_plan
 from hdrc3.errors import ConfigError
 from hdrc3.launch_plan import (
     LaunchOptions,
@@ -11,6 +12,7 @@ from hdrc3.launch_plan import (
     build_plan,
     check_domain_id,
     check_record_path,
+    check_world,
     parse_agents,
     parse_nodes,
     parse_speed,
@@ -112,3 +114,23 @@ def test_plan_namespaces_agent_nodes_and_passes_world_params(tmp_path: Path) -> 
     assert "speed:=0.0" in world_args
     assert specs[3].argv[-2:] == ("-r", "__ns:=/uav1")
     assert specs[4].argv[1:] == ("record", str(tmp_path / "run.mcap"), "--all")
+
+
+def test_world_sim_is_in_the_catalogue_with_world_parameters() -> None:
+    kinds = {kind.name: kind for kind in launch_plan.CATALOG}
+    assert kinds["world_sim"].executable == "hdrc3-world-sim"
+    assert kinds["world_sim"].scope is Scope.GLOBAL
+    assert kinds["world_sim"].world_params
+
+
+def test_check_world_accepts_shipped_names_and_world_files(tmp_path: Path) -> None:
+    assert check_world("revinge") == "revinge"
+    path = tmp_path / "mine.toml"
+    path.write_text("[world]\nname = 'mine'\n")
+    assert check_world(str(path)) == str(path.resolve())
+
+
+@pytest.mark.parametrize("world", ["atlantis", "missing.toml", "revinge.json"])
+def test_unknown_world_names_the_shipped_ones(world: str) -> None:
+    with pytest.raises(ConfigError, match=f"unknown world '{world}'.*shipped worlds: revinge"):
+        check_world(world)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import pymap3d
 import pytest
 
 from sim.geodesy import GeodeticOrigin, LocalFrame, enu_to_geodetic, geodetic_to_enu
@@ -54,3 +55,15 @@ def test_fast_local_frame_matches_pymap3d(east: float, north: float, up: float) 
     assert fast.latitude == pytest.approx(exact.latitude, abs=1e-9)  # ~0.1 mm
     assert fast.longitude == pytest.approx(exact.longitude, abs=1e-9)
     assert fast.altitude == pytest.approx(exact.altitude, abs=1e-4)
+
+
+@pytest.mark.parametrize(
+    ("e", "n", "u"), [(0.0, 0.0, 0.0), (1500.0, -800.0, 120.0), (-4000.0, 3000.0, -5.0)]
+)
+def test_local_frame_from_ecef_matches_pymap3d(e: float, n: float, u: float) -> None:
+    frame = LocalFrame(GeodeticOrigin(58.4, 15.6, 80.0))
+    x, y, z = pymap3d.enu2ecef(e, n, u, 58.4, 15.6, 80.0)
+    assert frame.from_ecef(x, y, z) == pytest.approx((e, n, u), abs=1e-6)
+    fix = frame.to_geodetic(e, n, u)
+    ecef = pymap3d.geodetic2ecef(fix.latitude, fix.longitude, fix.altitude)
+    assert frame.from_ecef(*ecef) == pytest.approx((e, n, u), abs=1e-6)

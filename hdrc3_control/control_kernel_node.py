@@ -1,0 +1,359 @@
+"""The ``control_kernel`` node (the PFC): a thin ROS adapter around :class:`PfcKernel`.
+
+Lockstep with ``world_sim`` in sim time: world_sim publishes the sensor samples of tick k, the
+YACS status and then ``/clock`` = t_k; once both the clock and the status of t_k are in, the node
+runs one kernel tick (Algorithm 1) and answers with exactly one ``yacs/command`` stamped t_k,
+whatever the mode (manual, on the ground, between two functions). Events to and from the DRC
+(platform_server) and the PPC travel over the HCSM ROS transport (``hcsm/events/<COMPUTER>``).
+
+Topics (relative to the agent namespace): in ``sensors/{imu,attitude,gps/fix,gps/velocity,
+barometer,ground_contact,rpm,power}``, ``yacs/status``, ``pfc/ui`` (std_msgs/String: arm, brake,
+land), ``/clock``; out ``yacs/command``, ``pfc/state`` (PfcState, every tick), ``hcsm/trace``
+(fired transitions; parameter ``trace``, default on). Client of ``/world_sim/set_power`` for
+the Power Switch's requests.
+Parameters: ``world`` (origin and terrain of the map), ``takeoff_height``, ``trace``.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import threading
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import pymap3d
+from geometry_msgs.msg import TwistStamped
+from rclpy.context import Context
+from rclpy.executors import Executor
+from rclpy.experimental.events_executor import EventsExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Imu, NavSatFix
+from std_msgs.msg import String
+
+from hdrc3.errors import ConfigError, Hdrc3Error
+from hdrc3.ros_runtime import RosProcess
+from hdrc3_control.commands import EstimatorHealth, VerticalMode
+from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult, UiCommand
+from hdrc3_control.measurements import (
+    AttitudeMeasurement,
+    BaroMeasurement,
+    GpsMeasurement,
+    GroundContactMeasurement,
+    ImuMeasurement,
+)
+from hdrc3_control.pfc_state import PlatformStatus, PowerReading
+from hdrc3_control.takeoff import TakeoffConfig
+from hdrc3_hcsm.ros_transport import RosTransport, TracePublisher
+from hdrc3_hcsm.trace import TraceRecord
+from hdrc3_interfaces.msg import (
+    Attitude,
+    Barometer,
+    GroundContact,
+    PfcState,
+    PowerStatus,
+    RotorRpm,
+    YacsCommand,
+    YacsStatus,
+)
+from hdrc3_interfaces.srv import SimSetPower
+from sim.world_loader import load_world, shipped_worlds
+
+NODE_NAME = "control_kernel"
+PERIOD = 0.02
+"""Control period, s (50 Hz)."""
+SENSOR_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+IMU_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+COMMAND_QOS = QoSProfile(depth=20, reliability=ReliabilityPolicy.RELIABLE)
+CLOCK_QOS = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
+)
+DRAIN_LIMIT = 64
+"""Ready callbacks served before a tick runs (the period's samples: 4 IMU, 1 attitude, ...)."""
+_HEALTH = {
+    EstimatorHealth.OK: PfcState.HEALTH_OK,
+    EstimatorHealth.DEGRADED: PfcState.HEALTH_DEGRADED,
+    EstimatorHealth.LOST: PfcState.HEALTH_LOST,
+}
+
+
+def _sec(stamp: Any) -> float:
+    return float(stamp.sec) + float(stamp.nanosec) * 1e-9
+
+
+def _ns(stamp: Any) -> int:
+    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
+
+
+def _set_stamp(stamp: Any, ns: int) -> None:
+    stamp.sec, stamp.nanosec = ns // 1_000_000_000, ns % 1_000_000_000
+
+
+class FiringTrace:
+    """Trace sink that publishes only the micro steps in which transitions fired."""
+
+    def __init__(self, publisher: TracePublisher) -> None:
+        self.publisher = publisher
+
+    def record(self, record: TraceRecord) -> None:
+        """Forward ``record`` if it fired a transition (most pulse steps fire none)."""
+        if record.transitions:
+            self.publisher.record(record)
+
+
+class ControlKernelNode(Node):
+    """ROS face of one PfcKernel."""
+
+    def __init__(self, context: Context) -> None:
+        """Read parameters (ConfigError on bad ones), build the kernel and every interface."""
+        super().__init__(NODE_NAME, context=context)
+        self.set_parameters([Parameter("use_sim_time", value=True)])
+        world_name = str(self.declare_parameter("world", "revinge").value)
+        height = float(self.declare_parameter("takeoff_height", 10.0).value)
+        trace_on = bool(self.declare_parameter("trace", True).value)
+        if world_name not in shipped_worlds() and not world_name.endswith(".toml"):
+            raise ConfigError(
+                f"unknown world {world_name!r} (shipped: {', '.join(shipped_worlds())})"
+            )
+        if not (math.isfinite(height) and 3.0 <= height <= 100.0):
+            raise ConfigError(f"takeoff_height must be within 3 .. 100 m, got {height}")
+        world = load_world(world_name)
+        self.origin = world.origin
+        self.agent = self.get_namespace().strip("/")
+        self.transport = RosTransport(self, "PFC")
+        trace = FiringTrace(TracePublisher(self, "hcsm/trace")) if trace_on else None
+        self._make_kernel: Callable[[], PfcKernel] = lambda: PfcKernel(
+            KernelConfig(takeoff=TakeoffConfig(height=height)),
+            terrain=world.terrain.height,
+            transport=self.transport,
+            trace=trace,
+        )
+        self.kernel = self._make_kernel()
+        self.command_pub = self.create_publisher(YacsCommand, "yacs/command", COMMAND_QOS)
+        self.state_pub = self.create_publisher(PfcState, "pfc/state", SENSOR_QOS)
+        self.power_client = self.create_client(SimSetPower, "/world_sim/set_power")
+        self._gps_fix: dict[int, tuple[float, float, float]] = {}
+        self._gps_vel: dict[int, tuple[float, float, float]] = {}
+        self._clock_ns: int | None = None
+        self._status_ns: int | None = None
+        self._answered_ns = -1
+        self.overruns = 0
+        self.step_time = 0.0
+        self.ticks = 0
+        self._command = YacsCommand()
+        self._state = PfcState()
+        self._state.header.frame_id = "world_enu"
+        self.callbacks = 0
+        """Callbacks served so far (the loop drains the ready ones before a tick)."""
+
+        def sub(
+            msg_type: Any, topic: str, callback: Callable[[Any], None], qos: QoSProfile
+        ) -> None:
+            def counted(msg: Any) -> None:
+                self.callbacks += 1
+                callback(msg)
+
+            self.create_subscription(msg_type, topic, counted, qos)
+
+        sub(Clock, "/clock", self._on_clock, CLOCK_QOS)
+        sub(YacsStatus, "yacs/status", self._on_status, SENSOR_QOS)
+        sub(Imu, "sensors/imu", self._on_imu, IMU_QOS)
+        sub(Attitude, "sensors/attitude", self._on_attitude, SENSOR_QOS)
+        sub(NavSatFix, "sensors/gps/fix", self._on_fix, SENSOR_QOS)
+        sub(TwistStamped, "sensors/gps/velocity", self._on_gps_velocity, SENSOR_QOS)
+        sub(Barometer, "sensors/barometer", self._on_baro, SENSOR_QOS)
+        sub(GroundContact, "sensors/ground_contact", self._on_ground, SENSOR_QOS)
+        sub(RotorRpm, "sensors/rpm", self._on_rpm, SENSOR_QOS)
+        sub(PowerStatus, "sensors/power", self._on_power, SENSOR_QOS)
+        sub(String, "pfc/ui", self._on_ui, SENSOR_QOS)
+
+    # ------------------------------------------------------------------ inputs
+    def _on_clock(self, msg: Any) -> None:
+        self._clock_ns = _ns(msg.clock)
+
+    def _on_status(self, msg: Any) -> None:
+        self._status_ns = _ns(msg.header.stamp)
+        self.kernel.feed_status(
+            PlatformStatus(
+                _sec(msg.header.stamp),
+                msg.mode == YacsStatus.MODE_AUTONOMOUS,
+                bool(msg.rc_link_ok),
+                bool(msg.engine_running),
+                float(msg.rotor_rpm),
+            )
+        )
+
+    def _on_imu(self, msg: Any) -> None:
+        a, w = msg.linear_acceleration, msg.angular_velocity
+        t = _sec(msg.header.stamp)
+        self.kernel.feed(ImuMeasurement(t, (a.x, a.y, a.z), (w.x, w.y, w.z)))
+
+    def _on_attitude(self, msg: Any) -> None:
+        t = _sec(msg.header.stamp)
+        self.kernel.feed(AttitudeMeasurement(t, msg.roll, msg.pitch, msg.heading))
+
+    def _on_fix(self, msg: Any) -> None:
+        o = self.origin
+        e, n, u = pymap3d.geodetic2enu(
+            msg.latitude, msg.longitude, msg.altitude, o.latitude, o.longitude, o.altitude
+        )
+        self._gps_pair(_ns(msg.header.stamp), fix=(float(e), float(n), float(u)))
+
+    def _on_gps_velocity(self, msg: Any) -> None:
+        v = msg.twist.linear
+        self._gps_pair(_ns(msg.header.stamp), vel=(v.x, v.y, v.z))
+
+    def _gps_pair(
+        self,
+        ns: int,
+        fix: tuple[float, float, float] | None = None,
+        vel: tuple[float, float, float] | None = None,
+    ) -> None:
+        """A GPS sample is the fix and the velocity of the same stamp (two topics)."""
+        if fix is not None:
+            self._gps_fix[ns] = fix
+        if vel is not None:
+            self._gps_vel[ns] = vel
+        if ns in self._gps_fix and ns in self._gps_vel:
+            position, velocity = self._gps_fix.pop(ns), self._gps_vel.pop(ns)
+            self.kernel.feed(GpsMeasurement(ns * 1e-9, position, velocity))
+        for pending in (self._gps_fix, self._gps_vel):
+            for old in [k for k in pending if k < ns - 1_000_000_000]:
+                del pending[old]
+
+    def _on_baro(self, msg: Any) -> None:
+        t = _sec(msg.header.stamp)
+        self.kernel.feed(BaroMeasurement(t, msg.altitude - self.origin.altitude))
+
+    def _on_ground(self, msg: Any) -> None:
+        t = _sec(msg.header.stamp)
+        self.kernel.feed(GroundContactMeasurement(t, bool(msg.on_ground), 0.0))
+
+    def _on_rpm(self, msg: Any) -> None:
+        self.kernel.feed_rpm(float(msg.rpm))
+
+    def _on_power(self, msg: Any) -> None:
+        self.kernel.feed_power(PowerReading(_sec(msg.header.stamp), int(msg.status)))
+
+    def _on_ui(self, msg: Any) -> None:
+        try:
+            command = UiCommand(str(msg.data).strip().lower())
+        except ValueError:
+            known = ", ".join(c.value for c in UiCommand)
+            self.get_logger().warning(f"unknown UI command {msg.data!r} (known: {known})")
+            return
+        self.kernel.post_ui(command)
+
+    # ------------------------------------------------------------------ the loop
+    def tick_due(self) -> bool:
+        """True once the clock and the YACS status of a new tick have both arrived."""
+        ns = self._clock_ns
+        if ns is not None and ns < self._answered_ns and ns == self._status_ns:
+            # world_sim was reset (sim time restarts at 0): a new flight, a fresh PFC
+            self.get_logger().warning(
+                f"sim time went back from {self._answered_ns * 1e-9:.2f} s to {ns * 1e-9:.2f} s: "
+                "restarting the control kernel"
+            )
+            self.kernel = self._make_kernel()
+            self._answered_ns = -1
+        return ns is not None and ns == self._status_ns and ns > self._answered_ns
+
+    def run_tick(self) -> None:
+        """One control tick at the current sim time; answer it with one YACS command."""
+        ns = self._clock_ns
+        assert ns is not None
+        if self._answered_ns >= 0:
+            # ticks we never saw (a free-running sim outran us): counted, not replayed
+            self.overruns += max(0, round((ns - self._answered_ns) / 20_000_000) - 1)
+        started = time.perf_counter()  # wall time only for the overrun diagnostics
+        result = self.kernel.tick(ns * 1e-9)
+        self._publish_command(ns, result)
+        self._answered_ns = ns
+        self.step_time = time.perf_counter() - started
+        if self.step_time > PERIOD:
+            self.overruns += 1
+        self.ticks += 1
+        for request in result.power_requests:
+            self._request_power(request.devices)
+        self._publish_state(ns, result)
+
+    def _publish_command(self, ns: int, result: TickResult) -> None:
+        cmd, m = result.command, self._command
+        _set_stamp(m.header.stamp, ns)
+        m.roll, m.pitch, m.yaw_rate, m.vertical = cmd.roll, cmd.pitch, cmd.yaw_rate, cmd.vertical
+        m.vertical_mode = (
+            YacsCommand.COLLECTIVE
+            if cmd.vertical_mode is VerticalMode.COLLECTIVE
+            else YacsCommand.VERTICAL_RATE
+        )
+        self.command_pub.publish(m)
+
+    def _request_power(self, devices: int) -> None:
+        if not self.power_client.service_is_ready():
+            self.get_logger().warning("power management unit (/world_sim/set_power) not available")
+            return
+        self.power_client.call_async(
+            SimSetPower.Request(agent=self.agent, devices=devices, on=True)
+        )
+
+    def _publish_state(self, ns: int, result: TickResult) -> None:
+        s, m = result.snapshot, self._state
+        _set_stamp(m.header.stamp, ns)
+        _set_stamp(m.pfc_time, ns)
+        m.position_enu = list(s.position)
+        m.velocity_enu = list(s.velocity)
+        o = self.origin
+        lat, lon, alt = pymap3d.enu2geodetic(*s.position, o.latitude, o.longitude, o.altitude)
+        m.latitude, m.longitude, m.altitude = float(lat), float(lon), float(alt)
+        m.roll, m.pitch, m.heading = s.roll, s.pitch, s.heading
+        m.body_rates = list(s.rates)
+        m.rpm = s.rotor_rpm
+        m.on_ground, m.auto_flag, m.engine_running = s.on_ground, s.auto, s.engine_running
+        m.estimator_initialised = s.estimator_initialised
+        m.estimator_health = _HEALTH[s.health]
+        m.position_sigma = s.position_sigma if math.isfinite(s.position_sigma) else -1.0
+        m.mode = int(s.mode)
+        m.control_function, m.mode_switch_state = s.control_function, s.mode_switch_state
+        m.command_id = s.command_id
+        m.overruns, m.step_time, m.ticks = self.overruns, self.step_time, self.ticks
+        self.state_pub.publish(m)
+
+    def run(self, executor: Executor, stop: threading.Event) -> None:
+        """Serve callbacks; run a tick as soon as one is due (never inside a callback)."""
+        while not stop.is_set() and self.context.ok():
+            executor.spin_once(timeout_sec=0.1)
+            if self.tick_due():
+                # samples of this tick may still be queued behind the clock (other topics)
+                for _ in range(DRAIN_LIMIT):
+                    before = self.callbacks
+                    executor.spin_once(timeout_sec=0.0)
+                    if self.callbacks == before:
+                        break
+                self.run_tick()
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Console script `hdrc3-control-kernel`: exit 0 on SIGINT/SIGTERM, 2 on bad parameters."""
+    args = list(sys.argv if argv is None else argv)
+    try:
+        with RosProcess(args=args) as process:
+            node = ControlKernelNode(process.context)
+            executor = EventsExecutor(context=process.context)
+            executor.add_node(node)
+            try:
+                node.run(executor, process.stop_requested)
+            finally:
+                executor.shutdown()
+                node.destroy_node()
+    except Hdrc3Error as exc:
+        print(f"control_kernel: error: {exc}", file=sys.stderr, flush=True)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

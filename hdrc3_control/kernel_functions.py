@@ -1,0 +1,458 @@
+"""The PFC's control functions in the control-function template (chapter 6.1.1, Figure 13).
+
+Each class wraps one flight mode of the control core (hover, take-off, path following, fly-to,
+landing) into the template's single hook ``step(phase, memory, now)``: it reads its inputs from
+the HCSM memory slots, writes its command and its status into the shared
+:class:`FunctionContext`, and turns its status flags into function events (``Fn-*-EV``) that the
+kernel posts to the automata. Braking runs outside Control Mode, triggered by ``Braking-AC`` as
+in the Mode Switch of Figure 14 (:class:`BrakingConsumer`).
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from hdrc3.errors import ConfigError
+from hdrc3_control.braking import BrakeStatus, EmergencyBrake
+from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth, Vec3
+from hdrc3_control.event_codec import command_id_of, decode, encode
+from hdrc3_control.hover import HoverController, HoverSetpoint, HoverStatus
+from hdrc3_control.landing import Landing, LandingConfig, LandingPhase, LandingTarget
+from hdrc3_control.path_following import (
+    OfferStatus,
+    PathEvent,
+    PathFollower,
+    PathFollowingConfig,
+    PathOutput,
+    PathStatus,
+)
+from hdrc3_control.path_segment import PathSegment
+from hdrc3_control.takeoff import Takeoff, TakeoffConfig, TakeoffStatus
+from hdrc3_hcsm.control_function import HookResult, Phase
+from hdrc3_hcsm.memory import ActionFlags, MemoryBank
+
+_POSE = struct.Struct("<4d")
+"""Position-DO, Hovering-DO, Path-End-DO, Takeoff-End-DO: east, north, up, heading."""
+YAW_TOLERANCE = math.radians(5.0)
+YAW_RATE_SETTLED = 0.1
+"""rad/s: heading counts as reached when the error and the yaw rate are this small."""
+
+
+def pack_pose(position: Vec3, heading: float) -> bytes:
+    """Encode a pose slot."""
+    return _POSE.pack(position[0], position[1], position[2], heading)
+
+
+def unpack_pose(data: bytes) -> tuple[Vec3, float] | None:
+    """Decode a pose slot (None when the slot holds something else)."""
+    if len(data) != _POSE.size:
+        return None
+    e, n, u, h = _POSE.unpack(data)
+    if not all(math.isfinite(v) for v in (e, n, u, h)):
+        return None
+    return (e, n, u), h
+
+
+@dataclass
+class FunctionContext:
+    """What the kernel shares with its control functions in one tick."""
+
+    terrain: Callable[[float, float], float]
+    """Terrain height (ENU up) at east, north, m."""
+    state: EstimatedState | None = None
+    dt: float = 0.02
+    command: AttitudeCommand | None = None
+    """Set by the function that runs this tick."""
+    integral: tuple[float, float] = (0.0, 0.0)
+    """Wind trim handed from one function to the next."""
+    failure: str = ""
+    """Reason of the last function failure (Cmd-Rejected/Cmd-Failed text)."""
+    events: list[tuple[str, bytes]] = field(default_factory=list)
+    """Function events to post to the automata after this tick."""
+    yaw_request: bool = False
+    offer_pending: bool = False
+
+    def fail(self, reason: str) -> HookResult:
+        """Record a failure reason and report FAILED to the template."""
+        self.failure = reason
+        return HookResult.FAILED
+
+    def post(self, event: str, data: bytes) -> None:
+        """Queue a function event for the automata."""
+        self.events.append((event, data))
+
+
+def _usable(ctx: FunctionContext) -> EstimatedState | None:
+    state = ctx.state
+    if state is None or state.health is EstimatorHealth.LOST:
+        return None
+    return state
+
+
+class HoverFunction:
+    """Hovering (Hover-Mode-AC): holds Hovering-DO; fcl_yaw changes its heading."""
+
+    def __init__(self, ctx: FunctionContext) -> None:
+        self.ctx = ctx
+        self.controller: HoverController | None = None
+        self.status = HoverStatus.STABILISING
+        self.heading_error = 0.0
+        self.yawing = False
+
+    def step(self, phase: Phase, memory: MemoryBank, now: float) -> HookResult:
+        """Template hook."""
+        ctx = self.ctx
+        if phase is Phase.INITIALIZING:
+            state = _usable(ctx)
+            if state is None:
+                return ctx.fail("hover: no navigation solution")
+            pose = unpack_pose(memory.read("Hovering-DO"))
+            setpoint = HoverSetpoint.at(state) if pose is None else HoverSetpoint(*pose)
+            self.controller = HoverController(setpoint, integral=ctx.integral)
+            self.status, self.yawing = HoverStatus.STABILISING, False
+            return HookResult.DONE
+        ctl = self.controller
+        if ctl is None:
+            return ctx.fail("hover: not initialised")
+        if phase is Phase.STOPPING:
+            ctx.integral = ctl.loop.integral
+            return HookResult.DONE
+        state = ctx.state
+        if state is None:
+            return ctx.fail("hover: navigation solution lost")
+        if ctx.yaw_request:
+            ctx.yaw_request = False
+            data = memory.read("Command-DO")
+            decoded = decode(data, 1)
+            if decoded.ok:
+                ctl.setpoint = HoverSetpoint(ctl.setpoint.position, decoded.values[0] % math.tau)
+                self.yawing = True
+            else:
+                reason = f"yaw: bad heading ({decoded.problem})"
+                ctx.post("Fn-Failed-EV", encode(command_id_of(data), (), reason))
+        out = ctl.update(state, ctx.dt)
+        ctx.command = out.command
+        self.status, self.heading_error = out.status, out.heading_error
+        return HookResult.BUSY
+
+    def yaw_done(self) -> bool:
+        """Yaw-Done-CO: the fcl_yaw heading is held."""
+        state = self.ctx.state
+        return (
+            self.yawing
+            and state is not None
+            and abs(self.heading_error) <= YAW_TOLERANCE
+            and abs(state.rates[2]) <= YAW_RATE_SETTLED
+        )
+
+
+class TakeoffFunction:
+    """Take-off (Takeoff-Mode-AC): climbs to the take-off height, then Takeoff-Done-CO."""
+
+    def __init__(self, ctx: FunctionContext, config: TakeoffConfig) -> None:
+        self.ctx = ctx
+        self.core = Takeoff(config)
+        self.done = False
+        self.reported = False
+
+    def step(self, phase: Phase, memory: MemoryBank, now: float) -> HookResult:
+        """Template hook."""
+        ctx = self.ctx
+        if phase is Phase.INITIALIZING:
+            state = _usable(ctx)
+            if state is None:
+                return ctx.fail("take-off: no navigation solution")
+            self.done = self.reported = False
+            status = self.core.start(state, now)
+            if status is not TakeoffStatus.CLIMBING:
+                what = {
+                    TakeoffStatus.REFUSED_NOT_ON_GROUND: "take-off only from the ground",
+                    TakeoffStatus.REFUSED_ENGINE: (
+                        f"take-off refused: rotor at {state.rotor_rpm:.0f} rpm, "
+                        f"needs {self.core.config.min_rpm:.0f}"
+                    ),
+                }.get(status, f"take-off refused: {status.value}")
+                return ctx.fail(what)
+            return HookResult.DONE
+        if phase is Phase.STOPPING:
+            ctx.integral = self.core.loop.integral
+            return HookResult.DONE
+        state = ctx.state
+        if state is None:
+            return ctx.fail("take-off: navigation solution lost")
+        out = self.core.update(state, now, ctx.dt)
+        ctx.command = out.command
+        if out.status is TakeoffStatus.DONE and out.hover_point is not None and not self.done:
+            memory.write(
+                "Takeoff-End-DO", pack_pose(out.hover_point.position, out.hover_point.heading)
+            )
+            self.done = True
+        failed = out.status in (TakeoffStatus.FAILED_NO_LIFT, TakeoffStatus.NAVIGATION_LOST)
+        if failed and not self.reported:
+            self.reported = True
+            reason = out.reason or f"take-off failed: {out.status.value}"
+            ctx.failure = reason
+            ctx.post("Fn-Failed-EV", encode(command_id_of(memory.read("Command-DO")), (), reason))
+        return HookResult.BUSY
+
+
+def segment_from(values: tuple[float, ...], command_id: int) -> PathSegment:
+    """A Traj3D-EV payload's 14 numbers as a segment (ConfigError if degenerate)."""
+    v = values
+    return PathSegment(
+        (v[0], v[1], v[2]),
+        (v[3], v[4], v[5]),
+        (v[6], v[7], v[8]),
+        (v[9], v[10], v[11]),
+        v[12],
+        v[13],
+        command_id,
+    )
+
+
+class _PathBase:
+    """Shared RUNNING/STOPPING handling of the PFCM-based functions."""
+
+    def __init__(self, ctx: FunctionContext, config: PathFollowingConfig) -> None:
+        self.ctx = ctx
+        self.config = config
+        self.follower = PathFollower(config)
+        self.status = PathStatus.IDLE
+        self.last: PathOutput | None = None
+
+    def _stop(self) -> HookResult:
+        self.ctx.integral = self.follower.loop.integral
+        return HookResult.DONE
+
+    def _fly(self, memory: MemoryBank, now: float) -> PathOutput | None:
+        state = self.ctx.state
+        if state is None:
+            return None
+        out = self.follower.update(state, now)
+        self.ctx.command = out.command
+        self.status, self.last = out.status, out
+        if out.hover_point is not None and (
+            PathEvent.ARRIVED in out.events or PathEvent.STOPPED in out.events
+        ):
+            memory.write("Path-End-DO", pack_pose(out.hover_point, out.heading))
+        return out
+
+
+class Traj3DFunction(_PathBase):
+    """Path following (Traj3D-Mode-AC) on the segments of Traj3D-EV (Figures 18, 22, 23)."""
+
+    def __init__(
+        self, ctx: FunctionContext, config: PathFollowingConfig, start_tolerance: float
+    ) -> None:
+        super().__init__(ctx, config)
+        self.start_tolerance = start_tolerance
+        self.requested = -1
+        """Segment whose Request-Segment-EV the automaton already sent."""
+
+    def step(self, phase: Phase, memory: MemoryBank, now: float) -> HookResult:
+        """Template hook."""
+        ctx = self.ctx
+        if phase is Phase.INITIALIZING:
+            state = _usable(ctx)
+            if state is None:
+                return ctx.fail("traj3d: no navigation solution")
+            decoded = decode(memory.read("Traj3D-DO"), 14)
+            if not decoded.ok:
+                return ctx.fail(f"traj3d: bad segment ({decoded.problem})")
+            try:
+                segment = segment_from(decoded.values, decoded.command_id)
+            except ConfigError as exc:
+                return ctx.fail(f"traj3d: {exc}")
+            gap = math.dist(segment.start, state.position)
+            if gap > self.start_tolerance:
+                return ctx.fail(
+                    f"traj3d: segment starts {gap:.1f} m from the aircraft "
+                    f"(limit {self.start_tolerance:.1f} m)"
+                )
+            self.follower = PathFollower(self.config)
+            self.follower.start(state, segment, ctx.integral)
+            self.status = PathStatus.FOLLOWING
+            # Traj3D (C.5) requests the next segment as soon as this one is accepted
+            self.requested = segment.segment_id
+            return HookResult.DONE
+        if phase is Phase.STOPPING:
+            return self._stop()
+        if ctx.offer_pending:
+            ctx.offer_pending = False
+            self._offer(memory.read("Traj3D-Next-DO"))
+        current = self.follower.current
+        before = 0 if current is None else current.segment_id
+        out = self._fly(memory, now)
+        if out is None:
+            return ctx.fail("traj3d: navigation solution lost")
+        for event in out.events:
+            if event is PathEvent.SEGMENT_SWITCHED:
+                ctx.post("Fn-Switched-EV", encode(before))
+            elif event is PathEvent.REQUEST_SEGMENT and out.segment_id != self.requested:
+                ctx.post("Fn-Request-EV", encode(out.segment_id))
+            elif event is PathEvent.ARRIVED:
+                ctx.post("Fn-Arrived-EV", encode(out.segment_id))
+            elif event is PathEvent.SAFETY_BRAKING:
+                reason = "safety braking: the next segment did not arrive before the timeout"
+                ctx.failure = reason
+                ctx.post("Fn-Failed-EV", encode(out.segment_id, (), reason))
+        if out.status is PathStatus.NAVIGATION_LOST:
+            return ctx.fail("traj3d: navigation solution lost")
+        return HookResult.BUSY
+
+    def _offer(self, data: bytes) -> None:
+        decoded = decode(data, 14)
+        cid = command_id_of(data)
+        if not decoded.ok:
+            self.ctx.post("Fn-Offer-Refused-EV", encode(cid, (), f"bad segment: {decoded.problem}"))
+            return
+        try:
+            segment = segment_from(decoded.values, cid)
+        except ConfigError as exc:
+            self.ctx.post("Fn-Offer-Refused-EV", encode(cid, (), str(exc)))
+            return
+        status = self.follower.offer(segment)
+        if status is OfferStatus.ACCEPTED:
+            self.ctx.post("Fn-Offer-Ok-EV", encode(cid))
+        else:
+            reason = {
+                OfferStatus.BUSY: "a next segment is already queued",
+                OfferStatus.TOO_LATE: "too late: safety braking engaged or path finished",
+                OfferStatus.DISCONTINUOUS: "segment does not start where the current one ends",
+                OfferStatus.NOT_EXPECTED: "the current segment ends with zero velocity",
+            }[status]
+            self.ctx.post("Fn-Offer-Refused-EV", encode(cid, (), reason))
+
+    def single_segment(self, memory: MemoryBank) -> bool:
+        """Single-Segment-CO: the first segment ends with zero velocity."""
+        decoded = decode(memory.read("Traj3D-DO"), 14)
+        return decoded.ok and decoded.values[13] <= 0.0
+
+
+class FlytoFunction(_PathBase):
+    """One straight segment (Flyto-Mode-AC): fcl_traj3d_flyto, or fcl_climb when vertical."""
+
+    def __init__(
+        self, ctx: FunctionContext, config: PathFollowingConfig, climb_speed: float
+    ) -> None:
+        super().__init__(ctx, config)
+        self.climb_speed = climb_speed
+        self.climb = False
+
+    def step(self, phase: Phase, memory: MemoryBank, now: float) -> HookResult:
+        """Template hook."""
+        ctx = self.ctx
+        if phase is Phase.INITIALIZING:
+            state = _usable(ctx)
+            if state is None:
+                return ctx.fail("fly-to: no navigation solution")
+            data = memory.read("Command-DO")
+            flyto, climb = decode(data, 4), decode(data, 1)
+            cid = command_id_of(data)
+            e, n, _ = state.position
+            if flyto.ok:
+                target, speed = flyto.values[:3], flyto.values[3]
+                self.climb = False
+            elif climb.ok:
+                target, speed = (e, n, climb.values[0]), self.climb_speed
+                self.climb = True
+            else:
+                return ctx.fail(f"fly-to: bad command ({flyto.problem})")
+            if speed <= 0.0:
+                return ctx.fail(f"fly-to: velocity must be > 0, got {speed}")
+            try:
+                segment = PathSegment.straight(
+                    state.position, (target[0], target[1], target[2]), speed, 0.0, cid
+                )
+            except ConfigError as exc:
+                return ctx.fail(f"fly-to: {exc}")
+            self.follower = PathFollower(self.config)
+            self.follower.start(state, segment, ctx.integral)
+            self.status = PathStatus.FOLLOWING
+            return HookResult.DONE
+        if phase is Phase.STOPPING:
+            return self._stop()
+        out = self._fly(memory, now)
+        if out is None or out.status is PathStatus.NAVIGATION_LOST:
+            return ctx.fail("fly-to: navigation solution lost")
+        if PathEvent.ARRIVED in out.events:
+            ctx.post("Fn-Done-EV" if self.climb else "Fn-Arrived-EV", encode(out.segment_id))
+        return HookResult.BUSY
+
+
+class LandingFunction:
+    """Landing (Land-Mode-AC): descent on the navigation filter, touchdown, engine shutdown."""
+
+    def __init__(self, ctx: FunctionContext, config: LandingConfig) -> None:
+        self.ctx = ctx
+        self.core = Landing(config)
+        self.phase = LandingPhase.APPROACH
+
+    def step(self, phase: Phase, memory: MemoryBank, now: float) -> HookResult:
+        """Template hook."""
+        ctx = self.ctx
+        if phase is Phase.INITIALIZING:
+            state = ctx.state
+            if state is None:
+                return ctx.fail("landing: no navigation solution")
+            data = memory.read("Land-DO")
+            heading = state.heading
+            land = decode(data, 1)
+            pose = unpack_pose(data)
+            if land.ok:
+                heading = land.values[0] % math.tau
+            elif pose is not None:
+                heading = pose[1]
+            e, n, _ = state.position
+            target = LandingTarget(e, n, self.ctx.terrain(e, n), heading)
+            self.phase = self.core.start(state, target, ctx.integral)
+            if self.phase is LandingPhase.REFUSED_ON_GROUND:
+                return ctx.fail("landing refused: already on the ground")
+            return HookResult.DONE
+        if phase is Phase.STOPPING:
+            return HookResult.DONE
+        state = ctx.state
+        if state is None:
+            return ctx.fail("landing: navigation solution lost")
+        out = self.core.update(state, now, ctx.dt)
+        ctx.command = out.command
+        self.phase = out.phase
+        return HookResult.BUSY
+
+
+class BrakingConsumer:
+    """Emergency braking started by Braking-AC (Mode Switch A.2), run until a function runs."""
+
+    def __init__(self, ctx: FunctionContext, config: PathFollowingConfig) -> None:
+        self.ctx = ctx
+        self.config = config
+        self.brake: EmergencyBrake | None = None
+        self.active = False
+        self.status = BrakeStatus.BRAKING
+        self.command: AttitudeCommand | None = None
+
+    def run(self, flags: ActionFlags, memory: MemoryBank, now: float) -> None:
+        """Start on the flag; brake every tick while active."""
+        state = self.ctx.state
+        if flags.is_set("Braking-AC") and state is not None:
+            self.brake = EmergencyBrake(self.config)
+            self.brake.start(state, self.ctx.integral)
+            self.active, self.status = True, BrakeStatus.BRAKING
+        if not self.active or self.brake is None or state is None:
+            self.command = None
+            return
+        out = self.brake.update(state, now)
+        self.command, self.status = out.command, out.status
+
+    def stop(self) -> None:
+        """The next function has taken over."""
+        if self.active and self.brake is not None:
+            self.ctx.integral = self.brake.follower.loop.integral
+        self.active, self.command = False, None
+
+    def done(self) -> bool:
+        """Braking-Done-CO."""
+        return self.active and self.status is BrakeStatus.STOPPED

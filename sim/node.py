@@ -1,0 +1,447 @@
+"""The `world_sim` node: hosts the aircraft of one world, publishes /clock, sensors and truth.
+
+A thin ROS adapter around :class:`sim.world_sim.WorldSim` (simulation),
+:class:`sim.lockstep.LockstepBarrier` (who must answer a tick), :class:`sim.pacer.Pacer`
+(real-time factor) and :class:`sim.sim_services.SimServices` (validated requests). The node runs
+its own loop instead of timers so that a tick advances the instant the last controller answers.
+See ``sim/WORLD_SIM.md`` for topics, services and the lockstep protocol.
+"""
+
+from __future__ import annotations
+
+import sys
+import threading
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from rcl_interfaces.msg import ParameterDescriptor, ParameterType
+from rclpy.context import Context
+from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
+from rclpy.experimental.events_executor import EventsExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
+
+from hdrc3.errors import ConfigError, Hdrc3Error
+from hdrc3.ros_runtime import RosProcess
+from hdrc3_interfaces.msg import (
+    CameraCommand,
+    LaserCommand,
+    PtuCommand,
+    WindState,
+    WorldObject,
+    WorldObjects,
+    YacsCommand,
+    YacsStatus,
+)
+from hdrc3_interfaces.srv import (
+    SimInjectFault,
+    SimPause,
+    SimReset,
+    SimSetPower,
+    SimSetRc,
+    SimSetWind,
+    SimSpawnObject,
+    SimTeleport,
+)
+from sim.agent_topics import (
+    AgentTopics,
+    set_time,
+    stamp_header,
+)
+from sim.lockstep import LockstepBarrier, Offer, Verdict
+from sim.pacer import Pacer
+from sim.rc_transmitter import FlightModeSwitch
+from sim.sim_services import RcRequest, SimCode, SimResult, SimServices
+from sim.wind import WindSettings
+from sim.world_loader import load_world, shipped_worlds
+from sim.world_sim import TICK_S, SimConfig, WorldSim
+from sim.yacs import CommandSource, VerticalMode
+from sim.yacs import YacsCommand as Command
+
+NODE_NAME = "world_sim"
+WIND_EVERY = 5
+"""Ticks between /world_sim/wind messages (10 Hz sim time)."""
+STALL_S = 0.5
+"""Wall seconds without the awaited commands after which a tick is re-announced."""
+WAIT_STEP_S = 0.1
+FREE_SPIN_EVERY = 5
+"""Free-running ticks between two looks at pending requests (0.1 s of sim time)."""
+"""Longest single wait for a callback: bounds the reaction to a stop request."""
+# Keep-last never blocks the sim; the depth (about a second of samples) lets a reader that is
+# starved of CPU for a moment catch up without losing samples.
+SENSOR_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+IMU_QOS = QoSProfile(depth=200, reliability=ReliabilityPolicy.RELIABLE)
+COMMAND_QOS = QoSProfile(depth=20, reliability=ReliabilityPolicy.RELIABLE)
+LATCHED_QOS = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
+)
+"""/clock and /world_sim/objects: a late joiner gets the current value at once."""
+
+
+_SOURCES = {
+    CommandSource.COMPUTER: YacsStatus.SOURCE_COMPUTER,
+    CommandSource.PILOT: YacsStatus.SOURCE_PILOT,
+    CommandSource.FAILSAFE: YacsStatus.SOURCE_FAILSAFE,
+}
+
+
+class WorldSimNode(Node):
+    """ROS face of one WorldSim."""
+
+    def __init__(self, context: Context) -> None:
+        """Read and validate parameters (ConfigError), build the world, create every interface."""
+        super().__init__(NODE_NAME, context=context)
+        strings = ParameterDescriptor(type=ParameterType.PARAMETER_STRING_ARRAY)
+        agents = self._parameter("agents", ["uav0"], strings)
+        world_name = str(self._parameter("world", "revinge"))
+        speed = self._float("speed", 1.0)
+        seed = int(self._parameter("seed", 0))
+        if seed < 0:
+            raise ConfigError(f"parameter seed: expected an integer >= 0, got {seed}")
+        required = self._parameter("lockstep", [""], strings)
+        self.pace_lockstep = bool(self._parameter("pace_lockstep", False))
+        wind = list(self._parameter("wind", [0.0, 0.0, 0.0]))
+        gust = self._float("gust_intensity", 0.0)
+        payload = self._float("payload", 0.0)
+        if world_name not in shipped_worlds() and not world_name.endswith(".toml"):
+            raise ConfigError(
+                f"unknown world {world_name!r} (shipped: {', '.join(shipped_worlds())})"
+            )
+        if len(wind) != 3:
+            raise ConfigError(f"wind must be [east, north, up] m/s, got {wind}")
+        settings = WindSettings((float(wind[0]), float(wind[1]), float(wind[2])), gust)
+        problem = settings.problem()
+        if problem is not None:
+            raise ConfigError(problem)
+        self.pacer = Pacer(speed)
+        world = load_world(world_name)
+        names = tuple(str(a) for a in agents)
+        self.sim = WorldSim(SimConfig(world, names, seed, settings, payload=payload))
+        self.barrier: LockstepBarrier[Command | None] = LockstepBarrier(
+            names, [str(r) for r in required if r]
+        )
+        self.requests = SimServices(self.sim, self.barrier)
+        self._restart = False
+        self._clock_pub = self.create_publisher(Clock, "/clock", LATCHED_QOS)
+        self._clock_msg = Clock()
+        self._wind_pub = self.create_publisher(WindState, "/world_sim/wind", SENSOR_QOS)
+        self._wind = WindState()
+        self._wind.header.frame_id = "world_enu"
+        self._objects_pub = self.create_publisher(WorldObjects, "/world_sim/objects", LATCHED_QOS)
+        self.topics = {name: AgentTopics(self, name, SENSOR_QOS, IMU_QOS) for name in names}
+        self._command_subs = {}
+        for name in names:
+            self._command_subs[name] = self.create_subscription(
+                YacsCommand,
+                self.topics[name].command_topic,
+                self._command_callback(name),
+                COMMAND_QOS,
+            )
+            self.create_service(SimSetRc, f"/{name}/rc/set", self._rc_callback(name))
+            self._payload_subscriptions(name)
+        self._create_services()
+
+    def _parameter(
+        self, name: str, default: Any, descriptor: ParameterDescriptor | None = None
+    ) -> Any:
+        """Declare and read one parameter; a value of the wrong type is a ConfigError."""
+        try:
+            return self.declare_parameter(name, default, descriptor or ParameterDescriptor()).value
+        except (InvalidParameterTypeException, InvalidParameterValueException) as exc:
+            raise ConfigError(f"parameter {name}: {exc}") from exc
+
+    def _float(self, name: str, default: float) -> float:
+        """A float parameter that also accepts integers (``speed:=2``)."""
+        value = self._parameter(name, default, ParameterDescriptor(dynamic_typing=True))
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise ConfigError(f"parameter {name}: expected a number, got {value!r}")
+        return float(value)
+
+    # -------------------------------------------------------------- commands
+    def _command_callback(self, agent: str) -> Callable[[Any], None]:
+        def on_command(msg: Any) -> None:
+            command: Command | None
+            try:
+                if msg.vertical_mode not in (YacsCommand.VERTICAL_RATE, YacsCommand.COLLECTIVE):
+                    raise ConfigError(f"unknown vertical_mode {msg.vertical_mode}")
+                mode = (
+                    VerticalMode.COLLECTIVE
+                    if msg.vertical_mode == YacsCommand.COLLECTIVE
+                    else VerticalMode.VERTICAL_RATE
+                )
+                command = Command(msg.roll, msg.pitch, msg.yaw_rate, msg.vertical, mode)
+            except ConfigError as exc:
+                command = None
+                self.sim.agents[agent].rejected_commands += 1
+                self.get_logger().warning(
+                    f"{agent}: command rejected, holding the previous one: {exc}",
+                    throttle_duration_sec=5.0,
+                )
+            stamp = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+            verdict = self.barrier.offer(Offer(agent, stamp, command))
+            if verdict is not Verdict.ACCEPTED:
+                self.get_logger().debug(f"{agent}: command stamped {stamp} ns {verdict.value}")
+
+        return on_command
+
+    def _payload_subscriptions(self, agent: str) -> None:
+        """PTU, camera and laser commands of the perception kernel (applied at the next tick)."""
+        requests = self.requests
+
+        def report(result: SimResult) -> None:
+            if not result.ok:
+                self.get_logger().warning(
+                    f"{agent}: payload command refused: {result.reason}", throttle_duration_sec=5.0
+                )
+
+        def on_ptu(msg: Any) -> None:
+            report(requests.ptu_command(agent, msg.pan, msg.tilt))
+
+        def on_camera(msg: Any) -> None:
+            report(requests.camera_command(agent, msg.camera_id, msg.zoom))
+
+        def on_laser(msg: Any) -> None:
+            report(
+                requests.laser_command(
+                    agent,
+                    msg.angular_resolution,
+                    msg.distance_resolution,
+                    msg.rotation_speed,
+                    msg.hold_angle,
+                    msg.rotation_angle,
+                )
+            )
+
+        ns = f"/{agent}"
+        self.create_subscription(PtuCommand, f"{ns}/ptu/command", on_ptu, COMMAND_QOS)
+        self.create_subscription(CameraCommand, f"{ns}/camera/command", on_camera, COMMAND_QOS)
+        self.create_subscription(LaserCommand, f"{ns}/laser/command", on_laser, COMMAND_QOS)
+
+    # -------------------------------------------------------------- services
+    def _create_services(self) -> None:
+        s = self.requests
+
+        def reply(result: SimResult, response: Any) -> Any:
+            response.result.code = int(result.code)
+            response.result.reason = result.reason
+            if not result.ok:
+                self.get_logger().info(f"request refused: {result.reason}")
+            return response
+
+        def guarded(request: Callable[[], SimResult]) -> SimResult:
+            # rebuilding an aircraft can fail inside JSBSim: a refused request, not a dead node
+            try:
+                return request()
+            except Hdrc3Error as exc:
+                return SimResult(SimCode.WRONG_STATE, str(exc))
+
+        def reset(req: Any, res: Any) -> Any:
+            result = guarded(lambda: s.reset(req.agent, list(req.lockstep_agents)))
+            if result.ok and not req.agent:
+                self._restart = True
+                self.pacer.restart()
+                self._publish_objects()
+            return reply(result, res)
+
+        def pause(req: Any, res: Any) -> Any:
+            return reply(s.pause(req.paused), res)
+
+        def teleport(req: Any, res: Any) -> Any:
+            wgs84 = req.frame == SimTeleport.Request.FRAME_WGS84
+            if req.frame not in (SimTeleport.Request.FRAME_ENU, SimTeleport.Request.FRAME_WGS84):
+                return reply(SimResult(SimCode.INVALID_ARGUMENT, f"unknown frame {req.frame}"), res)
+            result = guarded(
+                lambda: s.teleport(req.agent, wgs84, req.x, req.y, req.height, req.heading)
+            )
+            return reply(result, res)
+
+        def inject_fault(req: Any, res: Any) -> Any:
+            return reply(s.inject_fault(req.agent, req.sensor, req.mode, list(req.magnitude)), res)
+
+        def spawn(req: Any, res: Any) -> Any:
+            result = s.spawn_object(req.id, req.kind, req.east, req.north, req.heading)
+            if result.ok:
+                self._publish_objects()
+            return reply(result, res)
+
+        def set_wind(req: Any, res: Any) -> Any:
+            mean = (req.mean.x, req.mean.y, req.mean.z)
+            return reply(s.set_wind(mean, req.gust_intensity), res)
+
+        def set_power(req: Any, res: Any) -> Any:
+            return reply(s.set_power(req.agent, req.devices, req.on), res)
+
+        base = f"/{NODE_NAME}"
+        for srv_type, name, handler in (
+            (SimReset, "reset", reset),
+            (SimPause, "pause", pause),
+            (SimTeleport, "teleport", teleport),
+            (SimInjectFault, "inject_fault", inject_fault),
+            (SimSpawnObject, "spawn_object", spawn),
+            (SimSetWind, "set_wind", set_wind),
+            (SimSetPower, "set_power", set_power),
+        ):
+            self.create_service(srv_type, f"{base}/{name}", handler)
+        self._reply = reply
+
+    def _rc_callback(self, agent: str) -> Callable[[Any, Any], Any]:
+        def on_rc(req: Any, res: Any) -> Any:
+            sticks = (req.roll, req.pitch, req.yaw, req.throttle) if req.set_sticks else None
+            request = RcRequest(req.mode, req.engine, req.link, sticks)
+            return self._reply(self.requests.set_rc(agent, request), res)
+
+        return on_rc
+
+    # ------------------------------------------------------------ publishing
+    def _publish_objects(self) -> None:
+        msg = WorldObjects()
+        stamp_header(msg.header, self.sim.time_ns)
+        for obj in self.sim.objects.values():
+            msg.objects.append(
+                WorldObject(
+                    id=obj.id,
+                    kind=obj.kind.value,
+                    east=obj.east,
+                    north=obj.north,
+                    heading=obj.heading,
+                    size=list(obj.size),
+                )
+            )
+        self._objects_pub.publish(msg)
+
+    def _publish_status(self, topics: AgentTopics, name: str, ns: int) -> None:
+        sim = self.sim
+        status = sim.status(name)
+        m = topics.m_status
+        stamp_header(m.header, ns)
+        m.mode = (
+            YacsStatus.MODE_AUTONOMOUS
+            if status.mode is FlightModeSwitch.AUTONOMOUS
+            else YacsStatus.MODE_MANUAL
+        )
+        m.rc_link_ok = status.rc_link_ok
+        m.engine_switch = sim.agents[name].aircraft.rc.state.engine_on
+        m.engine_running = status.engine_running
+        m.rotor_rpm = status.rotor_rpm
+        m.source = _SOURCES[status.source]
+        m.rejected_commands = sim.agents[name].rejected_commands
+        topics.status.publish(m)
+
+    def publish_tick(self, repeat: bool = False) -> None:
+        """Outputs of the current tick: sensor samples, status, truth, wind, then /clock last.
+
+        ``repeat`` re-announces a stalled tick for late joiners: status, truth and /clock again
+        with the same stamp, but no sensor sample twice.
+        """
+        sim = self.sim
+        ns = sim.time_ns
+        readings = {} if repeat else sim.take_readings()
+        for name, topics in self.topics.items():
+            if not repeat:
+                topics.publish_readings(readings[name])
+            if topics.status.get_subscription_count():
+                self._publish_status(topics, name, ns)
+            topics.publish_truth(sim.truth(name), ns)
+        if sim.tick % WIND_EVERY == 0 and self._wind_pub.get_subscription_count():
+            w = self._wind
+            stamp_header(w.header, ns)
+            w.mean.x, w.mean.y, w.mean.z = sim.wind.mean
+            w.gust.x, w.gust.y, w.gust.z = sim.wind.gust
+            w.gust_intensity = sim.wind.settings.gust_intensity
+            self._wind_pub.publish(w)
+        set_time(self._clock_msg.clock, ns)
+        self._clock_pub.publish(self._clock_msg)
+
+    # ------------------------------------------------------------------ loop
+    def connected(self) -> list[str]:
+        """Agents whose command topic has a publisher (automatic lockstep)."""
+        return [n for n, sub in self._command_subs.items() if sub.get_publisher_count() > 0]
+
+    def _wait_for_tick(self, executor: Any, stop: threading.Event) -> bool:
+        """Serve callbacks until the next tick may run; False on stop or restart."""
+        barrier = self.barrier
+        waiting = barrier.begin_tick(self.sim.time_ns, () if barrier.explicit else self.connected())
+        paced = not waiting or self.pace_lockstep
+        checked = time.monotonic()
+        while True:
+            if stop.is_set() or not self.context.ok() or self._restart:
+                return False
+            if self.requests.paused:
+                executor.spin_once(timeout_sec=WAIT_STEP_S)
+                self.pacer.restart()
+                continue
+            if not barrier.ready():
+                executor.spin_once(timeout_sec=WAIT_STEP_S)
+                now = time.monotonic()
+                if now - checked > STALL_S:
+                    checked = now
+                    self._check_controllers()
+                    self.publish_tick(repeat=True)
+                continue
+            if paced:
+                wait = self.pacer.wait_time(self.sim.time + TICK_S, time.monotonic())
+                if wait > 0.0:
+                    executor.spin_once(timeout_sec=min(wait, WAIT_STEP_S))
+                    continue
+            if not waiting and self.sim.tick % FREE_SPIN_EVERY == 0:
+                # serve requests between free-running ticks (a spin costs ~80 us)
+                executor.spin_once(timeout_sec=0.0)
+                if self._restart:
+                    return False
+            return True
+
+    def _check_controllers(self) -> None:
+        """While stuck: drop vanished controllers (automatic mode) or say whom we wait for."""
+        barrier = self.barrier
+        if barrier.explicit:
+            missing = ", ".join(barrier.missing())
+            self.get_logger().info(
+                f"t={self.sim.time:.2f} s: waiting for the command of {missing}",
+                throttle_duration_sec=5.0,
+            )
+            return
+        present = set(self.connected())
+        for agent in barrier.missing():
+            if agent not in present:
+                barrier.release(agent)
+
+    def run(self, executor: Any, stop: threading.Event) -> None:
+        """Tick until ``stop`` is set."""
+        self._publish_objects()
+        self.publish_tick()
+        while not stop.is_set() and self.context.ok():
+            if not self._wait_for_tick(executor, stop):
+                if self._restart:
+                    self._restart = False
+                    self.publish_tick()
+                continue
+            for agent, command in self.barrier.commands().items():
+                if command is not None:
+                    self.sim.command(agent, command)
+            self.sim.advance()
+            self.publish_tick()
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Console script `hdrc3-world-sim`: exit 0 on SIGINT/SIGTERM, 2 on bad parameters."""
+    args = list(sys.argv if argv is None else argv)
+    try:
+        with RosProcess(args=args) as process:
+            node = WorldSimNode(process.context)
+            executor = EventsExecutor(context=process.context)
+            executor.add_node(node)
+            try:
+                node.run(executor, process.stop_requested)
+            finally:
+                executor.shutdown()
+                node.destroy_node()
+    except Hdrc3Error as exc:
+        print(f"world_sim: error: {exc}", file=sys.stderr, flush=True)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,357 @@
+"""Validated requests to a running world_sim: every request answers a code and a reason.
+
+The ROS services of the node are thin wrappers around :class:`SimServices`; nothing a client
+sends (NaN, unknown agents or sensors, positions inside buildings) can raise out of here.
+Codes equal the constants of ``hdrc3_interfaces/msg/SimResult.msg``.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from sim.geodesy import geodetic_to_enu
+from sim.lockstep import LockstepBarrier
+from sim.rc_transmitter import FlightModeSwitch, RcSticks
+from sim.sensors.camera import ZoomStatus
+from sim.sensors.fault import FaultMode
+from sim.sensors.laser import LaserConfig, LaserConfigStatus, LaserRangeFinder, RangeMode
+from sim.sensors.power import ALL_DEVICES, PowerDevice
+from sim.sensors.ptu import PtuCommandStatus
+from sim.wind import WindSettings
+from sim.world import BoxContents, DynamicObject, ObjectKind
+from sim.world_loader import DEFAULT_SIZES, ZERO_CELSIUS
+from sim.world_sim import WorldSim, finite
+from sim.yacs import YacsCommand
+
+MAX_TELEPORT_HEIGHT = 500.0
+"""m above the terrain: higher teleports are rejected."""
+
+SPAWN_DEFAULTS: dict[ObjectKind, dict[str, object]] = {
+    ObjectKind.PERSON: {"temperature": ZERO_CELSIUS + 33.0},
+    ObjectKind.BOX: {"contents": BoxContents.FOOD, "mass": 5.0},
+    ObjectKind.CARRIER: {"capacity": 4, "mass": 20.0},
+    ObjectKind.CAR: {"temperature": ZERO_CELSIUS + 20.0, "mass": 1300.0},
+}
+"""Kind-specific properties of spawned objects (the service gives only kind, id and pose)."""
+
+
+class SimCode(enum.IntEnum):
+    """Result codes (values of SimResult.msg)."""
+
+    OK = 0
+    INVALID_ARGUMENT = 1
+    UNKNOWN_AGENT = 2
+    UNKNOWN_NAME = 3
+    BLOCKED = 4
+    DUPLICATE = 5
+    WRONG_STATE = 6
+
+
+@dataclass(frozen=True, slots=True)
+class SimResult:
+    """Outcome of one request."""
+
+    code: SimCode
+    reason: str = ""
+
+    @property
+    def ok(self) -> bool:
+        """True when the request was carried out."""
+        return self.code is SimCode.OK
+
+
+OK = SimResult(SimCode.OK)
+
+
+class RcSwitch(enum.IntEnum):
+    """Values of the SimSetRc.srv switch fields (0 always means: leave as is)."""
+
+    KEEP = 0
+    FIRST = 1
+    """MODE_MANUAL, ENGINE_ON or LINK_OK."""
+    SECOND = 2
+    """MODE_AUTONOMOUS, ENGINE_OFF or LINK_LOST."""
+
+
+@dataclass(frozen=True, slots=True)
+class RcRequest:
+    """One SimSetRc request, field by field."""
+
+    mode: int = 0
+    engine: int = 0
+    link: int = 0
+    sticks: tuple[float, float, float, float] | None = None
+    """(roll, pitch, yaw, throttle) or None to leave the sticks."""
+
+
+class SimServices:
+    """Validation and execution of world_sim requests."""
+
+    def __init__(self, sim: WorldSim, barrier: LockstepBarrier[YacsCommand | None]) -> None:
+        """Serve requests against ``sim`` and its lockstep ``barrier``."""
+        self.sim = sim
+        self.barrier = barrier
+        self.paused = False
+
+    def _agent(self, agent: str) -> SimResult | None:
+        if agent in self.sim.agents:
+            return None
+        known = ", ".join(self.sim.agents)
+        return SimResult(SimCode.UNKNOWN_AGENT, f"unknown agent {agent!r} (simulated: {known})")
+
+    def reset(self, agent: str, lockstep_agents: Sequence[str] = ()) -> SimResult:
+        """Reset one agent or (agent "") everything, then set the lockstep mode."""
+        if agent:
+            problem = self._agent(agent)
+            if problem is not None:
+                return problem
+            if lockstep_agents:
+                return SimResult(
+                    SimCode.INVALID_ARGUMENT, "lockstep_agents applies to a full reset only"
+                )
+            # the barrier keeps this tick's answer: the controller must not have to answer twice
+            self.sim.reset(agent)
+            return OK
+        for name in lockstep_agents:
+            problem = self._agent(name)
+            if problem is not None:
+                return problem
+        self.sim.reset()
+        self.barrier.forget()
+        self.barrier.set_required(lockstep_agents)
+        return OK
+
+    def pause(self, paused: bool) -> SimResult:
+        """Stop or resume sim time."""
+        self.paused = paused
+        return OK
+
+    def teleport(
+        self, agent: str, wgs84: bool, x: float, y: float, height: float, heading: float
+    ) -> SimResult:
+        """Move an agent, at rest and level, to a free spot of the world."""
+        problem = self._agent(agent)
+        if problem is not None:
+            return problem
+        if not finite(x, y, height, heading):
+            return SimResult(SimCode.INVALID_ARGUMENT, "teleport values must be finite")
+        if not 0.0 <= height <= MAX_TELEPORT_HEIGHT:
+            return SimResult(
+                SimCode.INVALID_ARGUMENT, f"height {height} m outside [0, {MAX_TELEPORT_HEIGHT}]"
+            )
+        if wgs84:
+            if not (-90.0 <= x <= 90.0 and -180.0 <= y <= 180.0):
+                return SimResult(
+                    SimCode.INVALID_ARGUMENT, f"({x}, {y}) is not a latitude/longitude"
+                )
+            east, north, _ = geodetic_to_enu(
+                self.sim.world.origin, x, y, self.sim.world.origin.altitude
+            )
+        else:
+            east, north = x, y
+        sim = self.sim
+        if not sim.inside_world(east, north):
+            return SimResult(SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is outside the world")
+        # the aircraft is about 3.6 m long with its rotor: keep its whole disc clear
+        up = sim.world.terrain.height(east, north) + height
+        for de, dn in ((0.0, 0.0), (1.8, 0.0), (-1.8, 0.0), (0.0, 1.8), (0.0, -1.8)):
+            building = sim.blocked_by(east + de, north + dn, up + 1.0)
+            if building is not None:
+                return SimResult(
+                    SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is inside building {building}"
+                )
+        sim.place(agent, east, north, height, heading % math.tau)
+        return OK
+
+    def inject_fault(
+        self, agent: str, sensor: str, mode: int, magnitude: Sequence[float]
+    ) -> SimResult:
+        """Set the fault switch of one sensor (mode NONE clears it)."""
+        problem = self._agent(agent)
+        if problem is not None:
+            return problem
+        sensors = self.sim.agents[agent].sensors.sensors()
+        target = sensors.get(sensor)
+        if target is None:
+            known = ", ".join(sorted(sensors))
+            return SimResult(SimCode.UNKNOWN_NAME, f"unknown sensor {sensor!r} (known: {known})")
+        modes = list(FaultMode)
+        if not 0 <= mode < len(modes):
+            return SimResult(SimCode.INVALID_ARGUMENT, f"unknown fault mode {mode}")
+        fault = modes[mode]
+        values = tuple(float(m) for m in magnitude) or (0.0,)
+        if not finite(*values):
+            return SimResult(SimCode.INVALID_ARGUMENT, "fault magnitude must be finite")
+        if fault is FaultMode.NOISE_UP and (len(values) != 1 or values[0] < 0.0):
+            return SimResult(SimCode.INVALID_ARGUMENT, "noise-up needs one factor >= 0")
+        if fault is FaultMode.BIAS:
+            sizes = {1} if isinstance(target, LaserRangeFinder) else {1, len(target.fields)}
+            if len(values) not in sizes:
+                return SimResult(
+                    SimCode.INVALID_ARGUMENT,
+                    f"bias of {sensor} takes {' or '.join(map(str, sorted(sizes)))} values "
+                    f"({', '.join(target.fields)}), got {len(values)}",
+                )
+        target.fault.set(fault, values)
+        return OK
+
+    def spawn_object(
+        self, ident: str, kind: str, east: float, north: float, heading: float
+    ) -> SimResult:
+        """Add a dynamic object on the ground."""
+        if not ident.strip():
+            return SimResult(SimCode.INVALID_ARGUMENT, "object id must not be empty")
+        kinds = {k.value: k for k in ObjectKind}
+        found = kinds.get(kind)
+        if found is None:
+            return SimResult(
+                SimCode.UNKNOWN_NAME, f"unknown object kind {kind!r} (known: {', '.join(kinds)})"
+            )
+        if not finite(east, north, heading):
+            return SimResult(SimCode.INVALID_ARGUMENT, "object position must be finite")
+        sim = self.sim
+        if ident in sim.objects:
+            return SimResult(SimCode.DUPLICATE, f"object id {ident!r} already exists")
+        if not sim.inside_world(east, north):
+            return SimResult(SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is outside the world")
+        building = sim.blocked_by(east, north)
+        if building is not None:
+            return SimResult(
+                SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is inside building {building}"
+            )
+        extra = SPAWN_DEFAULTS[found]
+        sim.spawn(
+            DynamicObject(
+                ident,
+                found,
+                east,
+                north,
+                heading % math.tau,
+                DEFAULT_SIZES[found],
+                **extra,  # type: ignore[arg-type]
+            )
+        )
+        return OK
+
+    def set_wind(self, mean: tuple[float, float, float], gust_intensity: float) -> SimResult:
+        """Change the wind from the next tick on."""
+        settings = WindSettings(mean, gust_intensity)
+        problem = settings.problem()
+        if problem is not None:
+            return SimResult(SimCode.INVALID_ARGUMENT, problem)
+        self.sim.set_wind(settings)
+        return OK
+
+    def set_power(self, agent: str, devices: int, on: bool) -> SimResult:
+        """Switch on-board devices of an agent."""
+        problem = self._agent(agent)
+        if problem is not None:
+            return problem
+        if devices <= 0 or devices & ~int(ALL_DEVICES):
+            return SimResult(
+                SimCode.UNKNOWN_NAME,
+                f"device bits {devices:#x} not within the known devices {int(ALL_DEVICES):#x}",
+            )
+        self.sim.agents[agent].sensors.power.switch(PowerDevice(devices), on)
+        return OK
+
+    def set_rc(self, agent: str, request: RcRequest) -> SimResult:
+        """Move the safety pilot's switches and sticks."""
+        problem = self._agent(agent)
+        if problem is not None:
+            return problem
+        for name in ("mode", "engine", "link"):
+            if getattr(request, name) not in tuple(RcSwitch):
+                return SimResult(SimCode.INVALID_ARGUMENT, f"rc {name} must be 0, 1 or 2")
+        sticks: RcSticks | None = None
+        if request.sticks is not None:
+            roll, pitch, yaw, throttle = request.sticks
+            if not (
+                finite(roll, pitch, yaw, throttle) and max(abs(roll), abs(pitch), abs(yaw)) <= 1.0
+            ):
+                return SimResult(SimCode.INVALID_ARGUMENT, "sticks must be finite, within [-1, 1]")
+            if not 0.0 <= throttle <= 1.0:
+                return SimResult(SimCode.INVALID_ARGUMENT, "throttle must be within [0, 1]")
+            sticks = RcSticks(roll, pitch, yaw, throttle)
+        rc = self.sim.agents[agent].aircraft.rc
+        if request.mode:
+            manual = request.mode == RcSwitch.FIRST
+            rc.set_mode(FlightModeSwitch.MANUAL if manual else FlightModeSwitch.AUTONOMOUS)
+        if request.engine:
+            rc.set_engine(request.engine == RcSwitch.FIRST)
+        if request.link:
+            rc.set_link(request.link == RcSwitch.FIRST)
+        if sticks is not None:
+            rc.set_sticks(sticks)
+        return OK
+
+    # ------------------------------------------------- payload (PPC) commands
+    def ptu_command(self, agent: str, pan: float, tilt: float) -> SimResult:
+        """Pan-tilt set-point (clamped to the PTU's limits)."""
+        problem = self._agent(agent)
+        if problem is not None:
+            return problem
+        result = self.sim.agents[agent].sensors.ptu.command(pan, tilt)
+        if result.status is PtuCommandStatus.REJECTED:
+            return SimResult(SimCode.INVALID_ARGUMENT, f"PTU angles must be finite: {pan}, {tilt}")
+        if result.status is PtuCommandStatus.UNPOWERED:
+            return SimResult(SimCode.WRONG_STATE, "the PTU is switched off")
+        return OK
+
+    def camera_command(self, agent: str, camera_id: int, zoom: float) -> SimResult:
+        """Zoom of one camera (0 wide .. 1 tele; clamped)."""
+        problem = self._agent(agent)
+        if problem is not None:
+            return problem
+        sensors = self.sim.agents[agent].sensors
+        cameras = {0: sensors.color_camera, 1: sensors.thermal_camera}
+        camera = cameras.get(camera_id)
+        if camera is None:
+            return SimResult(
+                SimCode.UNKNOWN_NAME, f"unknown camera id {camera_id} (0 color, 1 thermal)"
+            )
+        if camera.command_zoom(zoom) is ZoomStatus.REJECTED:
+            return SimResult(SimCode.INVALID_ARGUMENT, f"zoom must be finite, got {zoom}")
+        return OK
+
+    def laser_command(
+        self,
+        agent: str,
+        angular_resolution: float,
+        distance_resolution: float,
+        rotation_speed: float,
+        hold_angle: bool,
+        rotation_angle: float,
+    ) -> SimResult:
+        """Scan configuration and rotation of the laser range finder.
+
+        The field of view follows the angular resolution (0.25 deg is only available with
+        100 deg); holding an angle moves the mechanism there at once.
+        """
+        problem = self._agent(agent)
+        if problem is not None:
+            return problem
+        if not finite(angular_resolution, distance_resolution, rotation_speed, rotation_angle):
+            return SimResult(SimCode.INVALID_ARGUMENT, "laser command values must be finite")
+        modes = {m.resolution: m for m in RangeMode}
+        mode = modes.get(distance_resolution)
+        if mode is None:
+            known = " or ".join(str(r) for r in modes)
+            return SimResult(
+                SimCode.INVALID_ARGUMENT,
+                f"distance resolution must be {known} m, got {distance_resolution}",
+            )
+        laser = self.sim.agents[agent].sensors.laser
+        fov = 100.0 if angular_resolution == 0.25 else laser.config.fov_deg
+        config = LaserConfig(fov, angular_resolution, mode)
+        if config != laser.config:
+            status, reason = laser.configure(config)
+            if status is LaserConfigStatus.REJECTED:
+                return SimResult(SimCode.INVALID_ARGUMENT, reason)
+        laser.set_rotation_speed(0.0 if hold_angle else rotation_speed)
+        if hold_angle:
+            laser.rotation_angle = rotation_angle % math.tau
+        return OK

@@ -1,0 +1,269 @@
+"""Pure simulation core of the world_sim node: N aircraft in one world, ticked at 50 Hz.
+
+One *tick* is one control period of 20 ms (the control kernel's 50 Hz, chapter section 5.2):
+the latest YACS command of every agent is applied, then every aircraft takes four 200 Hz flight
+model steps and its sensors are read after each step. Everything random derives from one seed,
+nothing reads a wall clock, so the same seed and the same commands give the same trajectory.
+
+Mutators here are *unchecked* (they assume valid arguments); :mod:`sim.sim_services` validates
+requests and turns them into result codes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from hdrc3.errors import ConfigError
+from sim.aircraft import Aircraft, YacsStatus
+from sim.flight_model import InitialPlacement
+from sim.sensors.power import PowerDevice
+from sim.sensors.suite import SensorReadings, SensorSuite
+from sim.truth_state import TruthState
+from sim.wind import Wind, WindSettings
+from sim.world import DynamicObject, LandingPad, World
+from sim.world_geometry import WorldGeometry
+from sim.yacs import YacsCommand
+
+TICK_RATE_HZ = 50
+FDM_RATE_HZ = 200
+STEPS_PER_TICK = FDM_RATE_HZ // TICK_RATE_HZ
+TICK_NS = 1_000_000_000 // TICK_RATE_HZ
+TICK_S = 1.0 / TICK_RATE_HZ
+FDM_DT = 1.0 / FDM_RATE_HZ
+
+OFF_AT_START = PowerDevice.LASER
+"""Devices switched off when an agent starts: the laser scanner is a mission payload (section
+11.2) and ray casting it costs ~100x the rest of the sensor suite; switch it on when needed."""
+
+
+@dataclass(frozen=True, slots=True)
+class SimConfig:
+    """What a world_sim run is made of."""
+
+    world: World
+    agents: tuple[str, ...]
+    seed: int = 0
+    wind: WindSettings = field(default_factory=WindSettings)
+    fuel: float | None = None
+    """Fuel per aircraft, kg (None: full tank)."""
+    payload: float = 0.0
+    """Payload per aircraft, kg."""
+
+
+class SimAgent:
+    """One aircraft of the world with its sensors and start pad."""
+
+    def __init__(self, name: str, pad: LandingPad, seed: int) -> None:
+        """Bookkeeping only; :meth:`WorldSim._build` creates aircraft and sensors."""
+        self.name = name
+        self.pad = pad
+        self.seed = seed
+        self.aircraft: Aircraft
+        self.sensors: SensorSuite
+        self.command = YacsCommand()
+        """Latest YACS command (re-applied when the aircraft is rebuilt by a teleport)."""
+        self.rejected_commands = 0
+
+
+EXTRA_SPACING = 10.0
+"""m east of a pad per extra agent that has no pad of its own."""
+
+
+def start_pads(world: World, agents: tuple[str, ...]) -> tuple[LandingPad, ...]:
+    """Pads the agents start on, in order (H1, H2, ...).
+
+    Agents beyond the number of pads start beside a pad: agent ``i`` uses pad ``i mod n``,
+    ``EXTRA_SPACING`` m further east for each round (``H1+1`` is 10 m east of H1); the spot must
+    lie in the world, clear of buildings and at least ``EXTRA_SPACING`` m from every other start
+    spot, else ConfigError.
+    """
+    if not agents:
+        raise ConfigError("world_sim needs at least one agent")
+    if len(set(agents)) != len(agents):
+        raise ConfigError(f"agent listed twice in {', '.join(agents)}")
+    if not world.pads:
+        raise ConfigError(f"world '{world.name}' has no start pads")
+    pads = list(world.pads[: len(agents)])
+    geometry: WorldGeometry | None = None
+    for i in range(len(world.pads), len(agents)):
+        base = world.pads[i % len(world.pads)]
+        rounds = i // len(world.pads)
+        east = base.east + EXTRA_SPACING * rounds
+        geometry = geometry or WorldGeometry(world)
+        problem = _spot_problem(world, geometry, pads, east, base.north)
+        if problem is not None:
+            raise ConfigError(
+                f"no start spot for agent {agents[i]}: {EXTRA_SPACING * rounds:.0f} m east of "
+                f"pad {base.name} is {problem}"
+            )
+        pads.append(replace(base, name=f"{base.name}+{rounds}", east=east))
+    return tuple(pads)
+
+
+def _spot_problem(
+    world: World, geometry: WorldGeometry, taken: list[LandingPad], east: float, north: float
+) -> str | None:
+    """Why an extra start spot is unusable, or None."""
+    building = geometry.point_in_building(east, north)
+    if building is not None:
+        return f"inside building {building}"
+    e0, n0, e1, n1 = world.bounds
+    if not (e0 <= east <= e1 and n0 <= north <= n1):
+        return "outside the world"
+    for pad in taken:
+        if math.hypot(pad.east - east, pad.north - north) < EXTRA_SPACING - 0.01:
+            return f"too close to {pad.name}"
+    return None
+
+
+class WorldSim:
+    """The aircraft, wind and dynamic objects of one world, advanced tick by tick."""
+
+    def __init__(self, config: SimConfig) -> None:
+        """Place every agent on its pad (engine off, RC manual) at sim time 0."""
+        self.config = config
+        self.world = config.world
+        self.geometry = WorldGeometry(config.world)
+        pads = start_pads(config.world, config.agents)
+        seeds = np.random.SeedSequence(config.seed).spawn(len(pads) + 1)
+        self._wind_seed = int(seeds[0].generate_state(1)[0])
+        self.wind = Wind(self._wind_seed, config.wind)
+        self.agents: dict[str, SimAgent] = {
+            name: SimAgent(name, pad, int(seq.generate_state(1)[0]))
+            for name, pad, seq in zip(config.agents, pads, seeds[1:], strict=True)
+        }
+        self.tick = 0
+        self.objects: dict[str, DynamicObject] = {}
+        self._readings: dict[str, list[SensorReadings]] = {}
+        self.reset()
+
+    # ------------------------------------------------------------------ time
+    @property
+    def time_ns(self) -> int:
+        """Sim time of the current tick, integer nanoseconds."""
+        return self.tick * TICK_NS
+
+    @property
+    def time(self) -> float:
+        """Sim time of the current tick, s."""
+        return self.tick * TICK_S
+
+    # ---------------------------------------------------------------- resets
+    def reset(self, agent: str | None = None) -> None:
+        """Agent (or everything) back to the start: see ``SimReset.srv`` for the semantics."""
+        if agent is not None:
+            self._build(self.agents[agent])
+            return
+        self.tick = 0
+        self.wind.reset(self._wind_seed)
+        self.wind.set(self.config.wind)
+        self.objects = {o.id: o for o in self.world.objects}
+        for sim_agent in self.agents.values():
+            self._build(sim_agent)
+
+    def _origin(self) -> tuple[float, float, float]:
+        o = self.world.origin
+        return (o.latitude, o.longitude, o.altitude)
+
+    def _build(self, agent: SimAgent) -> None:
+        pad = agent.pad
+        agent.aircraft = self._new_aircraft(InitialPlacement(pad.east, pad.north, pad.heading))
+        agent.sensors = SensorSuite(self.world, agent.seed, self.geometry)
+        agent.sensors.power.switch(OFF_AT_START, False)
+        agent.rejected_commands = 0
+        agent.command = YacsCommand()
+        self._readings[agent.name] = [agent.sensors.step(agent.aircraft.truth(), 0.0)]
+
+    def _new_aircraft(
+        self, placement: InitialPlacement, fuel: float | None = None, payload: float | None = None
+    ) -> Aircraft:
+        aircraft = Aircraft(
+            placement=placement,
+            origin=self._origin(),
+            terrain_height=self.world.terrain.height,
+            fuel=self.config.fuel if fuel is None else fuel,
+            payload=self.config.payload if payload is None else payload,
+            rate_hz=FDM_RATE_HZ,
+        )
+        # all aircraft share the world's clock (sensors schedule on truth.time)
+        aircraft.model.steps = self.tick * STEPS_PER_TICK
+        wind = self.wind
+        aircraft.model.set_wind(wind.mean, wind.gust)
+        return aircraft
+
+    def place(self, agent: str, east: float, north: float, height: float, heading: float) -> None:
+        """Teleport: same aircraft state of engine, rotor, fuel, payload and RC; at rest, level."""
+        old = self.agents[agent].aircraft
+        new = self._new_aircraft(
+            InitialPlacement(east, north, heading, height),
+            fuel=old.model.powertrain.fuel,
+            payload=old.model.payload,
+        )
+        new.model.powertrain = old.model.powertrain
+        new.model.engine_switch = old.model.engine_switch
+        new.rc = old.rc
+        sim_agent = self.agents[agent]
+        new.command(sim_agent.command)
+        sim_agent.aircraft = new
+
+    # ---------------------------------------------------------------- inputs
+    def command(self, agent: str, cmd: YacsCommand) -> None:
+        """Latch ``agent``'s YACS command for the next tick."""
+        sim_agent = self.agents[agent]
+        sim_agent.command = cmd
+        sim_agent.aircraft.command(cmd)
+
+    def set_wind(self, settings: WindSettings) -> None:
+        """Change mean wind and gust intensity (ConfigError if impossible)."""
+        self.wind.set(settings)
+
+    def spawn(self, obj: DynamicObject) -> None:
+        """Add a dynamic object (unchecked)."""
+        self.objects[obj.id] = obj
+
+    # ------------------------------------------------------------------ step
+    def advance(self) -> None:
+        """One tick: wind, then STEPS_PER_TICK flight-model steps with sensor reads after each."""
+        gust = self.wind.step(TICK_S)
+        mean = self.wind.mean
+        for agent in self.agents.values():
+            aircraft = agent.aircraft
+            aircraft.model.set_wind(mean, gust)
+            sensors = agent.sensors
+            out = self._readings[agent.name]
+            for _ in range(STEPS_PER_TICK):
+                aircraft.step()
+                out.append(sensors.step(aircraft.truth(), FDM_DT))
+        self.tick += 1
+
+    def take_readings(self) -> dict[str, list[SensorReadings]]:
+        """Sensor readings since the last call, per agent, in time order (then forgotten)."""
+        taken = self._readings
+        self._readings = {name: [] for name in self.agents}
+        return taken
+
+    # ---------------------------------------------------------------- output
+    def truth(self, agent: str) -> TruthState:
+        """Ground truth of ``agent`` now."""
+        return self.agents[agent].aircraft.truth()
+
+    def status(self, agent: str) -> YacsStatus:
+        """YACS/RC status of ``agent`` now."""
+        return self.agents[agent].aircraft.status()
+
+    def inside_world(self, east: float, north: float) -> bool:
+        """True when the point lies on the world's terrain grid."""
+        e0, n0, e1, n1 = self.world.bounds
+        return e0 <= east <= e1 and n0 <= north <= n1
+
+    def blocked_by(self, east: float, north: float, up: float | None = None) -> str | None:
+        """Building occupying the point (any height if ``up`` is None), else None."""
+        return self.geometry.point_in_building(east, north, up)
+
+
+def finite(*values: float) -> bool:
+    """True when every value is a finite number."""
+    return all(math.isfinite(v) for v in values)

@@ -1,0 +1,410 @@
+"""The PFC kernel flying the simulated RMAX in-process (lockstep, sim time, no ROS)."""
+
+from __future__ import annotations
+
+import math
+import struct
+
+import pytest
+
+from hdrc3_control.event_codec import command_id_of, decode, encode
+from hdrc3_control.kernel import PfcKernel, UiCommand
+from hdrc3_control.kernel_harness import KernelFlight
+from hdrc3_control.path_segment import PathSegment
+from hdrc3_control.pfc_state import POWER_DRC, SENSOR_POWER, FlightMode, PowerReading
+from hdrc3_hcsm.event import WireEvent
+from hdrc3_hcsm.transport import LoopbackNetwork, LoopbackTransport
+from sim.sensors.fault import FaultMode
+
+FINAL = (
+    "Cmd-Finished-EV",
+    "Cmd-Failed-EV",
+    "Cmd-Rejected-EV",
+    "Cmd-Cancelled-EV",
+    "Traj-Arrived-EV",
+)
+REPLIES = (*FINAL, "Cmd-Accepted-EV", "Request-Segment-EV")
+FIGURE_14 = ["A.1", "B.1", "A.2", "A.3", "B.2", "B.7", "B.8", "A.4", "A.5"]
+
+
+def answers(f: KernelFlight, cid: int) -> list[tuple[str, str]]:
+    """(event, reason) of every reply about command ``cid``, in order."""
+    return [
+        (e.name, decode(e.data, 0, with_reason=True).reason)
+        for e in f.replies
+        if e.name in REPLIES and command_id_of(e.data) == cid
+    ]
+
+
+def finished(f: KernelFlight, cid: int) -> bool:
+    return any(name in FINAL for name, _ in answers(f, cid))
+
+
+def hovering(f: KernelFlight) -> bool:
+    return f.kernel.machine_state("Mode-Switch") == "Hovering-ST"
+
+
+def speed(f: KernelFlight) -> float:
+    return math.hypot(*f.sim.truth(f.agent).velocity_enu)
+
+
+def airborne_flight() -> KernelFlight:
+    """Engine on, autonomous, take-off to 10 m, hovering (about 1.5 s of wall time)."""
+    f = KernelFlight()
+    f.engine_on(autonomous=True)
+    assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 5)
+    f.run(12)  # rotor spin-up on the skids
+    cid = f.send("FCL-Takeoff-EV")
+    assert f.run_until(lambda: finished(f, cid) and hovering(f), 60)
+    assert answers(f, cid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    return f
+
+
+def test_figure_14_manual_takeoff_auto_switch_braking_hover() -> None:
+    f = KernelFlight()
+    f.engine_on(autonomous=False)
+    f.run(12)
+    assert f.kernel.mode is FlightMode.MANUAL
+    f.sticks(throttle=0.62)
+    assert f.run_until(lambda: f.sim.truth(f.agent).height_above_ground > 6.0, 30)
+    f.sticks(throttle=0.55, pitch=0.3)  # the pilot leaves it moving forward
+    f.run(2)
+    assert speed(f) > 3.0
+    mark = len(f.trace.records())
+    f.set_mode(True)
+    assert f.run_until(lambda: f.reply("Hover-Stable-EV") is not None, 40)
+    fired = [t.tid for r in f.trace.records()[mark:] for t in r.transitions if t.tid[0] in "AB"]
+    assert fired[: len(FIGURE_14)] == FIGURE_14
+    assert speed(f) < 1.0 and not f.sim.truth(f.agent).on_ground
+    assert f.kernel.mode is FlightMode.HOVER
+
+
+def test_takeoff_hover_path_land() -> None:
+    f = airborne_flight()
+    x, y, z = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send("Traj3D-Flyto-EV", (x + 30.0, y + 20.0, z + 5.0, 6.0))
+    assert f.run_until(lambda: finished(f, cid), 40)
+    assert answers(f, cid) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
+    assert math.dist(f.sim.truth(f.agent).position_enu, (x + 30, y + 20, z + 5)) < 3.5
+    assert f.run_until(lambda: hovering(f), 20)
+    lid = f.send("FCL-Land-EV", (math.pi / 2,))
+    touchdown: list[float] = []
+
+    def landed() -> bool:
+        truth = f.sim.truth(f.agent)
+        if truth.on_ground and not touchdown:
+            touchdown.append(truth.velocity_enu[2])
+        return finished(f, lid)
+
+    assert f.run_until(landed, 90)
+    assert answers(f, lid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 5)
+    assert f.sim.truth(f.agent).on_ground and -0.5 < touchdown[0] <= 0.0
+    assert abs(math.remainder(f.sim.truth(f.agent).heading - math.pi / 2, math.tau)) < 0.15
+
+
+def test_segments_in_sequence_request_and_switch() -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    mid = (p[0] + 25.0, p[1], p[2])
+    first = PathSegment.straight(p, mid, 5.0, 5.0)
+    end = (mid[0] + 15.0, mid[1] + 15.0, p[2])
+    second = PathSegment(mid, end, (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), 5.0, 0.0)
+    c1 = f.send_segment(first)
+    assert f.run_until(lambda: f.reply("Request-Segment-EV", c1) is not None, 5)
+    request_delay = f.sim.time
+    c2 = f.send_segment(second)
+    assert f.run_until(lambda: finished(f, c2), 40)
+    assert answers(f, c1) == [
+        ("Cmd-Accepted-EV", ""),
+        ("Request-Segment-EV", ""),
+        ("Cmd-Finished-EV", ""),
+    ]
+    assert answers(f, c2) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
+    assert request_delay > 0.0
+
+
+def test_safety_braking_when_the_next_segment_is_withheld() -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    seg = PathSegment.straight(p, (p[0], p[1] + 40.0, p[2]), 6.0, 6.0)
+    cid = f.send_segment(seg)
+    assert f.run_until(lambda: finished(f, cid), 40)
+    (name, reason) = answers(f, cid)[-1]
+    assert name == "Cmd-Failed-EV" and reason.startswith("safety braking")
+    assert f.run_until(lambda: hovering(f), 30)
+    north = f.sim.truth(f.agent).position_enu[1]
+    assert north < seg.end[1]  # stopped before the end of the segment
+    assert speed(f) < 1.0
+
+
+def test_emergency_brake_mid_path() -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send_segment(PathSegment.straight(p, (p[0] - 80.0, p[1], p[2]), 8.0, 0.0))
+    assert f.run_until(lambda: speed(f) > 6.0, 30)
+    bid = f.send("Emergency-Brake-EV")
+    assert f.run_until(lambda: finished(f, bid), 30)
+    assert answers(f, cid)[-1] == ("Cmd-Cancelled-EV", "emergency brake")
+    assert answers(f, bid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    assert speed(f) < 1.0 and hovering(f)
+
+
+@pytest.mark.parametrize(
+    ("event", "values", "reason"),
+    [
+        ("FCL-Takeoff-EV", (), "Hovering-ST"),
+        ("FCL-Track-EV", (), "colour tracker"),
+        ("Traj3D-EV", (0.0,) * 12 + (5.0, 0.0), "Hovering-ST"),  # degenerate: refused by init
+    ],
+)
+def test_requests_in_the_wrong_state_are_refused_with_a_reason(
+    event: str, values: tuple[float, ...], reason: str
+) -> None:
+    f = airborne_flight()
+    if event == "Traj3D-EV":
+        far = PathSegment.straight((500.0, 500.0, 30.0), (520.0, 500.0, 30.0), 5.0)
+        cid = f.send_segment(far)
+        reason = "segment starts"
+    else:
+        cid = f.send(event, values)
+    assert f.run_until(lambda: finished(f, cid), 5)
+    name, text = answers(f, cid)[-1]
+    assert name == "Cmd-Rejected-EV" and reason in text
+    assert f.run_until(lambda: hovering(f), 10)
+
+
+@pytest.mark.parametrize(
+    ("engine", "event", "reason"),
+    [
+        (False, "FCL-Takeoff-EV", "engine is not running"),
+        (True, "FCL-Land-EV", "Ground-Idle-ST"),
+        (True, "Traj3D-Flyto-EV", "Ground-Idle-ST"),
+    ],
+)
+def test_on_the_ground_only_takeoff_with_the_engine_running(
+    engine: bool, event: str, reason: str
+) -> None:
+    f = KernelFlight()
+    f.engine_on(autonomous=True)
+    if not engine:
+        f.aircraft.rc.set_engine(False)
+    assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 5)
+    cid = f.send(event, (1.0,) * {"FCL-Takeoff-EV": 0, "FCL-Land-EV": 1}.get(event, 4))
+    assert f.run_until(lambda: finished(f, cid), 2)
+    assert answers(f, cid)[-1][0] == "Cmd-Rejected-EV" and reason in answers(f, cid)[-1][1]
+
+
+def test_takeoff_without_enough_lift_fails_and_stays_on_the_ground() -> None:
+    f = KernelFlight(payload=60.0)
+    f.engine_on(autonomous=True)
+    f.run(12)
+    cid = f.send("FCL-Takeoff-EV")
+    assert f.run_until(lambda: finished(f, cid), 30)
+    name, reason = answers(f, cid)[-1]
+    assert name == "Cmd-Failed-EV" and "need" in reason
+    assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 10)
+    assert f.sim.truth(f.agent).on_ground
+
+
+def test_gps_loss_brakes_then_lands_when_the_solution_is_lost() -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send("Traj3D-Flyto-EV", (p[0] + 60.0, p[1], p[2], 6.0))
+    assert f.run_until(lambda: speed(f) > 4.0, 20)
+    f.sim.agents[f.agent].sensors.sensors()["gps"].fault.set(FaultMode.DROP, (0.0,))
+    assert f.run_until(lambda: finished(f, cid), 5)
+    name, reason = answers(f, cid)[-1]
+    assert name == "Cmd-Failed-EV" and "GPS lost" in reason
+    faults = [e.data.decode() for e in f.replies if e.name == "PFC-Fault-EV"]
+    assert any("degraded" in text for text in faults)
+    assert f.run_until(lambda: f.kernel.mode is FlightMode.BRAKING, 1)
+    assert f.run_until(lambda: speed(f) < 1.5, 10)
+    assert f.kernel.mode in (FlightMode.BRAKING, FlightMode.HOVER)
+    assert f.run_until(lambda: f.kernel.mode is FlightMode.LAND, 15)
+    assert any("lost" in e.data.decode() for e in f.replies if e.name == "PFC-Fault-EV")
+
+
+def test_a_short_gps_dropout_is_ridden_through_on_dead_reckoning() -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send("Traj3D-Flyto-EV", (p[0] + 60.0, p[1], p[2], 6.0))
+    assert f.run_until(lambda: speed(f) > 4.0, 20)
+    gps = f.sim.agents[f.agent].sensors.sensors()["gps"]
+    gps.fault.set(FaultMode.DROP, (0.0,))
+    f.run(2.0)  # shorter than KernelConfig.gps_loss_tolerance
+    gps.fault.clear()
+    assert f.run_until(lambda: finished(f, cid), 40)
+    assert answers(f, cid)[-1] == ("Traj-Arrived-EV", "")
+
+
+def test_frozen_imu_ends_in_a_landing() -> None:
+    f = airborne_flight()
+    f.sim.agents[f.agent].sensors.sensors()["imu"].fault.set(FaultMode.FREEZE, (0.0,))
+    assert f.run_until(lambda: f.kernel.mode is FlightMode.LAND, 5)
+    assert any("lost" in e.data.decode() for e in f.replies if e.name == "PFC-Fault-EV")
+
+
+def test_rc_switch_to_manual_cancels_the_command() -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send("Traj3D-Flyto-EV", (p[0] + 40.0, p[1], p[2], 5.0))
+    assert f.run_until(lambda: speed(f) > 2.0, 20)
+    f.set_mode(False)
+    assert f.run_until(lambda: finished(f, cid), 2)
+    assert answers(f, cid)[-1] == (
+        "Cmd-Cancelled-EV",
+        "RC switch to manual: the safety pilot has the aircraft",
+    )
+    assert f.kernel.mode is FlightMode.MANUAL
+
+
+@pytest.mark.parametrize(("arm", "braked"), [(True, True), (False, False)])
+def test_ui_brake_needs_the_arm_key(arm: bool, braked: bool) -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send("Traj3D-Flyto-EV", (p[0] + 60.0, p[1], p[2], 6.0))
+    assert f.run_until(lambda: speed(f) > 4.0, 20)
+    if arm:
+        f.kernel.post_ui(UiCommand.ARM)
+        f.tick()
+    f.kernel.post_ui(UiCommand.BRAKE)
+    f.run(1.0)
+    cancelled = answers(f, cid)[-1] == ("Cmd-Cancelled-EV", "emergency brake")
+    assert cancelled is braked
+
+
+FIGURE_23 = ["A.6", "B.11", "B.10", "C.1", "B.3", "B.7", "B.8", "C.2"]
+FIGURE_23_END = ["C.3", "B.11", "B.10", "C.4", "A.7", "B.2", "B.7", "B.8", "A.4", "A.5"]
+
+
+def test_figure_23_single_segment_event_order() -> None:
+    f = airborne_flight()
+    mark = len(f.trace.records())
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send_segment(PathSegment.straight(p, (p[0] + 20.0, p[1], p[2]), 4.0, 0.0))
+    assert f.run_until(lambda: finished(f, cid) and hovering(f), 40)
+    fired = [t.tid for r in f.trace.records()[mark:] for t in r.transitions if t.tid[0] in "ABC"]
+    assert fired[: len(FIGURE_23)] == FIGURE_23
+    assert fired[-len(FIGURE_23_END) :] == FIGURE_23_END
+
+
+def bare_kernel() -> tuple[PfcKernel, LoopbackTransport]:
+    """A kernel fed by hand (no aircraft): boot-time automata only."""
+    net = LoopbackNetwork()
+    drc = net.endpoint("DRC")
+    kernel = PfcKernel(terrain=lambda e, n: 0.0, transport=net.endpoint("PFC"))
+    return kernel, drc
+
+
+@pytest.mark.parametrize(
+    ("status", "requested"),
+    [(0, [POWER_DRC]), (POWER_DRC, [SENSOR_POWER]), (POWER_DRC | SENSOR_POWER, [])],
+)
+def test_power_switch_and_root_request_missing_power(status: int, requested: list[int]) -> None:
+    kernel, _ = bare_kernel()
+    asked: list[int] = []
+    for k in range(20):
+        kernel.feed_power(PowerReading(k * 0.02, status))
+        asked += [r.devices for r in kernel.tick(k * 0.02).power_requests]
+    assert asked == requested
+
+
+def test_commands_before_initialisation_are_refused_naming_the_state() -> None:
+    kernel, drc = bare_kernel()
+    drc.send(WireEvent(2001, "FCL-Takeoff-EV", encode(42), "DRC", "PFC"))
+    sent = [e for k in range(3) for e in kernel.tick(k * 0.02).sent]
+    [reply] = [e for e in sent if e.name == "Cmd-Rejected-EV"]
+    decoded = decode(reply.data, 0, with_reason=True)
+    assert decoded.command_id == 42 and "Root:Boot-ST" in decoded.reason
+
+
+def test_sync_sends_time_and_ground_reference() -> None:
+    f = KernelFlight()
+    f.run(0.5)
+    [sync, *_] = [e for e in f.replies if e.name == "Sync-EV"]
+    t, east, north, _ = struct.unpack("<4d", sync.data)
+    pad = f.sim.truth(f.agent).position_enu
+    assert 0.0 < t < 0.5 and math.dist((east, north), pad[:2]) < 5.0
+
+
+def test_yaw_then_climb() -> None:
+    f = airborne_flight()
+    yid = f.send("FCL-Yaw-EV", (math.pi / 2,))
+    assert f.run_until(lambda: finished(f, yid), 20)
+    assert answers(f, yid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    heading = f.kernel.state.heading  # type: ignore[union-attr]
+    assert abs(math.remainder(heading - math.pi / 2, math.tau)) <= math.radians(5.0)
+    # the attitude sensor's heading error comes on top (sim/sensors/attitude.py)
+    assert abs(math.remainder(f.sim.truth(f.agent).heading - math.pi / 2, math.tau)) < 0.2
+    z = f.kernel.state.position[2]  # type: ignore[union-attr]
+    cid = f.send("FCL-Climb-EV", (z + 8.0,))
+    assert f.run_until(lambda: finished(f, cid), 30)
+    assert answers(f, cid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    assert f.run_until(lambda: hovering(f), 30)
+    assert abs(f.kernel.state.position[2] - (z + 8.0)) < 1.0  # type: ignore[union-attr]
+
+
+@pytest.mark.parametrize(
+    ("offset", "reason"),
+    [((5.0, 0.0, 0.0), "does not start where"), ((0.0, 0.0, 0.0), "")],
+)
+def test_next_segment_must_continue_the_path(
+    offset: tuple[float, float, float], reason: str
+) -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    mid = (p[0] + 30.0, p[1], p[2])
+    c1 = f.send_segment(PathSegment.straight(p, mid, 5.0, 5.0))
+    assert f.run_until(lambda: f.reply("Request-Segment-EV", c1) is not None, 5)
+    start = (mid[0] + offset[0], mid[1] + offset[1], mid[2] + offset[2])
+    c2 = f.send_segment(PathSegment.straight(start, (start[0] + 10.0, start[1], start[2]), 4.0))
+    assert f.run_until(lambda: bool(answers(f, c2)), 2)
+    name, text = answers(f, c2)[0]
+    if reason:
+        assert name == "Cmd-Rejected-EV" and reason in text
+    else:
+        assert name == "Cmd-Accepted-EV"
+
+
+@pytest.mark.parametrize(
+    ("event", "values", "answer", "reason"),
+    [
+        ("FCL-Yaw-EV", (), "Cmd-Failed-EV", "bad heading"),
+        ("Traj3D-Flyto-EV", (1.0, 2.0), "Cmd-Rejected-EV", "bad command"),
+        ("FCL-Climb-EV", (math.nan,), "Cmd-Rejected-EV", "bad command"),
+        ("Traj3D-EV", (1.0,) * 5, "Cmd-Rejected-EV", "bad segment"),
+        ("Traj3D-Flyto-EV", (0.0, 0.0, 30.0, -2.0), "Cmd-Rejected-EV", "velocity must be > 0"),
+    ],
+)
+def test_malformed_payloads_get_a_defined_answer(
+    event: str, values: tuple[float, ...], answer: str, reason: str
+) -> None:
+    f = airborne_flight()
+    cid = f.send(event, values)
+    assert f.run_until(lambda: finished(f, cid), 5)
+    name, text = answers(f, cid)[-1]
+    assert name == answer and reason in text
+    assert f.run_until(lambda: hovering(f), 20)
+
+
+def test_a_failing_control_function_is_stopped_and_hover_restarted() -> None:
+    f = airborne_flight()
+    controller = f.kernel.hover.controller
+    assert controller is not None
+    calls = {"n": 0}
+    original = controller.update
+
+    def broken(state: object, dt: float) -> object:
+        calls["n"] += 1
+        if calls["n"] == 1:
+            raise RuntimeError("injected fault")
+        return original(state, dt)  # type: ignore[arg-type]
+
+    controller.update = broken  # type: ignore[method-assign]
+    f.tick()
+    assert f.kernel.functions.current is not None
+    assert f.kernel.functions.current.last_error == "RuntimeError('injected fault')"
+    assert f.run_until(lambda: f.reply("PFC-Fault-EV") is not None, 2)
+    assert f.run_until(lambda: f.kernel.machine_state("Mode-Switch") == "Braking-ST", 2)
+    assert f.run_until(lambda: hovering(f), 30) and speed(f) < 1.0

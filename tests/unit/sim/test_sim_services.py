@@ -1,0 +1,207 @@
+import math
+
+import pytest
+
+from sim.lockstep import LockstepBarrier
+from sim.rc_transmitter import FlightModeSwitch
+from sim.sensors.fault import FaultMode
+from sim.sensors.power import PowerDevice
+from sim.sim_services import RcRequest, SimCode, SimServices
+from sim.world_loader import load_world
+from sim.world_sim import SimConfig, WorldSim
+from sim.yacs import YacsCommand
+
+WORLD = load_world("revinge")
+BUILDING = WORLD.buildings[0]
+INSIDE = (
+    sum(p[0] for p in BUILDING.footprint) / len(BUILDING.footprint),
+    sum(p[1] for p in BUILDING.footprint) / len(BUILDING.footprint),
+)
+NAN = math.nan
+
+
+@pytest.fixture(scope="module")
+def services() -> SimServices:
+    sim = WorldSim(SimConfig(WORLD, ("uav0", "uav1")))
+    barrier: LockstepBarrier[YacsCommand | None] = LockstepBarrier(sim.agents)
+    return SimServices(sim, barrier)
+
+
+@pytest.mark.parametrize(
+    ("call", "code", "reason"),
+    [
+        (lambda s: s.reset("uav9"), SimCode.UNKNOWN_AGENT, "unknown agent 'uav9'"),
+        (lambda s: s.reset("", ["uav0", "x"]), SimCode.UNKNOWN_AGENT, "'x'"),
+        (lambda s: s.reset("uav0", ["uav0"]), SimCode.INVALID_ARGUMENT, "full reset only"),
+        (
+            lambda s: s.teleport("uav0", False, NAN, 0.0, 0.0, 0.0),
+            SimCode.INVALID_ARGUMENT,
+            "finite",
+        ),
+        (
+            lambda s: s.teleport("uav0", False, 0.0, 0.0, -1.0, 0.0),
+            SimCode.INVALID_ARGUMENT,
+            "height",
+        ),
+        (
+            lambda s: s.teleport("uav0", False, 5000.0, 0.0, 0.0, 0.0),
+            SimCode.BLOCKED,
+            "outside the world",
+        ),
+        (
+            lambda s: s.teleport("uav0", False, *INSIDE, 0.0, 0.0),
+            SimCode.BLOCKED,
+            f"building {BUILDING.name}",
+        ),
+        (
+            lambda s: s.teleport("uav0", True, 95.0, 0.0, 0.0, 0.0),
+            SimCode.INVALID_ARGUMENT,
+            "latitude",
+        ),
+        (
+            lambda s: s.teleport("nobody", False, 0.0, 0.0, 0.0, 0.0),
+            SimCode.UNKNOWN_AGENT,
+            "nobody",
+        ),
+        (
+            lambda s: s.inject_fault("uav0", "sonar", 1, []),
+            SimCode.UNKNOWN_NAME,
+            "unknown sensor 'sonar'",
+        ),
+        (lambda s: s.inject_fault("uav0", "gps", 9, []), SimCode.INVALID_ARGUMENT, "fault mode 9"),
+        (lambda s: s.inject_fault("uav0", "gps", 3, [NAN]), SimCode.INVALID_ARGUMENT, "finite"),
+        (
+            lambda s: s.inject_fault("uav0", "gps", 3, [1.0, 2.0]),
+            SimCode.INVALID_ARGUMENT,
+            "1 or 6 values",
+        ),
+        (
+            lambda s: s.inject_fault("uav0", "laser", 3, [1.0, 2.0]),
+            SimCode.INVALID_ARGUMENT,
+            "takes 1 values",
+        ),
+        (lambda s: s.inject_fault("uav0", "imu", 4, [-2.0]), SimCode.INVALID_ARGUMENT, "noise-up"),
+        (
+            lambda s: s.spawn_object("p1", "dragon", 0.0, 0.0, 0.0),
+            SimCode.UNKNOWN_NAME,
+            "unknown object kind",
+        ),
+        (
+            lambda s: s.spawn_object("p1", "person", NAN, 0.0, 0.0),
+            SimCode.INVALID_ARGUMENT,
+            "finite",
+        ),
+        (lambda s: s.spawn_object("p1", "box", *INSIDE, 0.0), SimCode.BLOCKED, "inside building"),
+        (lambda s: s.spawn_object("p1", "box", 1e5, 0.0, 0.0), SimCode.BLOCKED, "outside"),
+        (
+            lambda s: s.spawn_object(WORLD.objects[0].id, "box", 0.0, 0.0, 0.0),
+            SimCode.DUPLICATE,
+            "already exists",
+        ),
+        (lambda s: s.spawn_object(" ", "box", 0.0, 0.0, 0.0), SimCode.INVALID_ARGUMENT, "empty"),
+        (lambda s: s.set_wind((NAN, 0.0, 0.0), 0.0), SimCode.INVALID_ARGUMENT, "finite"),
+        (lambda s: s.set_wind((0.0, 0.0, 0.0), 99.0), SimCode.INVALID_ARGUMENT, "gust intensity"),
+        (lambda s: s.set_power("uav0", 1 << 20, True), SimCode.UNKNOWN_NAME, "device bits"),
+        (lambda s: s.set_power("uav0", 0, True), SimCode.UNKNOWN_NAME, "device bits"),
+        (lambda s: s.set_rc("uav0", RcRequest(mode=3)), SimCode.INVALID_ARGUMENT, "rc mode"),
+        (
+            lambda s: s.set_rc("uav0", RcRequest(sticks=(2.0, 0, 0, 0))),
+            SimCode.INVALID_ARGUMENT,
+            "sticks",
+        ),
+        (
+            lambda s: s.set_rc("uav0", RcRequest(sticks=(0, 0, 0, NAN))),
+            SimCode.INVALID_ARGUMENT,
+            "sticks",
+        ),
+        (
+            lambda s: s.set_rc("uav0", RcRequest(sticks=(0, 0, 0, -0.5))),
+            SimCode.INVALID_ARGUMENT,
+            "throttle",
+        ),
+    ],
+)
+def test_bad_requests_answer_a_code_and_a_reason(
+    services, call, code: SimCode, reason: str
+) -> None:
+    result = call(services)
+    assert result.code is code
+    assert reason in result.reason
+
+
+def test_valid_requests_change_the_simulation(services: SimServices) -> None:
+    sim = services.sim
+    assert services.set_rc("uav1", RcRequest(mode=2, engine=1)).ok
+    rc = sim.agents["uav1"].aircraft.rc.state
+    assert rc.mode is FlightModeSwitch.AUTONOMOUS and rc.engine_on
+    assert services.set_rc("uav1", RcRequest(link=2, sticks=(0.5, 0.0, 0.0, 0.3))).ok
+    assert not sim.agents["uav1"].aircraft.rc.state.link_ok
+    assert services.inject_fault("uav0", "gps", 3, [1.0, 2.0, 3.0, 0.0, 0.0, 0.0]).ok
+    assert sim.agents["uav0"].sensors.gps.fault.mode is FaultMode.BIAS
+    assert services.spawn_object("extra_box", "box", 0.0, 0.0, 0.5).ok
+    assert sim.objects["extra_box"].contents is not None
+    assert services.set_wind((3.0, 0.0, 0.0), 1.0).ok
+    assert sim.wind.mean == (3.0, 0.0, 0.0)
+    assert services.set_power("uav0", int(PowerDevice.LASER), True).ok
+    assert sim.agents["uav0"].sensors.power.is_on(PowerDevice.LASER)
+    pad = WORLD.pad("H2")
+    assert services.teleport("uav0", False, pad.east + 20.0, pad.north, 2.0, 0.0).ok
+    lat_lon = sim.agents["uav0"].sensors.gps  # any object with the origin will do
+    origin = lat_lon.origin
+    assert services.teleport("uav0", True, origin.latitude, origin.longitude, 0.0, 0.0).ok
+    assert sim.truth("uav0").position_enu[:2] == pytest.approx((0.0, 0.0), abs=0.01)
+    assert services.pause(True).ok and services.paused
+    # a full reset undoes all of it and fixes the lockstep set
+    assert services.reset("", ["uav0"]).ok
+    assert "extra_box" not in sim.objects
+    assert sim.wind.mean == (0.0, 0.0, 0.0)
+    assert sim.agents["uav0"].sensors.gps.fault.mode is FaultMode.NONE
+    assert not sim.agents["uav1"].aircraft.rc.state.engine_on
+    assert services.barrier.required == {"uav0"}
+    assert services.reset("uav1").ok
+
+
+@pytest.mark.parametrize(
+    ("call", "code", "reason"),
+    [
+        (lambda s: s.ptu_command("uav0", NAN, 0.0), SimCode.INVALID_ARGUMENT, "finite"),
+        (lambda s: s.ptu_command("uavX", 0.0, 0.0), SimCode.UNKNOWN_AGENT, "uavX"),
+        (lambda s: s.camera_command("uav0", 7, 0.5), SimCode.UNKNOWN_NAME, "camera id 7"),
+        (lambda s: s.camera_command("uav0", 0, NAN), SimCode.INVALID_ARGUMENT, "finite"),
+        (
+            lambda s: s.laser_command("uav0", 0.3, 0.01, 0.0, False, 0.0),
+            SimCode.INVALID_ARGUMENT,
+            "0.25, 0.5 or 1.0",
+        ),
+        (
+            lambda s: s.laser_command("uav0", 1.0, 0.1, 0.0, False, 0.0),
+            SimCode.INVALID_ARGUMENT,
+            "distance resolution",
+        ),
+        (
+            lambda s: s.laser_command("uav0", 1.0, 0.01, NAN, False, 0.0),
+            SimCode.INVALID_ARGUMENT,
+            "finite",
+        ),
+    ],
+)
+def test_bad_payload_commands(services, call, code: SimCode, reason: str) -> None:
+    result = call(services)
+    assert result.code is code
+    assert reason in result.reason
+
+
+def test_payload_commands_drive_ptu_zoom_and_laser(services: SimServices) -> None:
+    sensors = services.sim.agents["uav1"].sensors
+    assert services.ptu_command("uav1", 0.5, 4.0).ok  # tilt clamped to the limit
+    assert sensors.ptu.pan_target == 0.5 and sensors.ptu.tilt_target < 4.0
+    assert services.camera_command("uav1", 1, 0.7).ok
+    assert sensors.thermal_camera.zoom_target == 0.7
+    assert services.laser_command("uav1", 0.25, 0.001, 1.0, False, 0.0).ok
+    laser = sensors.laser
+    assert (laser.config.fov_deg, laser.config.resolution_deg) == (100.0, 0.25)
+    assert laser.rotation_speed == 1.0 and laser.rate_hz == pytest.approx(1 / 0.053)
+    assert services.laser_command("uav1", 1.0, 0.01, 1.0, True, 7.0).ok
+    assert laser.rotation_speed == 0.0 and laser.rotation_angle == pytest.approx(7.0 - 2 * math.pi)
+    sensors.power.switch(PowerDevice.PTU, False)
+    assert services.ptu_command("uav1", 0.0, 0.0).code is SimCode.WRONG_STATE
