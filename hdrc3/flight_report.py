@@ -59,6 +59,8 @@ class FlightReport:
     events: list[EventMark] = field(default_factory=list)
     cross_track: list[float] = field(default_factory=list)
     """Distance of each in-path sample to the planned path, m."""
+    modes: list[tuple[float, str]] = field(default_factory=list)
+    """(time, PFC flight mode) at every mode change, from `<agent>/pfc/state`."""
 
     @property
     def distance(self) -> float:
@@ -112,14 +114,17 @@ class FlightReport:
                 f"  tracking error      {self.cross_track_rms():8.2f} m RMS, "
                 f"{max(self.cross_track):.2f} m max (on the survey path)"
             )
+        if self.modes:
+            lines.append(f"  modes               {' -> '.join(m for _, m in self.modes)}")
         lines.append(f"  events              {len(self.events)}")
         for event in self.events:
-            if event.kind == "SEGMENT_REQUEST":
+            if event.kind in ("SEGMENT_REQUEST", "INFO"):
                 continue
             reason = f" ({event.reason})" if event.reason else ""
             lines.append(f"    {event.time:7.1f} s  {event.command:<22} {event.kind}{reason}")
         requests = sum(1 for e in self.events if e.kind == "SEGMENT_REQUEST")
-        lines.append(f"    + {requests} segment requests")
+        infos = sum(1 for e in self.events if e.kind == "INFO")
+        lines.append(f"    + {requests} segment requests, {infos} progress reports")
         return lines
 
 
@@ -148,15 +153,31 @@ def build_report(recording: Path, agent: str, origin: tuple[float, float, float]
     """
     state_topic = f"/{agent}/helicopter_state"
     events_topic = f"/{agent}/platform_events"
+    pfc_topic = f"/{agent}/pfc/state"
     reader = RecordingReader.open(recording)
     topics = reader.topics()
     if state_topic not in topics:
         raise DataError(f"{recording} has no {state_topic}; topics: {', '.join(sorted(topics))}")
     state_cls = message_class(topics[state_topic])
     event_cls = message_class(topics[events_topic]) if events_topic in topics else None
+    pfc_cls = message_class(topics[pfc_topic]) if pfc_topic in topics else None
+    mode_names = {
+        getattr(pfc_cls, name): name.removeprefix("MODE_")
+        for name in dir(pfc_cls)
+        if name.startswith("MODE_")
+    }
     report = FlightReport(agent)
     t0: float | None = None
-    for message in reader.messages([state_topic, events_topic]):
+    for message in reader.messages([state_topic, events_topic, pfc_topic]):
+        if message.topic == pfc_topic:
+            if t0 is None:
+                continue
+            msg = deserialize_message(message.data, pfc_cls)
+            mode = mode_names.get(msg.mode, str(msg.mode))
+            if not report.modes or report.modes[-1][1] != mode:
+                stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+                report.modes.append((stamp - t0, mode))
+            continue
         if message.topic == state_topic:
             msg = deserialize_message(message.data, state_cls)
             stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
@@ -194,7 +215,11 @@ def plot_report(report: FlightReport, out: Path, plan: Sequence[PathSegment] = (
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ax_track, ax_speed) = plt.subplots(1, 2, figsize=(14, 6))
+    fig = plt.figure(figsize=(15, 7))
+    grid = fig.add_gridspec(3, 2, width_ratios=(1, 1.3))
+    ax_track = fig.add_subplot(grid[:, 0])
+    ax_speed = fig.add_subplot(grid[0:2, 1])
+    ax_mode = fig.add_subplot(grid[2, 1], sharex=ax_speed)
     east = [p.east for p in report.track]
     north = [p.north for p in report.track]
     if plan:
@@ -213,22 +238,29 @@ def plot_report(report: FlightReport, out: Path, plan: Sequence[PathSegment] = (
     times = [p.time for p in report.track]
     ax_speed.plot(times, [p.speed for p in report.track], label="horizontal speed [m/s]")
     ax_speed.plot(times, [p.up for p in report.track], label="altitude (ENU up) [m]")
-    for event in report.events:
-        if event.kind == "SEGMENT_REQUEST":
-            ax_speed.axvline(event.time, color="lightgrey", linewidth=0.8)
-            continue
-        ax_speed.axvline(event.time, color="tab:red", linestyle=":")
+    terminal = [e for e in report.events if e.kind in ("FINISHED", "FAILED", "CANCELLED")]
+    for index, event in enumerate(terminal):
+        ax_speed.axvline(event.time, color="tab:red", linestyle=":", linewidth=0.8)
         ax_speed.annotate(
-            f"{event.command} {event.kind}",
-            (event.time, ax_speed.get_ylim()[1]),
-            rotation=90,
-            va="top",
+            f"{event.command.removeprefix('fcl_')} {event.kind.lower()}",
+            (event.time, 0.97 - 0.12 * (index % 3)),
+            xycoords=("data", "axes fraction"),
+            rotation=0,
             fontsize=7,
+            va="top",
         )
-    ax_speed.set_xlabel("sim time [s]")
-    ax_speed.set_title("speed, altitude and command timeline")
+    ax_speed.set_title("speed and altitude; command outcomes")
     ax_speed.legend(loc="center right")
     ax_speed.grid(True)
+    names = list(dict.fromkeys(mode for _, mode in report.modes))  # order of first use
+    if report.modes and times:
+        mode_times = [t for t, _ in report.modes] + [times[-1]]
+        levels = [names.index(mode) for _, mode in report.modes]
+        ax_mode.step(mode_times, [*levels, levels[-1]], where="post", color="tab:purple")
+        ax_mode.set_yticks(range(len(names)), names, fontsize=7)
+    ax_mode.set_xlabel("sim time [s]")
+    ax_mode.set_title("PFC flight mode", fontsize=9)
+    ax_mode.grid(True)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
