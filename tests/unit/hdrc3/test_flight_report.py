@@ -8,7 +8,7 @@ from hdrc3.errors import DataError
 from hdrc3.flight_report import build_report, plot_report
 from hdrc3.mcap_recording import RecordingWriter, TopicInfo
 from hdrc3_control.path_segment import PathSegment
-from hdrc3_interfaces.msg import HelicopterState, PlatformEvent
+from hdrc3_interfaces.msg import HelicopterState, PfcState, PlatformEvent
 
 ORIGIN = (55.70, 13.47, 50.0)
 
@@ -17,11 +17,15 @@ def _record(path: Path, offset_north: float) -> None:
     writer = RecordingWriter(path)
     writer.add_topic(TopicInfo("/uav0/helicopter_state", "hdrc3_interfaces/msg/HelicopterState"))
     writer.add_topic(TopicInfo("/uav0/platform_events", "hdrc3_interfaces/msg/PlatformEvent"))
+    writer.add_topic(TopicInfo("/uav0/pfc/state", "hdrc3_interfaces/msg/PfcState"))
     for i in range(11):  # 0..100 m east at 10 m/s, offset north
         lat, lon, alt = pymap3d.enu2geodetic(10.0 * i, offset_north, 30.0, *ORIGIN)
         msg = HelicopterState(latitude=lat, longitude=lon, altitude=alt, velocity_east=10.0)
         msg.header.stamp.sec = 100 + i
         writer.write("/uav0/helicopter_state", serialize_message(msg), i)
+        pfc = PfcState(mode=PfcState.MODE_HOVER if i < 3 else PfcState.MODE_TRAJ3D)
+        pfc.header.stamp.sec = 100 + i
+        writer.write("/uav0/pfc/state", serialize_message(pfc), i)
     for sec, kind, reason in (
         (103, PlatformEvent.KIND_SEGMENT_REQUEST, ""),
         (110, PlatformEvent.KIND_FINISHED, ""),
@@ -50,6 +54,7 @@ def test_report_measures_track_speed_and_cross_track(tmp_path: Path) -> None:
     text = "\n".join(report.summary())
     assert "distance flown         100.0 m" in text
     assert "fcl_traj3d             FINISHED" in text
+    assert "modes               HOVER -> TRAJ3D" in text
     png = plot_report(report, tmp_path / "flight.png", plan)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
