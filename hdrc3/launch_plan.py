@@ -39,6 +39,8 @@ class NodeKind:
     description: str
     world_params: bool = False
     """True if the node takes the launch's agents/world/speed as ROS parameters."""
+    default: bool = True
+    """Started without --nodes; optional nodes start only when named."""
 
 
 CATALOG: tuple[NodeKind, ...] = (
@@ -76,6 +78,20 @@ CATALOG: tuple[NodeKind, ...] = (
         "PPC: pan-tilt, camera and laser control modes behind PPCL (chapter 5.2)",
         world_params=True,
     ),
+    NodeKind(
+        "dyknow",
+        "hdrc3-dyknow",
+        Scope.AGENT,
+        "DyKnow: streams, state synchronisation and temporal-logic monitoring (chapter 8)",
+        default=False,
+    ),
+    NodeKind(
+        "task_planner",
+        "hdrc3-task-planner",
+        Scope.AGENT,
+        "TALplanner plan service (chapter 9.2)",
+        default=False,
+    ),
 )
 ALWAYS_STARTED = frozenset({"system_monitor"})
 
@@ -110,10 +126,10 @@ def parse_agents(text: str) -> tuple[str, ...]:
 
 
 def parse_nodes(text: str | None, catalog: Sequence[NodeKind] = CATALOG) -> tuple[str, ...]:
-    """Parse ``a,b`` into catalogue node names; None selects every node."""
+    """Parse ``a,b`` into catalogue node names; None selects the default nodes."""
     known = [kind.name for kind in catalog]
     if text is None:
-        return tuple(known)
+        return tuple(kind.name for kind in catalog if kind.default)
     nodes = tuple(n.strip() for n in text.split(",") if n.strip())
     unknown = [n for n in nodes if n not in known]
     if unknown:

@@ -22,6 +22,7 @@ CATALOG = (
     NodeKind("system_monitor", "hdrc3-system-monitor", Scope.GLOBAL, ""),
     NodeKind("world_sim", "hdrc3-world-sim", Scope.GLOBAL, "", world_params=True),
     NodeKind("platform_server", "hdrc3-platform-server", Scope.AGENT, ""),
+    NodeKind("dyknow", "hdrc3-dyknow", Scope.AGENT, "", default=False),
 )
 
 
@@ -51,6 +52,7 @@ def test_bad_agents(text: str, message: str) -> None:
 def test_parse_nodes_keeps_catalog_order_and_always_started_nodes() -> None:
     assert parse_nodes("platform_server", CATALOG) == ("system_monitor", "platform_server")
     assert parse_nodes(None, CATALOG) == ("system_monitor", "world_sim", "platform_server")
+    assert parse_nodes("dyknow", CATALOG) == ("system_monitor", "dyknow")
 
 
 def test_unknown_node_lists_known_ones() -> None:
