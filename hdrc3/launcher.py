@@ -15,7 +15,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from hdrc3.launch_plan import RECORDER
-from hdrc3.ros_runtime import node_names
+from hdrc3.ros_runtime import node_name_counts, node_names
 from hdrc3.supervisor import ProcessSpec, ProcessState, Supervisor
 from hdrc3_interfaces.msg import LaunchStatus, SupervisedProcess
 
@@ -48,10 +48,16 @@ class LauncherNode(Node):
         """Process name -> ROS node name, for processes that create a node."""
         return {s.name: s.node_name for s in self.specs if s.node_name}
 
-    def conflicts(self) -> list[str]:
-        """Node names of this launch that already exist in the graph (another launch?)."""
-        present = node_names(self)
-        return sorted(n for n in self.expected_nodes().values() if n in present)
+    def conflicts(self, started: bool = False) -> list[str]:
+        """Node names of this launch that another launch also runs in this domain.
+
+        Args:
+            started: Whether this launch's processes are running; then a name counts as a
+                conflict only when it appears twice.
+        """
+        counts = node_name_counts(self)
+        least = 2 if started else 1
+        return sorted(n for n in self.expected_nodes().values() if counts[n] >= least)
 
     def missing(self) -> list[str]:
         """Node names of this launch not (yet) visible in the graph."""

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from rclpy.context import Context
 from rclpy.node import Node
@@ -19,6 +19,7 @@ from hdrc3.message_types import MessageTypeError, message_class
 
 DISCOVERY_PERIOD_S = 0.25
 FLUSH_PERIOD_S = 1.0
+DRAIN_QUIET_PASSES = 20
 
 
 def _qos_yaml(profiles: Sequence[QoSProfile]) -> str:
@@ -81,6 +82,20 @@ class RecorderNode(Node):
     def subscribed_topics(self) -> set[str]:
         """Topics being recorded."""
         return set(self._subscribed)
+
+    def drain(self, spin_once: Callable[[float], None], budget_s: float) -> None:
+        """Handle already-delivered messages until none arrive for a moment, within a budget.
+
+        Args:
+            spin_once: Executes at most one ready callback, waiting up to its argument (s).
+            budget_s: Wall-clock bound for the whole drain.
+        """
+        deadline = time.monotonic() + budget_s
+        quiet = 0
+        while quiet < DRAIN_QUIET_PASSES and time.monotonic() < deadline:
+            before = self._writer.message_count
+            spin_once(0.01)
+            quiet = quiet + 1 if self._writer.message_count == before else 0
 
     def missing_topics(self) -> set[str]:
         """Explicitly requested topics not seen in the graph so far."""

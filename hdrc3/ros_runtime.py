@@ -12,6 +12,7 @@ import math
 import signal
 import threading
 import time
+from collections import Counter
 from collections.abc import Callable, Sequence
 from types import FrameType, TracebackType
 
@@ -117,12 +118,17 @@ class RosProcess:
         self.spin_until(lambda: not self.context.ok(), math.inf, step_s, tick)
 
 
+def node_name_counts(node: Node) -> Counter[str]:
+    """How many nodes of each fully qualified name the graph shows (2+ means a name clash)."""
+    return Counter(
+        f"{namespace.rstrip('/')}/{name}"
+        for name, namespace in node.get_node_names_and_namespaces()
+    )
+
+
 def node_names(node: Node) -> set[str]:
     """Fully qualified names of the nodes currently visible in the graph."""
-    names = set()
-    for name, namespace in node.get_node_names_and_namespaces():
-        names.add(f"{namespace.rstrip('/')}/{name}")
-    return names
+    return set(node_name_counts(node))
 
 
 def run_node(factory: Callable[[Context], Node], args: Sequence[str] | None = None) -> int:

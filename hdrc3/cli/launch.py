@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 
@@ -21,7 +22,7 @@ from hdrc3.launch_plan import (
 from hdrc3.launcher import LauncherNode
 from hdrc3.ros_runtime import RosProcess
 
-CONFLICT_WAIT_S = 1.0
+CONFLICT_WAIT_S = 1.5
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -65,28 +66,42 @@ def run(args: argparse.Namespace) -> int:
     with RosProcess() as process:
         launcher = LauncherNode(process.context, specs)
         process.add_node(launcher)
+        domain = os.environ.get("ROS_DOMAIN_ID", "0")
         if process.spin_until(lambda: bool(launcher.conflicts()), timeout_s=CONFLICT_WAIT_S):
-            domain = os.environ.get("ROS_DOMAIN_ID", "0")
             raise ConfigError(
                 f"ROS domain {domain} already runs {', '.join(launcher.conflicts())} "
                 "(another hdrc3 launch?); choose another --domain-id"
             )
         launcher.supervisor.start_all()
+        # Discovery can be slower than CONFLICT_WAIT_S on a loaded machine, and two launches may
+        # start together: a name of ours that shows up twice at any time is a clash, and both
+        # launches stop rather than run two simulations in one graph.
+        clash: list[str] = []
+
+        def supervise() -> None:
+            launcher.tick()
+            clash[:] = clash or launcher.conflicts(started=True)
+
         ready = process.spin_until(
-            lambda: not launcher.missing() or bool(launcher.failed()),
+            lambda: not launcher.missing() or bool(launcher.failed()) or bool(clash),
             timeout_s=args.ready_timeout,
-            tick=launcher.tick,
+            tick=supervise,
         )
         code = 0
-        if ready and not launcher.failed():
+        if ready and not launcher.failed() and not clash:
             names = ", ".join(s.node_name or s.name for s in specs)
             print(f"READY: {len(specs)} processes up ({names})", flush=True)
-            process.spin_until_stopped(tick=launcher.tick)
-        elif not process.stop_requested.is_set():
+            process.spin_until(lambda: bool(clash), math.inf, 0.1, supervise)
+        elif not process.stop_requested.is_set() and not clash:
             problem = launcher.failed() or launcher.missing()
             print(f"hdrc3 launch: error: not up: {', '.join(problem)}", file=sys.stderr)
             code = 1
         launcher.stop()
         print("stopped", flush=True)
         launcher.destroy_node()
+    if clash:
+        raise ConfigError(
+            f"ROS domain {domain} also runs {', '.join(clash)} from another launch; "
+            "stopped. Give each launch its own --domain-id"
+        )
     return code

@@ -11,6 +11,9 @@ from hdrc3.mcap_recording import RecordingWriter
 from hdrc3.recorder import RecorderNode
 from hdrc3.ros_runtime import RosProcess
 
+DRAIN_S = 1.5
+"""After a stop request, keep writing what DDS already delivered for at most this long, s."""
+
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the `record` subcommand."""
@@ -62,6 +65,7 @@ def run(args: argparse.Namespace) -> int:
                     else (lambda: False)
                 )
                 process.spin_until(done, timeout_s=float("inf"))
+            node.drain(process.spin_once, DRAIN_S)
             node.destroy_node()
     finally:
         writer.close()

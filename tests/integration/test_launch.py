@@ -32,7 +32,7 @@ def _spin_until(executor: SingleThreadedExecutor, predicate, timeout: float) -> 
 
 def test_launch_records_supervises_and_stops_cleanly(hdrc3_cli, ros_context, tmp_path: Path):
     out = tmp_path / "run.mcap"
-    launch = hdrc3_cli("launch", "--agents", "uav0", "--record", str(out))
+    launch = hdrc3_cli("launch", "--nodes", "system_monitor", "--record", str(out))
     launch.wait_for_line("READY", timeout=60)
 
     node = Node("observer", context=ros_context)
@@ -87,9 +87,16 @@ def test_launch_records_supervises_and_stops_cleanly(hdrc3_cli, ros_context, tmp
 
 
 def test_second_launch_on_the_same_domain_is_refused(hdrc3_cli):
-    first = hdrc3_cli("launch", "--agents", "uav0")
+    first = hdrc3_cli("launch", "--agents", "uav0", "--nodes", "system_monitor")
     first.wait_for_line("READY", timeout=60)
-    second = hdrc3_cli("launch", "--agents", "uav0")
+    second = hdrc3_cli("launch", "--agents", "uav0", "--nodes", "system_monitor")
     assert second.finish(timeout=30) == 2
     assert any("already runs /" in line for line in second.lines), second.lines
     assert first.interrupt() == 0
+
+
+def test_launches_started_together_both_stop_with_the_clash(hdrc3_cli):
+    launches = [hdrc3_cli("launch", "--agents", "uav0", "--nodes", "system_monitor") for _ in "ab"]
+    for launch in launches:
+        assert launch.finish(timeout=30) == 2
+        assert any("runs /system_monitor" in line for line in launch.lines), launch.lines
