@@ -24,6 +24,7 @@ STATUS_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
 STATUS_PERIOD_S = 0.5
+LAUNCHER_PREFIX = "hdrc3_launcher_"
 
 
 class LauncherNode(Node):
@@ -37,7 +38,9 @@ class LauncherNode(Node):
         supervisor: Supervisor | None = None,
     ) -> None:
         """Prepare to supervise ``specs``; ``report`` receives one line per notable event."""
-        super().__init__("hdrc3_launcher", context=context)
+        # The start time in the name orders launches: on a clash the younger one yields.
+        self.started_ns = time.time_ns()
+        super().__init__(f"{LAUNCHER_PREFIX}{self.started_ns}", context=context)
         self.specs = list(specs)
         self.supervisor = supervisor or Supervisor(self.specs)
         self._report = report
@@ -58,6 +61,14 @@ class LauncherNode(Node):
         counts = node_name_counts(self)
         least = 2 if started else 1
         return sorted(n for n in self.expected_nodes().values() if counts[n] >= least)
+
+    def older_launch_present(self) -> bool:
+        """True if a launcher that started before this one is in the graph."""
+        for name, _ in self.get_node_names_and_namespaces():
+            suffix = name.removeprefix(LAUNCHER_PREFIX)
+            if suffix != name and suffix.isdigit() and int(suffix) < self.started_ns:
+                return True
+        return False
 
     def missing(self) -> list[str]:
         """Node names of this launch not (yet) visible in the graph."""

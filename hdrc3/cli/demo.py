@@ -1,28 +1,53 @@
-"""`hdrc3 demo`: the main job: launch a system, record it, stop it, summarise the recording."""
+"""`hdrc3 demo`: the main job: one RMAX in revinge surveys a field through FCL and lands.
+
+Launches the agent's nodes with recording, flies take-off, a fly-to, a lawn-mower survey
+streamed as traj3d segments and a landing through the Platform Server, stops the system, and
+writes a PNG of track, speed profile and command timeline beside the recording.
+"""
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import signal
 import subprocess
 import sys
 import time
-from collections import Counter
 from pathlib import Path
 
+from hdrc3.demo_mission import MissionError, SurveyMission
 from hdrc3.errors import ConfigError
-from hdrc3.mcap_recording import RecordingReader
+from hdrc3.flight_report import build_report, plot_report
+from hdrc3.ros_runtime import RosProcess
+from hdrc3.survey import SurveyArea, lawn_mower
+from hdrc3_interfaces.msg import HelicopterState, SimResult
+from hdrc3_interfaces.srv import SimSetRc
+from hdrc3_platform_server.client import PlatformClient
+from hdrc3_platform_server.geo_frame import frame_from_world
 
 READY_TIMEOUT_S = 120.0
+GOVERNED_RPM = 830.0  # the governor holds ~850 rpm; the PFC takes off from 800 rpm
+AGENT = "uav0"
+WORLD = "revinge"
+# Open fields west of the town, clear of buildings; legs run south, turns to the east.
+SURVEY = SurveyArea(
+    corner_east=-280.0,
+    corner_north=120.0,
+    leg_length=220.0,
+    spacing=40.0,
+    legs=3,
+    altitude=30.0,
+    heading=math.pi,
+)
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the `demo` subcommand."""
-    parser = subparsers.add_parser("demo", help="run the demo mission and summarise it")
+    parser = subparsers.add_parser("demo", help="fly the demo survey mission and report on it")
     parser.add_argument("--out", default="out/demo", help="output directory (default out/demo)")
-    parser.add_argument("--duration", type=float, default=5.0, help="seconds to run (default 5)")
     parser.add_argument("--domain-id", type=int, default=42, help="ROS domain (default 42)")
+    parser.add_argument("--speed", default="max", help="real-time factor or 'max' (default)")
     parser.set_defaults(handler=run)
 
 
@@ -30,7 +55,7 @@ def _wait_ready(launch: subprocess.Popen[str]) -> None:
     assert launch.stdout is not None
     deadline = time.monotonic() + READY_TIMEOUT_S
     for line in launch.stdout:
-        print(f"  | {line.rstrip()}")
+        print(f"  | {line.rstrip()}", flush=True)
         if "READY" in line:
             return
         if time.monotonic() > deadline:
@@ -39,17 +64,48 @@ def _wait_ready(launch: subprocess.Popen[str]) -> None:
     raise ConfigError("the system did not come up; see the launcher output above")
 
 
+def _stop(launch: subprocess.Popen[str]) -> int:
+    if launch.poll() is None:
+        launch.send_signal(signal.SIGINT)
+    remaining, _ = launch.communicate(timeout=30)
+    for line in remaining.splitlines():
+        print(f"  | {line}")
+    return launch.returncode
+
+
+def _safety_pilot_engages_autonomy(client: PlatformClient) -> None:
+    """Act as the safety pilot on the simulated RC: engine on, switch to autonomous (§6.1.1)."""
+    request = SimSetRc.Request(mode=SimSetRc.Request.MODE_AUTONOMOUS)
+    request.engine = SimSetRc.Request.ENGINE_ON
+    response = client.call(SimSetRc, "rc/set", request, timeout=10.0)
+    if response is None or response.result.code != SimResult.OK:
+        reason = "no answer" if response is None else response.result.reason
+        raise MissionError(f"the simulated RC did not accept engine on + autonomous: {reason}")
+    print("  safety pilot: engine on, RC switch to autonomous")
+    states: list[HelicopterState] = []
+    client.node.create_subscription(
+        HelicopterState, f"/{AGENT}/helicopter_state", states.append, 10
+    )
+    if not client.process.spin_until(
+        lambda: bool(states) and states[-1].rpm >= GOVERNED_RPM, timeout_s=READY_TIMEOUT_S
+    ):
+        raise MissionError(f"the rotor did not reach {GOVERNED_RPM:.0f} rpm")
+    print(f"  safety pilot: rotor at {states[-1].rpm:.0f} rpm, ready for take-off")
+
+
 def run(args: argparse.Namespace) -> int:
-    """Launch one agent with recording, let it run, stop it and print a summary."""
-    if not args.duration > 0:
-        raise ConfigError(f"--duration must be positive, got {args.duration}")
+    """Launch, fly, stop, report; exit 0 only if every step of the mission finished."""
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     recording = out / "run.mcap"
+    plot = out / "flight.png"
+    frame = frame_from_world(WORLD)
+    survey = lawn_mower(SURVEY, leg_speed=8.0, turn_speed=3.0)
+    os.environ["ROS_DOMAIN_ID"] = str(args.domain_id)
     hdrc3 = str(Path(sys.executable).parent / "hdrc3")
-    command = [hdrc3, "launch", "--agents", "uav0", "--record", str(recording)]
-    command += ["--domain-id", str(args.domain_id)]
-    print(f"$ {' '.join(command)}")
+    command = [hdrc3, "launch", "--agents", AGENT, "--world", WORLD, "--speed", args.speed]
+    command += ["--record", str(recording), "--domain-id", str(args.domain_id)]
+    print(f"$ {' '.join(command)}", flush=True)
     launch = subprocess.Popen(
         command,
         stdout=subprocess.PIPE,
@@ -57,17 +113,30 @@ def run(args: argparse.Namespace) -> int:
         text=True,
         env=dict(os.environ, PYTHONUNBUFFERED="1"),
     )
-    _wait_ready(launch)
-    deadline = time.monotonic() + args.duration
-    while time.monotonic() < deadline and launch.poll() is None:
-        time.sleep(0.1)  # wall-clock run length of the demo; nothing to wait on
-    launch.send_signal(signal.SIGINT)
-    remaining, _ = launch.communicate(timeout=30)
-    for line in remaining.splitlines():
-        print(f"  | {line}")
-    reader = RecordingReader.open(recording)
-    counts = Counter(m.topic for m in reader.messages())
-    print(f"\nrecording: {recording} ({recording.stat().st_size} bytes)")
-    for topic, count in sorted(counts.items()):
-        print(f"  {count:6d}  {topic}  [{reader.topics()[topic]}]")
-    return launch.returncode
+    failure = ""
+    try:
+        _wait_ready(launch)
+        with RosProcess() as process:
+            client = PlatformClient(process, AGENT)
+            mission = SurveyMission(client, frame, survey, log=lambda s: print(f"  {s}"))
+            try:
+                _safety_pilot_engages_autonomy(client)
+                mission.run()
+            except MissionError as exc:
+                failure = str(exc)
+            client.node.destroy_node()
+    finally:
+        code = _stop(launch)
+    report = build_report(recording, AGENT, (frame.latitude, frame.longitude, frame.altitude))
+    path_events = [e.time for e in report.events if e.command == "fcl_traj3d"]
+    if path_events:
+        report.measure_cross_track(survey, (min(path_events), max(path_events)))
+    plot_report(report, plot, survey)
+    print()
+    print("\n".join(report.summary()))
+    print(f"\nrecording: {recording}\nplot:      {plot}")
+    if failure:
+        print(f"MISSION FAILED: {failure}", file=sys.stderr)
+        return 1
+    print("mission completed")
+    return 0 if code == 0 else 1

@@ -74,13 +74,14 @@ def run(args: argparse.Namespace) -> int:
             )
         launcher.supervisor.start_all()
         # Discovery can be slower than CONFLICT_WAIT_S on a loaded machine, and two launches may
-        # start together: a name of ours that shows up twice at any time is a clash, and both
-        # launches stop rather than run two simulations in one graph.
+        # start together: a name of ours that shows up twice is a clash, and the younger launch
+        # (by the start time in its launcher's name) stops; the older one keeps running.
         clash: list[str] = []
 
         def supervise() -> None:
             launcher.tick()
-            clash[:] = clash or launcher.conflicts(started=True)
+            if not clash and launcher.older_launch_present():
+                clash[:] = launcher.conflicts(started=True)
 
         ready = process.spin_until(
             lambda: not launcher.missing() or bool(launcher.failed()) or bool(clash),
@@ -101,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
         launcher.destroy_node()
     if clash:
         raise ConfigError(
-            f"ROS domain {domain} also runs {', '.join(clash)} from another launch; "
-            "stopped. Give each launch its own --domain-id"
+            f"ROS domain {domain} already runs {', '.join(clash)} (another hdrc3 launch, "
+            "started earlier); stopped. Give each launch its own --domain-id"
         )
     return code

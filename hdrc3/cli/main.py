@@ -26,6 +26,9 @@ COMMAND_MODULES: tuple[str, ...] = (
     "hdrc3.cli.world",
     "hdrc3.cli.plan",
     "hdrc3.cli.monitor",
+    "hdrc3.cli.fcl",
+    "hdrc3.cli.ppcl",
+    "hdrc3.cli.state",
 )
 
 

@@ -47,6 +47,10 @@ class Child:
         self.lines += [line.decode(errors="replace") for line in complete]
         return True
 
+    def poll_output(self, timeout: float) -> None:
+        """Collect whatever output arrives within ``timeout`` seconds."""
+        self._read_available(timeout)
+
     def wait_for_line(self, needle: str, timeout: float = 60.0) -> str:
         """Return the first output line containing ``needle``; fail after ``timeout``."""
         deadline = time.monotonic() + timeout

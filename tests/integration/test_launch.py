@@ -95,8 +95,19 @@ def test_second_launch_on_the_same_domain_is_refused(hdrc3_cli):
     assert first.interrupt() == 0
 
 
-def test_launches_started_together_both_stop_with_the_clash(hdrc3_cli):
+def test_launches_started_together_leave_only_the_older_running(hdrc3_cli):
     launches = [hdrc3_cli("launch", "--agents", "uav0", "--nodes", "system_monitor") for _ in "ab"]
+    deadline = time.monotonic() + 60
+    while all(launch.proc.poll() is None for launch in launches):
+        assert time.monotonic() < deadline, "both launches still run the same nodes"
+        for launch in launches:
+            launch.poll_output(0.1)
+    survivors = [launch for launch in launches if launch.proc.poll() is None]
+    assert len(survivors) == 1
     for launch in launches:
-        assert launch.finish(timeout=30) == 2
-        assert any("runs /system_monitor" in line for line in launch.lines), launch.lines
+        if launch in survivors:
+            launch.wait_for_line("READY", timeout=60)
+            assert launch.interrupt() == 0
+        else:
+            assert launch.finish() == 2
+            assert any("already runs /system_monitor" in line for line in launch.lines)

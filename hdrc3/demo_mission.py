@@ -1,0 +1,169 @@
+"""The demo mission as an FCL client: take off, fly a survey through traj3d segments, land.
+
+Everything goes through the Platform Server's FCL services and platform events, exactly as a TST
+executor would use them (chapter §6.2, §7.2): segments are streamed one after another, the next
+one sent when the control kernel requests it.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from geometry_msgs.msg import Point, Vector3
+
+from hdrc3.errors import Hdrc3Error
+from hdrc3_control.path_segment import PathSegment
+from hdrc3_interfaces.msg import FclReturn
+from hdrc3_interfaces.msg import PathSegment as PathSegmentMsg
+from hdrc3_interfaces.srv import FclLand, FclTakeoff, FclTraj3d, FclTraj3dFlyto
+from hdrc3_platform_server.client import PlatformClient
+from hdrc3_platform_server.codes import EventKind
+from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
+from hdrc3_platform_server.geo_frame import WorldFrame
+
+CALL_TIMEOUT_S = 10.0
+READY_TIMEOUT_S = 120.0
+COMMAND_TIMEOUT_S = 600.0
+
+
+class MissionError(Hdrc3Error):
+    """A step of the mission was refused or did not finish."""
+
+
+@dataclass(frozen=True, slots=True)
+class MissionStep:
+    """One FCL command of the mission and how it ended."""
+
+    command: str
+    command_id: int
+    outcome: str
+    reason: str
+
+
+def segment_msg(segment: PathSegment) -> PathSegmentMsg:
+    """The ROS message of a cubic segment."""
+    return PathSegmentMsg(
+        start_point=Point(x=segment.start[0], y=segment.start[1], z=segment.start[2]),
+        end_point=Point(x=segment.end[0], y=segment.end[1], z=segment.end[2]),
+        start_direction=Vector3(
+            x=segment.start_direction[0],
+            y=segment.start_direction[1],
+            z=segment.start_direction[2],
+        ),
+        end_direction=Vector3(
+            x=segment.end_direction[0], y=segment.end_direction[1], z=segment.end_direction[2]
+        ),
+        target_velocity=segment.target_velocity,
+        end_velocity=segment.end_velocity,
+    )
+
+
+class SurveyMission:
+    """Runs take-off, fly-to, streamed survey segments and landing for one agent."""
+
+    def __init__(
+        self,
+        client: PlatformClient,
+        frame: WorldFrame,
+        survey: Sequence[PathSegment],
+        log: Callable[[str], None] = print,
+    ) -> None:
+        """Prepare the mission; ``survey`` is flown after flying to its first point."""
+        if not survey:
+            raise MissionError("the survey has no segments")
+        self._client = client
+        self._frame = frame
+        self._survey = list(survey)
+        self._log = log
+        self.steps: list[MissionStep] = []
+
+    def _call(self, srv: Any, name: str, request: Any) -> FclReturn:
+        response = self._client.call(srv, f"fcl/{name}", request, CALL_TIMEOUT_S)
+        if response is None:
+            raise MissionError(f"fcl_{name}: no answer within {CALL_TIMEOUT_S} s")
+        result: FclReturn = response.result
+        return result
+
+    def _accepted(self, srv: Any, name: str, request: Any) -> int:
+        """Call until accepted (the kernel may still be initialising); return the command id."""
+        deadline = time.monotonic() + READY_TIMEOUT_S
+        while True:
+            result = self._call(srv, name, request)
+            if result.code == FclReturn.FCL_OK:
+                self._log(f"fcl_{name}: FCL_OK (command {result.command_id})")
+                return int(result.command_id)
+            if time.monotonic() > deadline or self._client.process.stop_requested.is_set():
+                raise MissionError(f"fcl_{name} refused: code {result.code}: {result.reason}")
+            self._client.process.spin_until(lambda: False, 1.0)  # retry pace: 1 s
+
+    def _finish(self, name: str, command_id: int) -> MissionStep:
+        final = self._client.wait_final(command_id, COMMAND_TIMEOUT_S, lambda _e: None)
+        if final is None:
+            raise MissionError(f"fcl_{name} (command {command_id}) did not finish")
+        step = MissionStep(f"fcl_{name}", command_id, final.kind.name, final.reason)
+        self.steps.append(step)
+        self._log(f"fcl_{name}: {final.kind.name} {final.reason}".rstrip())
+        if final.kind is not EventKind.FINISHED:
+            raise MissionError(f"fcl_{name} ended {final.kind.name}: {final.reason}")
+        return step
+
+    def _command(self, srv: Any, name: str, request: Any) -> MissionStep:
+        return self._finish(name, self._accepted(srv, name, request))
+
+    def _events_of(self, command_id: int) -> list[CompletionEvent]:
+        return [e for e in self._client.events if e.command_id == command_id]
+
+    def _stream_survey(self) -> None:
+        """Send the first segment, then each next one when the kernel asks for it (§7.2)."""
+        ids: list[int] = []
+        for index, segment in enumerate(self._survey):
+            request = FclTraj3d.Request(
+                segment=segment_msg(segment),
+                velocity=segment.target_velocity,
+                end_velocity=segment.end_velocity,
+            )
+            if index == 0:
+                ids.append(self._accepted(FclTraj3d, "traj3d", request))
+                continue
+            previous = ids[-1]
+
+            def requested(previous: int = previous) -> bool:
+                return any(
+                    e.kind is EventKind.SEGMENT_REQUEST or e.kind in TERMINAL
+                    for e in self._events_of(previous)
+                )
+
+            if not self._client.process.spin_until(requested, COMMAND_TIMEOUT_S):
+                raise MissionError(f"no segment request after segment {index - 1}")
+            failed = [
+                e
+                for e in self._events_of(previous)
+                if e.kind is not EventKind.FINISHED and e.kind in TERMINAL
+            ]
+            if failed:
+                raise MissionError(
+                    f"segment {index - 1} ended {failed[0].kind.name}: {failed[0].reason}"
+                )
+            result = self._call(FclTraj3d, "traj3d", request)
+            if result.code != FclReturn.FCL_OK:
+                raise MissionError(f"segment {index} refused: {result.reason}")
+            ids.append(int(result.command_id))
+        self._finish("traj3d", ids[-1])
+
+    def run(self) -> list[MissionStep]:
+        """Fly the whole mission; raises MissionError at the first step that fails."""
+        self._command(FclTakeoff, "takeoff", FclTakeoff.Request())
+        start = self._survey[0].start
+        lon, lat, alt = self._frame.to_wgs84(*start)
+        velocity = self._survey[0].target_velocity
+        self._command(
+            FclTraj3dFlyto,
+            "traj3d_flyto",
+            FclTraj3dFlyto.Request(longitude=lon, latitude=lat, altitude=alt, velocity=velocity),
+        )
+        self._stream_survey()
+        self._command(FclLand, "land", FclLand.Request(heading=0.0))
+        return self.steps

@@ -1,0 +1,129 @@
+"""The `perception_kernel` node (the PPC): payload control modes behind PPCL (chapter 5.2).
+
+A thin adapter around :class:`~hdrc3_control.ppc_kernel.PpcKernel`. It runs one kernel
+iteration per PTU angle report (``sensors/ptu``, 25 Hz of sim time), takes the aircraft pose
+from the PFC (``pfc/state``) and the camera states from ``sensors/color_camera`` /
+``sensors/thermal_camera``, commands the devices on ``ptu/command`` (PtuCommand),
+``camera/command`` (CameraCommand) and ``laser/command`` (LaserCommand), republishes the camera
+state stamped with the PPC clock on ``ppc/camera_state``, and talks to the DRC over
+``hcsm/events/*``.
+"""
+
+from __future__ import annotations
+
+import sys
+from typing import Any
+
+from rclpy.context import Context
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+from hdrc3.ros_runtime import run_node
+from hdrc3_control.ppc_kernel import PpcKernel, PpcOutputs
+from hdrc3_control.ppc_modes import Pose
+from hdrc3_hcsm.ros_transport import RosTransport
+from hdrc3_interfaces.msg import (
+    CameraCommand,
+    CameraState,
+    LaserCommand,
+    PfcState,
+    PtuCommand,
+    PtuState,
+)
+
+NODE_NAME = "perception_kernel"
+QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+
+
+def _set_stamp(stamp: Any, ns: int) -> None:
+    stamp.sec = ns // 1_000_000_000
+    stamp.nanosec = ns % 1_000_000_000
+
+
+class PerceptionKernelNode(Node):
+    """ROS adapter of the PPC kernel."""
+
+    def __init__(self, context: Context | None = None) -> None:
+        super().__init__(NODE_NAME, context=context)
+        self.declare_parameter("sim_time", True)
+        self.declare_parameter("world", "revinge")
+        self.declare_parameter("agents", [""])
+        self.declare_parameter("speed", 1.0)
+        if self.get_parameter("sim_time").value:
+            self.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])
+        self.kernel = PpcKernel(RosTransport(self, "PPC"))
+        self.pose: Pose | None = None
+        self.zooms: dict[int, float] = {}
+        self.ptu_pub = self.create_publisher(PtuCommand, "ptu/command", QOS)
+        self.camera_pub = self.create_publisher(CameraCommand, "camera/command", QOS)
+        self.laser_pub = self.create_publisher(LaserCommand, "laser/command", QOS)
+        self.state_pub = self.create_publisher(CameraState, "ppc/camera_state", QOS)
+        self.create_subscription(PfcState, "pfc/state", self._on_pfc, QOS)
+        self.create_subscription(PtuState, "sensors/ptu", self._on_ptu, QOS)
+        for topic in ("sensors/color_camera", "sensors/thermal_camera"):
+            self.create_subscription(CameraState, topic, self._on_camera, QOS)
+
+    def _now_ns(self) -> int:
+        return int(self.get_clock().now().nanoseconds)
+
+    def _on_pfc(self, msg: Any) -> None:
+        p = msg.position_enu
+        self.pose = Pose(
+            (float(p[0]), float(p[1]), float(p[2])),
+            float(msg.roll),
+            float(msg.pitch),
+            float(msg.heading),
+        )
+
+    def _on_camera(self, msg: Any) -> None:
+        self.zooms[int(msg.id)] = float(msg.zoom)
+        out = CameraState()
+        out.header = msg.header
+        out.id, out.pan, out.tilt, out.zoom = msg.id, msg.pan, msg.tilt, msg.zoom
+        _set_stamp(out.ipc_time, self._now_ns())
+        self.state_pub.publish(out)
+
+    def _on_ptu(self, msg: Any) -> None:
+        now_ns = self._now_ns()
+        try:
+            out = self.kernel.step(
+                now_ns * 1e-9, self.pose, (float(msg.pan), float(msg.tilt)), dict(self.zooms)
+            )
+        except Exception as exc:  # keep the node alive: a bad iteration is logged, not fatal
+            self.get_logger().error(f"PPC iteration failed: {exc}")
+            return
+        self._publish(out, now_ns)
+
+    def _publish(self, out: PpcOutputs, now_ns: int) -> None:
+        if out.ptu is not None:
+            m = PtuCommand()
+            _set_stamp(m.header.stamp, now_ns)
+            m.pan, m.tilt = out.ptu
+            self.ptu_pub.publish(m)
+        for c in out.cameras:
+            cm = CameraCommand()
+            _set_stamp(cm.header.stamp, now_ns)
+            cm.camera_id, cm.zoom, cm.auto_exposure = c.camera_id, c.zoom, c.auto_exposure
+            cm.iris, cm.shutter = c.iris, c.shutter
+            self.camera_pub.publish(cm)
+        if out.laser is not None:
+            lm = LaserCommand()
+            _set_stamp(lm.header.stamp, now_ns)
+            la = out.laser
+            lm.angular_resolution, lm.distance_resolution = (
+                la.angular_resolution,
+                la.distance_resolution,
+            )
+            lm.rotation_speed, lm.hold_angle = la.rotation_speed, la.hold_angle
+            lm.rotation_angle, lm.collect = la.rotation_angle, la.collect
+            self.laser_pub.publish(lm)
+
+
+def main() -> int:
+    """Console script `hdrc3-perception-kernel`."""
+    return run_node(PerceptionKernelNode, args=sys.argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

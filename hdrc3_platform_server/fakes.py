@@ -1,0 +1,379 @@
+"""A fake PFC and a fake PPC that speak the event contract (docs/realtime_events.md).
+
+They stand in for the control and perception kernels in unit tests and in the benchmark: each
+receives command events through a :class:`~hdrc3_hcsm.transport.Transport`, keeps a simple
+kinematic state, and replies with the contract's events after configurable sim-time durations.
+They are deliberately simple (no physics); the real kernels live in ``hdrc3_control``.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass, field, replace
+
+from hdrc3_hcsm.event import WireEvent
+from hdrc3_hcsm.transport import LoopbackNetwork, Transport
+from hdrc3_platform_server.completion import CompletionEvent, EventLog
+from hdrc3_platform_server.data_interface import HelicopterStateData
+from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.payload import PayloadError, decode, encode
+from hdrc3_platform_server.platform_status import CameraSample, PfcMode, PfcSample
+
+PFC_IDS: dict[str, int] = {
+    "Cmd-Accepted-EV": 2101,
+    "Cmd-Rejected-EV": 2102,
+    "Cmd-Finished-EV": 2103,
+    "Traj-Arrived-EV": 1024,
+    "Request-Segment-EV": 2104,
+    "Cmd-Failed-EV": 2105,
+    "Cmd-Cancelled-EV": 2106,
+    "Hover-Stable-EV": 1021,
+}
+PPC_IDS: dict[str, int] = {"PPCL-Finished-EV": 3101, "PPCL-Failed-EV": 3102}
+ARITY = {
+    "FCL-Takeoff-EV": 0,
+    "FCL-Land-EV": 1,
+    "FCL-Yaw-EV": 1,
+    "FCL-Climb-EV": 1,
+    "Traj3D-Flyto-EV": 4,
+    "Traj3D-EV": 14,
+    "FCL-Track-EV": 0,
+    "Emergency-Brake-EV": 0,
+    "FCL-Cancel-EV": 0,
+}
+
+
+@dataclass
+class FakePfcTiming:
+    """Sim seconds each activity takes in the fake."""
+
+    takeoff: float = 1.0
+    land: float = 1.0
+    yaw: float = 0.4
+    climb: float = 0.6
+    flyto: float = 1.0
+    segment: float = 0.5
+    brake: float = 0.3
+    takeoff_height: float = 10.0
+
+
+@dataclass
+class _Job:
+    command_id: int
+    kind: str
+    done_at: float
+    target: tuple[float, float, float] | None = None
+    end_velocity: float = 0.0
+    queue: deque[tuple[int, float, tuple[float, float, float]]] = field(default_factory=deque)
+
+
+class FakePfc:
+    """A PFC stand-in: accepts, rejects, finishes, streams segments, brakes, cancels."""
+
+    def __init__(
+        self,
+        transport: Transport,
+        timing: FakePfcTiming | None = None,
+        *,
+        on_ground: bool = True,
+        auto: bool = True,
+    ) -> None:
+        self.transport = transport
+        self.timing = timing or FakePfcTiming()
+        self.now = 0.0
+        self.position = (0.0, 0.0, 0.0 if on_ground else self.timing.takeoff_height)
+        self.heading = 0.0
+        self.on_ground = on_ground
+        self.auto = auto
+        self.mode = PfcMode.GROUND_IDLE if on_ground else PfcMode.HOVER
+        self.job: _Job | None = None
+        self.received: list[WireEvent] = []
+        self.quiet_last_segment = False
+        """True: no Request-Segment-EV when a stopping (last) segment starts (a real PFC may)."""
+        self.replace_queued = True
+        """False: refuse a segment while a next one is queued (as the PFC does today)."""
+        self.reject_next: str | None = None
+        """If set, the next command is rejected with this reason (a race the DRC cannot see)."""
+
+    # --- wire -----------------------------------------------------------------------------
+    def _send(self, name: str, command_id: int | None, reason: str = "") -> None:
+        data = b"" if command_id is None else encode(command_id, (), reason)
+        self.transport.send(WireEvent(PFC_IDS[name], name, data, "PFC", "DRC"))
+
+    def step(self, now: float) -> PfcSample:
+        """Advance to sim time ``now``: take commands, finish jobs, report the state."""
+        self.now = now
+        for event in self.transport.receive():
+            self.received.append(event)
+            self._command(event)
+        self._progress()
+        return self.sample(now)
+
+    def sample(self, received: float) -> PfcSample:
+        """The state report the real PFC would publish."""
+        return PfcSample(
+            pfc_time=self.now,
+            received=received,
+            position_enu=self.position,
+            velocity_enu=(0.0, 0.0, 0.0),
+            latitude=0.0,
+            longitude=0.0,
+            altitude=0.0,
+            roll=0.0,
+            pitch=0.0,
+            heading=self.heading,
+            rpm=0.0 if self.on_ground else 1400.0,
+            on_ground=self.on_ground,
+            auto_flag=self.auto,
+            mode=self.mode,
+            command_id=self.job.command_id if self.job else 0,
+        )
+
+    # --- commands -------------------------------------------------------------------------
+    def _command(self, event: WireEvent) -> None:
+        name = event.name
+        if name not in ARITY:
+            return
+        try:
+            p = decode(event.data, ARITY[name])
+        except PayloadError:
+            return
+        cid, v = p.command_id, p.numbers
+        t = self.timing
+        if name == "FCL-Cancel-EV":
+            self._abort(f"cancelled by command {cid}")
+            return
+        if name == "Emergency-Brake-EV":
+            self._abort(f"emergency brake (command {cid})")
+            self._begin(_Job(cid, "brake", self.now + t.brake), PfcMode.BRAKING)
+            return
+        if name == "Traj3D-EV" and self.job is not None and self.job.kind == "path":
+            self._offer(cid, v)
+            return
+        if self.reject_next is not None:
+            self._send("Cmd-Rejected-EV", cid, self.reject_next)
+            self.reject_next = None
+            return
+        if self.job is not None:
+            self._send("Cmd-Rejected-EV", cid, f"busy with command {self.job.command_id}")
+            return
+        if name == "FCL-Takeoff-EV":
+            if not self.on_ground:
+                self._send("Cmd-Rejected-EV", cid, "already airborne")
+                return
+            self._begin(_Job(cid, "takeoff", self.now + t.takeoff), PfcMode.TAKEOFF)
+            return
+        if self.on_ground:
+            self._send("Cmd-Rejected-EV", cid, "on the ground")
+            return
+        if name == "FCL-Land-EV":
+            self._begin(_Job(cid, "land", self.now + t.land), PfcMode.LAND)
+        elif name == "FCL-Yaw-EV":
+            self.heading = v[0]
+            self._begin(_Job(cid, "yaw", self.now + t.yaw), PfcMode.HOVER)
+        elif name == "FCL-Climb-EV":
+            target = (self.position[0], self.position[1], v[0])
+            self._begin(_Job(cid, "climb", self.now + t.climb, target), PfcMode.FLYTO)
+        elif name == "Traj3D-Flyto-EV":
+            self._begin(_Job(cid, "flyto", self.now + t.flyto, (v[0], v[1], v[2])), PfcMode.FLYTO)
+        elif name == "Traj3D-EV":
+            job = _Job(cid, "path", self.now + t.segment, (v[3], v[4], v[5]), v[13])
+            self._begin(job, PfcMode.TRAJ3D)
+            self._send("Request-Segment-EV", cid)
+        else:
+            self._send("Cmd-Failed-EV", cid, "tracking needs the color tracker (not available)")
+
+    def _begin(self, job: _Job, mode: PfcMode) -> None:
+        self.job = job
+        self.mode = mode
+        self._send("Cmd-Accepted-EV", job.command_id)
+
+    def _abort(self, reason: str) -> None:
+        if self.job is not None:
+            self._send("Cmd-Cancelled-EV", self.job.command_id, reason)
+            self.job = None
+        self.mode = PfcMode.GROUND_IDLE if self.on_ground else PfcMode.HOVER
+
+    def _offer(self, cid: int, v: tuple[float, ...]) -> None:
+        job = self.job
+        assert job is not None
+        if job.queue and not self.replace_queued:
+            self._send("Cmd-Rejected-EV", cid, "a next segment is already queued")
+            return
+        job.queue.clear()  # a queued, not yet flown segment is replaced
+        job.queue.append((cid, v[13], (v[3], v[4], v[5])))
+        self._send("Cmd-Accepted-EV", cid)
+
+    def _progress(self) -> None:
+        job = self.job
+        if job is None or self.now < job.done_at:
+            return
+        if job.kind == "path":
+            if job.target is not None:
+                self.position = job.target
+            if job.queue:
+                cid, end_velocity, target = job.queue.popleft()
+                self.job = replace(
+                    job,
+                    command_id=cid,
+                    done_at=self.now + self.timing.segment,
+                    target=target,
+                    end_velocity=end_velocity,
+                    queue=job.queue,
+                )
+                if end_velocity > 0.0 or not self.quiet_last_segment:
+                    self._send("Request-Segment-EV", cid)
+                self._send("Cmd-Finished-EV", job.command_id)  # the segment it follows
+                return
+            if job.end_velocity > 0.0:
+                self._send("Cmd-Failed-EV", job.command_id, "safety braking: next segment late")
+            else:
+                self._send("Traj-Arrived-EV", job.command_id)
+            self._hover()
+            return
+        if job.kind == "takeoff":
+            self.on_ground = False
+            self.position = (self.position[0], self.position[1], self.timing.takeoff_height)
+        elif job.kind == "land":
+            self.on_ground = True
+            self.position = (self.position[0], self.position[1], 0.0)
+        elif job.target is not None:
+            self.position = job.target
+        arrived = job.kind in ("flyto",)
+        self._send("Traj-Arrived-EV" if arrived else "Cmd-Finished-EV", job.command_id)
+        if job.kind == "land":
+            self.job = None
+            self.mode = PfcMode.GROUND_IDLE
+            return
+        self._hover()
+
+    def _hover(self) -> None:
+        self.job = None
+        self.mode = PfcMode.HOVER
+        self._send("Hover-Stable-EV", None)
+
+
+PPC_ARITY = {
+    "PPCL-Turn-To-EV": 2,
+    "PPCL-Look-At-EV": 3,
+    "PPCL-Ptu-Abort-EV": 0,
+    "PPCL-Zoom-EV": 2,
+    "PPCL-Exposure-EV": 2,
+    "PPCL-Iris-EV": 2,
+    "PPCL-Shutter-EV": 2,
+    "PPCL-Laser-Angular-EV": 1,
+    "PPCL-Laser-Distance-EV": 1,
+    "PPCL-Laser-Speed-EV": 1,
+    "PPCL-Laser-Angle-EV": 1,
+    "PPCL-Laser-Start-EV": 0,
+    "PPCL-Laser-Stop-EV": 0,
+    "PPCL-IP-Tracker-EV": 2,
+    "PPCL-IP-State-Est-EV": 0,
+    "PPCL-IP-Abort-EV": 0,
+}
+
+
+class FakePpc:
+    """A PPC stand-in: PTU and zoom move in ``move_time``; parameters apply at once."""
+
+    def __init__(self, transport: Transport, move_time: float = 0.2) -> None:
+        self.transport = transport
+        self.move_time = move_time
+        self.now = 0.0
+        self.pan = 0.0
+        self.tilt = 0.0
+        self.zoom = 0.0
+        self.pending: list[tuple[float, int]] = []
+        self.received: list[WireEvent] = []
+        self.fail_next: str | None = None
+        """If set, the next command fails with this reason (tests)."""
+
+    def _reply(self, cid: int, reason: str | None) -> None:
+        name = "PPCL-Finished-EV" if reason is None else "PPCL-Failed-EV"
+        data = encode(cid, (), reason or "")
+        self.transport.send(WireEvent(PPC_IDS[name], name, data, "PPC", "DRC"))
+
+    def step(self, now: float) -> list[CameraSample]:
+        """Advance to ``now``; returns the camera reports (color and thermal)."""
+        self.now = now
+        for event in self.transport.receive():
+            self.received.append(event)
+            arity = PPC_ARITY.get(event.name)
+            if arity is None:
+                continue
+            try:
+                p = decode(event.data, arity)
+            except PayloadError:
+                continue
+            if self.fail_next is not None:
+                self._reply(p.command_id, self.fail_next)
+                self.fail_next = None
+                continue
+            if event.name == "PPCL-Turn-To-EV":
+                self.pan, self.tilt = p.numbers
+            elif event.name == "PPCL-Zoom-EV":
+                self.zoom = p.numbers[1]
+            if event.name in ("PPCL-Turn-To-EV", "PPCL-Look-At-EV", "PPCL-Zoom-EV"):
+                self.pending.append((now + self.move_time, p.command_id))
+            else:
+                self._reply(p.command_id, None)
+        for entry in [e for e in self.pending if e[0] <= now]:
+            self.pending.remove(entry)
+            self._reply(entry[1], None)
+        return [
+            CameraSample(cam, self.pan, self.tilt, self.zoom if cam == 0 else 0.0, now, now)
+            for cam in (0, 1)
+        ]
+
+
+class FakeRig:
+    """A Platform Server core wired to a fake PFC and PPC over a loopback network.
+
+    :meth:`run` advances sim time in 20 ms PFC ticks, as the real lockstep does.
+    """
+
+    TICK = 0.02
+
+    def __init__(
+        self,
+        frame: WorldFrame,
+        *,
+        on_ground: bool = True,
+        timing: FakePfcTiming | None = None,
+        with_ppc: bool = True,
+    ) -> None:
+        from hdrc3_platform_server.server import PlatformServerCore
+
+        net = LoopbackNetwork()
+        self.log = EventLog()
+        self.core = PlatformServerCore(frame, net.endpoint("DRC"), self.log)
+        self.pfc = FakePfc(net.endpoint("PFC"), timing, on_ground=on_ground)
+        self.ppc = FakePpc(net.endpoint("PPC")) if with_ppc else None
+        self.t = 0.0
+        self.pfc_online = True
+        """False: the PFC sends nothing (the DRC then only ticks on its own)."""
+        self.published: list[HelicopterStateData] = []
+        self.run(0.1)
+
+    def run(self, seconds: float) -> None:
+        """Advance ``seconds`` of sim time."""
+        steps = round(seconds / self.TICK)
+        for _ in range(steps):
+            self.t = round(self.t + self.TICK, 9)
+            if not self.pfc_online:
+                self.core.tick(self.t)
+                continue
+            sample = self.pfc.step(self.t)
+            if self.ppc is not None:
+                for camera in self.ppc.step(self.t):
+                    self.core.on_camera(camera)
+            data = self.core.on_pfc(sample)
+            if data is not None:
+                self.published.append(data)
+
+    def run_until_final(self, command_id: int, limit: float = 30.0) -> CompletionEvent | None:
+        """Advance until ``command_id`` has its terminal event (or ``limit`` seconds pass)."""
+        end = self.t + limit
+        while self.log.final(command_id) is None and self.t < end:
+            self.run(self.TICK)
+        return self.log.final(command_id)

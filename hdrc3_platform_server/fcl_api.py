@@ -1,0 +1,479 @@
+"""The FCL half of the command layer ("C-API", chapter sections 6.2.1-6.2.2, 7.2).
+
+Semantics (the package README has the full table): no queue; an accepted command answers
+``FCL_OK`` with a command id at once and ends later with exactly one terminal PlatformEvent
+(finished, failed or cancelled) carrying that id; another command while one runs answers
+``FCL_BUSY``; a command in the wrong state ``FCL_NOT_ACCEPTED`` with the reason; ``cancel`` and
+``emergency_brake`` always answer ``FCL_OK``. traj3d segments stream: while a path is flown a new
+segment is the next one, or replaces the next one if that has not been started yet.
+"""
+
+from __future__ import annotations
+
+import enum
+import itertools
+import math
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+
+from hdrc3_hcsm.event import WireEvent
+from hdrc3_platform_server import limits as check
+from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
+from hdrc3_platform_server.completion import CompletionEvent, EventSink
+from hdrc3_platform_server.drc import DrcKernel, FlightState, PlatformState
+from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.limits import FlightLimits
+from hdrc3_platform_server.payload import PayloadError, decode, encode
+
+API_EVENT: dict[FclCommand, str] = {
+    FclCommand.TAKEOFF: "Api-Takeoff-EV",
+    FclCommand.LAND: "Api-Land-EV",
+    FclCommand.YAW: "Api-Yaw-EV",
+    FclCommand.CLIMB: "Api-Climb-EV",
+    FclCommand.TRAJ3D_FLYTO: "Api-Flyto-EV",
+    FclCommand.TRAJ3D: "Api-Traj3D-EV",
+    FclCommand.TRACK: "Api-Track-EV",
+    FclCommand.EMERGENCY_BRAKE: "Api-Brake-EV",
+    FclCommand.CANCEL: "Api-Cancel-EV",
+}
+PFC_REPLIES = frozenset(
+    {
+        "Cmd-Accepted-EV",
+        "Cmd-Rejected-EV",
+        "Cmd-Finished-EV",
+        "Traj-Arrived-EV",
+        "Request-Segment-EV",
+        "Cmd-Failed-EV",
+        "Cmd-Cancelled-EV",
+    }
+)
+
+
+@dataclass(frozen=True, slots=True)
+class FclAnswer:
+    """Immediate answer of one FCL call (FclReturn)."""
+
+    code: FclCode
+    reason: str = ""
+    command_id: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class Segment:
+    """One cubic segment in local ENU (chapter 5.3): end points, tangents, velocities."""
+
+    start: tuple[float, float, float]
+    end: tuple[float, float, float]
+    start_direction: tuple[float, float, float]
+    end_direction: tuple[float, float, float]
+    velocity: float
+    end_velocity: float
+
+    def numbers(self) -> tuple[float, ...]:
+        """The 14 numbers of the Traj3D-EV payload."""
+        return (
+            *self.start,
+            *self.end,
+            *self.start_direction,
+            *self.end_direction,
+            self.velocity,
+            self.end_velocity,
+        )
+
+
+class _Seg(enum.Enum):
+    SENT = "sent"
+    FLOWN = "flown"
+    DONE = "done"
+
+
+@dataclass
+class _Active:
+    command: FclCommand
+    command_id: int
+    outcome: tuple[EventKind, str] | None = None
+    left_idle: bool = False
+    # traj3d only: segment ids in order, their end velocities and progress
+    segments: list[int] = field(default_factory=list)
+    end_velocity: dict[int, float] = field(default_factory=dict)
+    progress: dict[int, _Seg] = field(default_factory=dict)
+
+    def open_ids(self) -> list[int]:
+        """Ids still waiting for their terminal event."""
+        if self.command is not FclCommand.TRAJ3D:
+            return [self.command_id]
+        return [s for s in self.segments if self.progress[s] is not _Seg.DONE]
+
+    def queued(self, segment_id: int) -> bool:
+        """A next segment sent to the PFC but not started (it may still be replaced)."""
+        return (
+            self.command is FclCommand.TRAJ3D
+            and segment_id != self.segments[0]
+            and self.progress.get(segment_id) is _Seg.SENT
+        )
+
+    def ending_ids(self) -> list[int]:
+        """Ids whose final reply ends the whole command: a path ends with a started segment."""
+        return [s for s in self.open_ids() if not self.queued(s)]
+
+
+class IdSource:
+    """Command ids shared by FCL and PPCL: unique, never 0 (0 means "not accepted")."""
+
+    def __init__(self, start: int = 1) -> None:
+        self._ids: Iterator[int] = itertools.count(max(1, start))
+
+    def next(self) -> int:
+        """A fresh id."""
+        return next(self._ids)
+
+
+ARITY: dict[FclCommand, int] = {
+    FclCommand.LAND: 1,
+    FclCommand.YAW: 1,
+    FclCommand.CLIMB: 1,
+    FclCommand.TRAJ3D_FLYTO: 4,
+    FclCommand.TRAJ3D: 14,
+}
+"""Number of arguments per command (the others take none)."""
+
+NEEDS_HOVER = frozenset(
+    {
+        FclCommand.LAND,
+        FclCommand.YAW,
+        FclCommand.CLIMB,
+        FclCommand.TRAJ3D_FLYTO,
+        FclCommand.TRAJ3D,
+        FclCommand.TRACK,
+    }
+)
+
+
+class FlightCommandLayer:
+    """Validates, answers and forwards FCL commands; turns PFC replies into PlatformEvents."""
+
+    def __init__(
+        self,
+        kernel: DrcKernel,
+        frame: WorldFrame,
+        sink: EventSink,
+        ids: IdSource,
+        limits: FlightLimits | None = None,
+    ) -> None:
+        self.kernel = kernel
+        self.frame = frame
+        self.sink = sink
+        self.ids = ids
+        self.limits = limits or FlightLimits()
+        self.current: _Active | None = None
+        self.last_mode: int | None = None
+        kernel.listeners.append(self)
+
+    # --- helpers --------------------------------------------------------------------------
+    def _emit(self, command_id: int, command: FclCommand, kind: EventKind, reason: str) -> None:
+        self.sink(CompletionEvent(command_id, command.label, kind, reason, self.kernel.status.now))
+
+    def _sync_ids(self) -> None:
+        cur = self.current
+        self.kernel.current_ids = frozenset(cur.ending_ids()) if cur else frozenset()
+
+    def _end_current(self, kind: EventKind, reason: str) -> None:
+        cur = self.current
+        if cur is None:
+            return
+        for cid in cur.open_ids():
+            if cur.queued(cid) and kind is EventKind.FINISHED:
+                self._emit(cid, cur.command, EventKind.CANCELLED, "the path ended before it")
+            else:
+                self._emit(cid, cur.command, kind, reason)
+        self.current = None
+        self._sync_ids()
+
+    def busy_with(self) -> str | None:
+        """Description of the command in progress, or None when idle."""
+        cur = self.current
+        if cur is None:
+            return None
+        return f"{cur.command.label} (command {cur.command_id}) is being executed"
+
+    def _state_reason(self, command: FclCommand) -> str | None:
+        platform = self.kernel.platform()
+        if platform is PlatformState.UNKNOWN:
+            return "no state data from the control kernel (PFC): is control_kernel running?"
+        if platform is PlatformState.MANUAL:
+            return "the aircraft is in manual flight mode (RC switch)"
+        if command is FclCommand.TAKEOFF and platform is not PlatformState.GROUND:
+            return "take-off can only be commanded when the aircraft is on the ground"
+        if command is FclCommand.TAKEOFF and not self.kernel.status.auto():
+            return "the RC switch is in manual mode: the safety pilot must select autonomous"
+        if command in NEEDS_HOVER and platform is not PlatformState.AIR:
+            return f"{command.label} needs the aircraft hovering; it is on the ground"
+        return None
+
+    def _start(self, command: FclCommand, numbers: Sequence[float], now: float) -> FclAnswer:
+        cid = self.ids.next()
+        active = _Active(command, cid)
+        if command is FclCommand.TRAJ3D:
+            active.segments.append(cid)
+            active.end_velocity[cid] = numbers[-1]
+            active.progress[cid] = _Seg.SENT
+        self.current = active
+        self._sync_ids()
+        self.kernel.post(API_EVENT[command], encode(cid, numbers))
+        self.kernel.step(now)
+        return FclAnswer(FclCode.OK, "", cid)
+
+    # --- the commands ---------------------------------------------------------------------
+    def submit(self, command: FclCommand, args: Sequence[float], now: float) -> FclAnswer:
+        """Answer one FCL call at DRC time ``now``; ``args`` as the service defines them."""
+        count = ARITY.get(command, 0)
+        if len(args) != count:
+            return FclAnswer(
+                FclCode.NOT_ACCEPTED, f"{command.label} takes {count} argument(s), got {len(args)}"
+            )
+        try:
+            numbers, reason = self._arguments(command, args)
+        except (TypeError, ValueError) as exc:  # not numbers
+            return FclAnswer(FclCode.NOT_ACCEPTED, f"bad arguments: {exc}")
+        if reason is not None:
+            return FclAnswer(FclCode.NOT_ACCEPTED, reason)
+        if command is FclCommand.CANCEL:
+            return self._cancel(now)
+        if command is FclCommand.EMERGENCY_BRAKE:
+            return self._brake(now)
+        if command is FclCommand.TRAJ3D and self.current is not None:
+            return self._next_segment(numbers, now)
+        busy = self.busy_with()
+        if busy is not None:
+            return FclAnswer(FclCode.BUSY, busy)
+        reason = self._state_reason(command)
+        if reason is not None:
+            return FclAnswer(FclCode.NOT_ACCEPTED, reason)
+        return self._start(command, numbers, now)
+
+    def _cancel(self, now: float) -> FclAnswer:
+        cid = self.ids.next()
+        self._end_current(EventKind.CANCELLED, f"cancelled by fcl_cancel (command {cid})")
+        self.kernel.post(API_EVENT[FclCommand.CANCEL], encode(cid))
+        self.kernel.step(now)
+        self._emit(cid, FclCommand.CANCEL, EventKind.FINISHED, "")
+        return FclAnswer(FclCode.OK, "", cid)
+
+    def _brake(self, now: float) -> FclAnswer:
+        cid = self.ids.next()
+        self._end_current(EventKind.CANCELLED, f"emergency brake (command {cid})")
+        platform = self.kernel.platform()
+        if platform is not PlatformState.AIR:
+            why = (
+                "manual flight mode: the pilot flies, nothing to brake"
+                if platform is PlatformState.MANUAL
+                else "not flying: nothing to brake"
+            )
+            self.kernel.post(API_EVENT[FclCommand.CANCEL], encode(cid))
+            self.kernel.step(now)
+            self._emit(cid, FclCommand.EMERGENCY_BRAKE, EventKind.FINISHED, why)
+            return FclAnswer(FclCode.OK, why, cid)
+        self.current = _Active(FclCommand.EMERGENCY_BRAKE, cid)
+        self._sync_ids()
+        self.kernel.post(API_EVENT[FclCommand.EMERGENCY_BRAKE], encode(cid))
+        self.kernel.step(now)
+        return FclAnswer(FclCode.OK, "", cid)
+
+    def _next_segment(self, numbers: Sequence[float], now: float) -> FclAnswer:
+        cur = self.current
+        assert cur is not None
+        if cur.command is not FclCommand.TRAJ3D or self.kernel.flight() is not FlightState.PATH:
+            busy = self.busy_with()
+            return FclAnswer(FclCode.BUSY, busy or "a command is being executed")
+        last = cur.segments[-1]
+        replace = len(cur.segments) > 1 and cur.progress[last] is _Seg.SENT
+        if not replace and cur.end_velocity[last] == 0.0:
+            return FclAnswer(
+                FclCode.BUSY,
+                f"the path ends with segment {last} (end velocity 0); wait for it to finish",
+            )
+        cid = self.ids.next()
+        # A replaced segment is cancelled once the PFC takes the new one (Cmd-Accepted-EV or
+        # Request-Segment-EV); if the PFC refuses the replacement, the old one stays queued.
+        cur.segments.append(cid)
+        cur.end_velocity[cid] = numbers[-1]
+        cur.progress[cid] = _Seg.SENT
+        self._sync_ids()
+        self.kernel.post(API_EVENT[FclCommand.TRAJ3D], encode(cid, numbers))
+        self.kernel.step(now)
+        return FclAnswer(FclCode.OK, "replaces the next segment" if replace else "", cid)
+
+    # --- arguments ------------------------------------------------------------------------
+    def _arguments(
+        self, command: FclCommand, args: Sequence[float]
+    ) -> tuple[tuple[float, ...], str | None]:
+        lim = self.limits
+        a = tuple(float(x) for x in args)
+        if command in (FclCommand.LAND, FclCommand.YAW):
+            (heading,) = a
+            bad = check.finite(heading=heading)
+            return ((heading % math.tau,) if bad is None else ()), bad
+        if command is FclCommand.CLIMB:
+            (altitude,) = a
+            bad = check.finite(altitude=altitude)
+            if bad:
+                return (), bad
+            up = altitude - self.frame.altitude
+            pfc = self.kernel.status.pfc
+            east, north = (pfc.position_enu[0], pfc.position_enu[1]) if pfc else (0.0, 0.0)
+            return (up,), check.position(self.frame, lim, east, north, up, "climb target")
+        if command is FclCommand.TRAJ3D_FLYTO:
+            lon, lat, alt, vel = a
+            bad = check.wgs84(lon, lat) or check.finite(altitude=alt) or check.velocity(lim, vel)
+            if bad:
+                return (), bad
+            e, n, u = self.frame.to_enu(lon, lat, alt)
+            return (e, n, u, vel), check.position(self.frame, lim, e, n, u, "fly-to target")
+        if command is FclCommand.TRAJ3D:
+            seg = Segment(
+                (a[0], a[1], a[2]),
+                (a[3], a[4], a[5]),
+                (a[6], a[7], a[8]),
+                (a[9], a[10], a[11]),
+                a[12],
+                a[13],
+            )
+            return seg.numbers(), self._segment_problem(seg)
+        return (), None
+
+    def _segment_problem(self, seg: Segment) -> str | None:
+        lim = self.limits
+        bad = check.finite(**{f"value{i}": v for i, v in enumerate(seg.numbers())})
+        if bad:
+            return "segment " + bad
+        bad = check.velocity(lim, seg.velocity)
+        if bad:
+            return bad
+        if not 0.0 <= seg.end_velocity <= seg.velocity:
+            return f"end velocity {seg.end_velocity:g} m/s must be within [0, velocity]"
+        for point, what in ((seg.start, "segment start"), (seg.end, "segment end")):
+            bad = check.position(self.frame, lim, *point, what)
+            if bad:
+                return bad
+        if math.dist(seg.start, seg.end) > lim.max_segment_length:
+            return f"segment longer than {lim.max_segment_length:g} m"
+        if math.dist(seg.start, seg.end) < 1e-3:
+            return "segment start and end coincide"
+        return None
+
+    # --- replies from the PFC -------------------------------------------------------------
+    def on_wire(self, event: WireEvent, now: float) -> None:
+        """Correlate a PFC reply with the command in progress (older ids are ignored)."""
+        if event.name == "PFC-Fault-EV":
+            # plain UTF-8 text (no id): a navigation or sensor fault the PFC is handling
+            text = event.data.decode("utf-8", errors="replace").strip() or "fault"
+            cur = self.current
+            self.sink(
+                CompletionEvent(
+                    cur.command_id if cur else 0,
+                    cur.command.label if cur else "pfc_fault",
+                    EventKind.INFO,
+                    f"PFC fault: {text}",
+                    self.kernel.status.now,
+                )
+            )
+            return
+        if event.name not in PFC_REPLIES:
+            return
+        cur = self.current
+        try:
+            p = decode(event.data)
+        except PayloadError:
+            return
+        if cur is None or p.command_id not in cur.open_ids():
+            return
+        name = event.name
+        cid = p.command_id
+        if name == "Request-Segment-EV":
+            self._segment_started(cur, cid)
+        elif name == "Cmd-Accepted-EV":
+            self._emit(cid, cur.command, EventKind.INFO, "accepted by the PFC")
+            if cur.queued(cid):
+                self._replaced_before(cur, cid)
+        elif cur.queued(cid) and name in ("Cmd-Rejected-EV", "Cmd-Failed-EV", "Cmd-Cancelled-EV"):
+            # a reply about a next segment only: the path goes on with the segment in flight
+            cur.progress[cid] = _Seg.DONE
+            if name == "Cmd-Cancelled-EV":
+                self._emit(cid, cur.command, EventKind.CANCELLED, _reason(event.data, "cancelled"))
+            else:
+                prefix = "rejected by the PFC: " if name == "Cmd-Rejected-EV" else ""
+                self._emit(
+                    cid, cur.command, EventKind.FAILED, prefix + _reason(event.data, "failed")
+                )
+        elif (
+            name == "Cmd-Finished-EV"
+            and cur.command is FclCommand.TRAJ3D
+            and cid != cur.segments[-1]
+        ):
+            # the PFC left this segment for the next one, which is now the one in flight (the
+            # last segment of a path may get no Request-Segment-EV: nothing follows it)
+            self._segment_started(cur, cur.segments[cur.segments.index(cid) + 1], request=False)
+        elif name == "Traj-Arrived-EV" and cur.queued(cid):
+            self._segment_started(cur, cid, request=False)
+            cur.outcome = cur.outcome or (EventKind.FINISHED, "")
+        elif name in ("Cmd-Finished-EV", "Traj-Arrived-EV"):
+            cur.outcome = cur.outcome or (EventKind.FINISHED, "")
+        elif name == "Cmd-Cancelled-EV":
+            cur.outcome = (EventKind.CANCELLED, _reason(event.data, "cancelled by the PFC"))
+        elif name == "Cmd-Rejected-EV":
+            cur.outcome = (EventKind.FAILED, "rejected by the PFC: " + _reason(event.data, "?"))
+        else:
+            cur.outcome = (EventKind.FAILED, _reason(event.data, "failed in the PFC"))
+
+    def _segment_started(self, cur: _Active, segment_id: int, *, request: bool = True) -> None:
+        """``segment_id`` is in flight: earlier segments are done; forward the PFC's request."""
+        if cur.command is not FclCommand.TRAJ3D or segment_id not in cur.progress:
+            return
+        if cur.progress[segment_id] is not _Seg.SENT and not request:
+            return
+        self._replaced_before(cur, segment_id)
+        index = cur.segments.index(segment_id)
+        for earlier in cur.segments[:index]:
+            if cur.progress[earlier] is not _Seg.DONE:
+                cur.progress[earlier] = _Seg.DONE
+                self._emit(earlier, FclCommand.TRAJ3D, EventKind.FINISHED, "segment flown")
+        cur.progress[segment_id] = _Seg.FLOWN
+        self._sync_ids()
+        if request:
+            self._emit(
+                segment_id, FclCommand.TRAJ3D, EventKind.SEGMENT_REQUEST, "send the next segment"
+            )
+
+    def _replaced_before(self, cur: _Active, segment_id: int) -> None:
+        """Cancel the queued segments sent before ``segment_id``: the PFC replaced them."""
+        for earlier in cur.segments[: cur.segments.index(segment_id)]:
+            if cur.queued(earlier):
+                cur.progress[earlier] = _Seg.DONE
+                self._emit(
+                    earlier,
+                    FclCommand.TRAJ3D,
+                    EventKind.CANCELLED,
+                    f"replaced by segment {segment_id}",
+                )
+        self._sync_ids()
+
+    def after_step(self, now: float) -> None:
+        """End the command once the Flight automaton is back in Idle."""
+        cur = self.current
+        if cur is None:
+            return
+        if self.kernel.flight() is not FlightState.IDLE:
+            cur.left_idle = True
+            return
+        if not cur.left_idle and cur.outcome is None:
+            cur.outcome = (EventKind.FAILED, "the DRC automaton did not take the command")
+        kind, reason = cur.outcome or (EventKind.FINISHED, "")
+        self._end_current(kind, reason)
+
+
+def _reason(data: bytes, default: str) -> str:
+    try:
+        text = decode(data).reason.strip()
+    except PayloadError:
+        return default
+    return text or default

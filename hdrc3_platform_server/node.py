@@ -1,0 +1,393 @@
+"""The `platform_server` node (the DRC): FCL/PPCL services, platform events, Data Interface.
+
+A thin adapter around :class:`~hdrc3_platform_server.server.PlatformServerCore`. In the agent's
+namespace it offers ``fcl/<command>`` and ``ppcl/<command>`` services, publishes
+``platform_events`` (PlatformEvent), ``helicopter_state`` (HelicopterState) and ``camera_state``
+(CameraState) at 25 Hz of sim time, and talks to the PFC/PPC over ``hcsm/events/*``. See the
+package README for the semantics table.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import traceback
+from collections.abc import Callable
+from typing import Any
+
+from rcl_interfaces.msg import ParameterDescriptor
+from rclpy.clock import Clock
+from rclpy.clock_type import ClockType
+from rclpy.context import Context
+from rclpy.experimental.events_executor import EventsExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+from hdrc3.errors import ConfigError
+from hdrc3.ros_runtime import RosProcess
+from hdrc3_hcsm.ros_transport import RosTransport
+from hdrc3_interfaces.msg import (
+    CameraState,
+    HelicopterState,
+    PfcState,
+    PlatformEvent,
+    PowerStatus,
+)
+from hdrc3_interfaces.srv import (
+    FclCancel,
+    FclClimb,
+    FclEmergencyBrake,
+    FclLand,
+    FclTakeoff,
+    FclTrack,
+    FclTraj3d,
+    FclTraj3dFlyto,
+    FclYaw,
+    PpclCameraValue,
+    PpclColorTracker,
+    PpclControl,
+    PpclExposure,
+    PpclGetCameraInfo,
+    PpclLaserValue,
+    PpclLookAt,
+    PpclPtuActivityInfo,
+    PpclPtuLimits,
+    PpclTrigger,
+    PpclTurnTo,
+    PpclZoom,
+)
+from hdrc3_platform_server.codes import FclCode, FclCommand, PpclCode, PpclCommand
+from hdrc3_platform_server.completion import CompletionEvent
+from hdrc3_platform_server.data_interface import HelicopterStateData
+from hdrc3_platform_server.geo_frame import WorldFrame, frame_from_world
+from hdrc3_platform_server.platform_status import CameraSample, PfcSample
+from hdrc3_platform_server.server import PlatformServerCore
+
+NODE_NAME = "platform_server"
+EVENT_QOS = QoSProfile(
+    reliability=ReliabilityPolicy.RELIABLE,
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1000,
+    durability=DurabilityPolicy.VOLATILE,
+)
+STATE_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+"""Deep enough that a 50 Hz state stream at 10x real time survives a 200 ms stall of a reader."""
+TICK_PERIOD_S = 0.02
+"""Wall-clock period of the DRC loop when no PFC data drives it (replies, timeouts)."""
+
+FCL_SERVICES: dict[FclCommand, tuple[Any, Callable[[Any], tuple[float, ...]]]] = {
+    FclCommand.TAKEOFF: (FclTakeoff, lambda r: ()),
+    FclCommand.LAND: (FclLand, lambda r: (r.heading,)),
+    FclCommand.YAW: (FclYaw, lambda r: (r.heading,)),
+    FclCommand.CLIMB: (FclClimb, lambda r: (r.altitude,)),
+    FclCommand.TRAJ3D_FLYTO: (
+        FclTraj3dFlyto,
+        lambda r: (r.longitude, r.latitude, r.altitude, r.velocity),
+    ),
+    FclCommand.TRAJ3D: (
+        FclTraj3d,
+        lambda r: (
+            r.segment.start_point.x,
+            r.segment.start_point.y,
+            r.segment.start_point.z,
+            r.segment.end_point.x,
+            r.segment.end_point.y,
+            r.segment.end_point.z,
+            r.segment.start_direction.x,
+            r.segment.start_direction.y,
+            r.segment.start_direction.z,
+            r.segment.end_direction.x,
+            r.segment.end_direction.y,
+            r.segment.end_direction.z,
+            r.velocity,
+            r.end_velocity,
+        ),
+    ),
+    FclCommand.TRACK: (FclTrack, lambda r: ()),
+    FclCommand.EMERGENCY_BRAKE: (FclEmergencyBrake, lambda r: ()),
+    FclCommand.CANCEL: (FclCancel, lambda r: ()),
+}
+PPCL_SERVICES: dict[PpclCommand, tuple[Any, Callable[[Any], tuple[float, ...]]]] = {
+    PpclCommand.LOOK_AT: (
+        PpclLookAt,
+        lambda r: (r.longitude, r.latitude, 1.0 if r.has_altitude else 0.0, r.altitude),
+    ),
+    PpclCommand.TURN_TO: (PpclTurnTo, lambda r: (r.pan, r.tilt)),
+    PpclCommand.PTU_ABORT: (PpclTrigger, lambda r: ()),
+    PpclCommand.IP_COLOR_TRACKER: (PpclColorTracker, lambda r: (r.x, r.y)),
+    PpclCommand.IP_STATE_ESTIMATION: (PpclTrigger, lambda r: ()),
+    PpclCommand.IP_ABORT: (PpclTrigger, lambda r: ()),
+    PpclCommand.ZOOM: (PpclZoom, lambda r: (float(r.camera_id), r.value)),
+    PpclCommand.EXPOSURE: (
+        PpclExposure,
+        lambda r: (float(r.camera_id), 1.0 if r.auto_exposure else 0.0),
+    ),
+    PpclCommand.IRIS: (PpclCameraValue, lambda r: (float(r.camera_id), r.value)),
+    PpclCommand.SHUTTER: (PpclCameraValue, lambda r: (float(r.camera_id), r.value)),
+    PpclCommand.LASER_ANGULAR_RESOLUTION: (PpclLaserValue, lambda r: (r.value,)),
+    PpclCommand.LASER_DISTANCE_RESOLUTION: (PpclLaserValue, lambda r: (r.value,)),
+    PpclCommand.LASER_ROTATION_SPEED: (PpclLaserValue, lambda r: (r.value,)),
+    PpclCommand.LASER_ROTATION_ANGLE: (PpclLaserValue, lambda r: (r.value,)),
+    PpclCommand.LASER_START_DATA_COLLECTION: (PpclTrigger, lambda r: ()),
+    PpclCommand.LASER_STOP_DATA_COLLECTION: (PpclTrigger, lambda r: ()),
+}
+
+
+def _seconds(stamp: Any) -> float:
+    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
+
+
+def _set_stamp(stamp: Any, seconds: float) -> None:
+    ns = max(0, round(seconds * 1e9))
+    stamp.sec = ns // 1_000_000_000
+    stamp.nanosec = ns % 1_000_000_000
+
+
+def _id_start() -> int:
+    # Ids of a restarted server must not collide with late replies about the old one's.
+    return (int.from_bytes(os.urandom(3), "little") << 24) + 1
+
+
+class PlatformServerNode(Node):
+    """ROS adapter of the Platform Server core."""
+
+    def __init__(self, context: Context | None = None) -> None:
+        super().__init__(NODE_NAME, context=context)
+        self.declare_parameter("world", "revinge", ParameterDescriptor(description="world file"))
+        for name in ("origin_latitude", "origin_longitude", "origin_altitude"):
+            self.declare_parameter(name, math.nan)
+        self.declare_parameter("agents", [""])
+        self.declare_parameter("speed", 1.0)
+        self.declare_parameter(
+            "sim_time", True, ParameterDescriptor(description="run on /clock (world_sim)")
+        )
+        if self.get_parameter("sim_time").value:
+            self.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])
+        self.frame = self._frame()
+        self.transport = RosTransport(self, "DRC")
+        self.events_pub = self.create_publisher(PlatformEvent, "platform_events", EVENT_QOS)
+        self.heli_pub = self.create_publisher(HelicopterState, "helicopter_state", STATE_QOS)
+        self.camera_pub = self.create_publisher(CameraState, "camera_state", STATE_QOS)
+        self.core = PlatformServerCore(
+            self.frame, self.transport, self._publish_event, id_start=_id_start()
+        )
+        self.create_subscription(PfcState, "pfc/state", self._on_pfc, STATE_QOS)
+        self.create_subscription(CameraState, "ppc/camera_state", self._on_camera, STATE_QOS)
+        self.create_subscription(PowerStatus, "sensors/power", self._on_power, STATE_QOS)
+        for command, (srv, args) in FCL_SERVICES.items():
+            self.create_service(srv, f"fcl/{command.value}", self._fcl_handler(command, args))
+        for pcommand, (srv, args) in PPCL_SERVICES.items():
+            self.create_service(srv, f"ppcl/{pcommand.value}", self._ppcl_handler(pcommand, args))
+        self.create_service(PpclControl, "ppcl/control", self._on_control)
+        self.create_service(PpclPtuActivityInfo, "ppcl/ptu_activity_info", self._on_activity)
+        self.create_service(PpclGetCameraInfo, "ppcl/get_camera_info", self._on_camera_info)
+        self.create_service(PpclPtuLimits, "ppcl/ptu_limits", self._on_limits)
+        self.create_timer(TICK_PERIOD_S, self._tick, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self._heli = HelicopterState()
+        self._heli.header.frame_id = "wgs84"
+        self.get_logger().info(
+            f"platform server up: origin {self.frame.latitude:.6f}, {self.frame.longitude:.6f}, "
+            f"{self.frame.altitude:.1f} m"
+        )
+
+    def _frame(self) -> WorldFrame:
+        lat = float(self.get_parameter("origin_latitude").value)
+        lon = float(self.get_parameter("origin_longitude").value)
+        alt = float(self.get_parameter("origin_altitude").value)
+        if all(math.isfinite(v) for v in (lat, lon, alt)):
+            return WorldFrame(lat, lon, alt)
+        return frame_from_world(str(self.get_parameter("world").value))
+
+    def _now(self) -> float:
+        """DRC time: the node's (sim) clock; until /clock arrives, the latest PFC time."""
+        now = self.get_clock().now().nanoseconds * 1e-9
+        if now > 0.0:
+            return now
+        pfc = self.core.status.pfc
+        return pfc.pfc_time if pfc is not None else 0.0
+
+    # --- inputs ---------------------------------------------------------------------------
+    def _on_pfc(self, msg: Any) -> None:
+        p, v = msg.position_enu, msg.velocity_enu
+        pfc_time = _seconds(msg.pfc_time)
+        now = self.get_clock().now().nanoseconds * 1e-9
+        sample = PfcSample(
+            pfc_time=pfc_time,
+            received=now if now > 0.0 else pfc_time,
+            position_enu=(float(p[0]), float(p[1]), float(p[2])),
+            velocity_enu=(float(v[0]), float(v[1]), float(v[2])),
+            latitude=float(msg.latitude),
+            longitude=float(msg.longitude),
+            altitude=float(msg.altitude),
+            roll=float(msg.roll),
+            pitch=float(msg.pitch),
+            heading=float(msg.heading),
+            rpm=float(msg.rpm),
+            on_ground=bool(msg.on_ground),
+            auto_flag=bool(msg.auto_flag),
+            mode=int(msg.mode),
+            command_id=int(msg.command_id),
+        )
+        data = self.core.on_pfc(sample)
+        if data is not None:
+            self._publish_di(data)
+
+    def _on_camera(self, msg: Any) -> None:
+        self.core.on_camera(
+            CameraSample(
+                int(msg.id),
+                float(msg.pan),
+                float(msg.tilt),
+                float(msg.zoom),
+                _seconds(msg.ipc_time),
+                self._now(),
+            )
+        )
+
+    def _on_power(self, msg: Any) -> None:
+        self.core.status.power_status = int(msg.status)
+
+    def _tick(self) -> None:
+        self.core.tick(self._now())
+
+    # --- outputs --------------------------------------------------------------------------
+    def _publish_event(self, event: CompletionEvent) -> None:
+        msg = PlatformEvent()
+        _set_stamp(msg.header.stamp, event.time)
+        msg.command_id = event.command_id
+        msg.command = event.command
+        msg.kind = int(event.kind)
+        msg.reason = event.reason
+        self.events_pub.publish(msg)
+
+    def _publish_di(self, data: HelicopterStateData) -> None:
+        m = self._heli
+        _set_stamp(m.header.stamp, data.pfc_time)
+        for name, value in data.as_dict().items():
+            if name == "pfc_time":
+                _set_stamp(m.pfc_time, value)
+            else:
+                setattr(m, name, value)
+        self.heli_pub.publish(m)
+        for cam in self.core.camera_states():
+            c = CameraState()
+            _set_stamp(c.header.stamp, data.pfc_time)
+            c.id, c.pan, c.tilt, c.zoom = cam.id, cam.pan, cam.tilt, cam.zoom
+            _set_stamp(c.ipc_time, cam.ipc_time)
+            self.camera_pub.publish(c)
+
+    # --- services -------------------------------------------------------------------------
+    def _guard(self, fill: Callable[[], None], fail: Callable[[str], None]) -> None:
+        try:
+            fill()
+        except Exception as exc:  # the server must keep answering: report, never crash
+            self.get_logger().error(f"internal error: {exc}\n{traceback.format_exc()}")
+            fail(f"internal error: {exc}")
+
+    def _fcl_handler(
+        self, command: FclCommand, args: Callable[[Any], tuple[float, ...]]
+    ) -> Callable[[Any, Any], Any]:
+        def handle(request: Any, response: Any) -> Any:
+            def fill() -> None:
+                answer = self.core.fcl.submit(command, args(request), self._now())
+                response.result.code = int(answer.code)
+                response.result.reason = answer.reason
+                response.result.command_id = answer.command_id
+
+            def fail(reason: str) -> None:
+                response.result.code = int(FclCode.NOT_ACCEPTED)
+                response.result.reason = reason
+
+            self._guard(fill, fail)
+            return response
+
+        return handle
+
+    def _ppcl_fail(self, response: Any) -> Callable[[str], None]:
+        def fail(reason: str) -> None:
+            response.result.code = int(PpclCode.NOT_ACCEPTED)
+            response.result.reason = reason
+
+        return fail
+
+    def _ppcl_handler(
+        self, command: PpclCommand, args: Callable[[Any], tuple[float, ...]]
+    ) -> Callable[[Any, Any], Any]:
+        def handle(request: Any, response: Any) -> Any:
+            def fill() -> None:
+                answer = self.core.ppcl.submit(command, args(request), self._now())
+                response.result.code = int(answer.code)
+                response.result.reason = answer.reason
+                response.result.command_id = answer.command_id
+
+            self._guard(fill, self._ppcl_fail(response))
+            return response
+
+        return handle
+
+    def _on_control(self, request: Any, response: Any) -> Any:
+        def fill() -> None:
+            answer = self.core.ppcl.control(
+                int(request.resource), bool(request.request), str(request.owner)
+            )
+            response.result.code = int(answer.code)
+            response.result.reason = answer.reason
+
+        self._guard(fill, self._ppcl_fail(response))
+        return response
+
+    def _on_activity(self, request: Any, response: Any) -> Any:
+        response.result.code = int(PpclCode.OK)
+        response.activity = int(self.core.ppcl.activity)
+        return response
+
+    def _on_camera_info(self, request: Any, response: Any) -> Any:
+        def fill() -> None:
+            answer, info = self.core.ppcl.camera_info(int(request.camera_id))
+            response.result.code = int(answer.code)
+            response.result.reason = answer.reason
+            if info is not None:
+                response.width, response.height = info.width, info.height
+                response.fx, response.fy, response.cx, response.cy = (
+                    info.fx,
+                    info.fy,
+                    info.cx,
+                    info.cy,
+                )
+                response.zoom, response.hfov = info.zoom, info.hfov
+
+        self._guard(fill, self._ppcl_fail(response))
+        return response
+
+    def _on_limits(self, request: Any, response: Any) -> Any:
+        lim = self.core.ppcl.ptu
+        response.result.code = int(PpclCode.OK)
+        response.min_pan, response.max_pan = lim.min_pan, lim.max_pan
+        response.min_tilt, response.max_tilt = lim.min_tilt, lim.max_tilt
+        return response
+
+
+def main() -> int:
+    """Console script `hdrc3-platform-server`: exit 0 on SIGINT/SIGTERM, 2 on bad parameters."""
+    try:
+        with RosProcess(args=sys.argv) as process:
+            node = PlatformServerNode(process.context)
+            # The events executor keeps up with 50 Hz state streams at many times real time.
+            executor = EventsExecutor(context=process.context)
+            executor.add_node(node)
+            try:
+                while not process.stop_requested.is_set() and process.context.ok():
+                    executor.spin_once(timeout_sec=0.1)
+            finally:
+                executor.shutdown()
+                node.destroy_node()
+    except ConfigError as exc:
+        print(f"hdrc3-platform-server: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

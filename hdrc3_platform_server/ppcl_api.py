@@ -1,0 +1,321 @@
+"""The PPCL half of the command layer (chapter section 6.2.3).
+
+Exclusive control: ``request``/``release`` per resource (PTU, camera, image processing, laser)
+with an owner name; control of the PTU, camera and image processing is denied while a
+vision-based landing runs (its control mode handles them). A mode or parameter command needs its
+resource held (the service requests carry no caller identity, so any caller may use a held
+resource; ownership keeps two executors from taking the same resource). An accepted command
+answers ``PPCL_OK`` with an id; the PPC reports the mode reaching its target (finished) or failing;
+a newer command for the same mode replaces an older one (cancelled). No queue, no busy: payload
+modes replace each other as the chapter's pan-tilt modes do.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+from hdrc3_control.ppc_hardware import CAMERAS, PtuLimits
+from hdrc3_hcsm.event import WireEvent
+from hdrc3_platform_server import limits as check
+from hdrc3_platform_server.codes import EventKind, PpclCode, PpclCommand, PtuActivity, Resource
+from hdrc3_platform_server.completion import CompletionEvent, EventSink
+from hdrc3_platform_server.drc import DrcKernel
+from hdrc3_platform_server.fcl_api import IdSource
+from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.payload import PayloadError, decode, encode
+
+RESOURCE_OF: dict[PpclCommand, Resource] = {
+    PpclCommand.LOOK_AT: Resource.PTU,
+    PpclCommand.TURN_TO: Resource.PTU,
+    PpclCommand.PTU_ABORT: Resource.PTU,
+    PpclCommand.IP_COLOR_TRACKER: Resource.IMAGE_PROCESSING,
+    PpclCommand.IP_STATE_ESTIMATION: Resource.IMAGE_PROCESSING,
+    PpclCommand.IP_ABORT: Resource.IMAGE_PROCESSING,
+    PpclCommand.ZOOM: Resource.CAMERA,
+    PpclCommand.EXPOSURE: Resource.CAMERA,
+    PpclCommand.IRIS: Resource.CAMERA,
+    PpclCommand.SHUTTER: Resource.CAMERA,
+    PpclCommand.LASER_ANGULAR_RESOLUTION: Resource.LASER,
+    PpclCommand.LASER_DISTANCE_RESOLUTION: Resource.LASER,
+    PpclCommand.LASER_ROTATION_SPEED: Resource.LASER,
+    PpclCommand.LASER_ROTATION_ANGLE: Resource.LASER,
+    PpclCommand.LASER_START_DATA_COLLECTION: Resource.LASER,
+    PpclCommand.LASER_STOP_DATA_COLLECTION: Resource.LASER,
+}
+WIRE_EVENT: dict[PpclCommand, str] = {
+    PpclCommand.TURN_TO: "PPCL-Turn-To-EV",
+    PpclCommand.LOOK_AT: "PPCL-Look-At-EV",
+    PpclCommand.PTU_ABORT: "PPCL-Ptu-Abort-EV",
+    PpclCommand.ZOOM: "PPCL-Zoom-EV",
+    PpclCommand.EXPOSURE: "PPCL-Exposure-EV",
+    PpclCommand.IRIS: "PPCL-Iris-EV",
+    PpclCommand.SHUTTER: "PPCL-Shutter-EV",
+    PpclCommand.LASER_ANGULAR_RESOLUTION: "PPCL-Laser-Angular-EV",
+    PpclCommand.LASER_DISTANCE_RESOLUTION: "PPCL-Laser-Distance-EV",
+    PpclCommand.LASER_ROTATION_SPEED: "PPCL-Laser-Speed-EV",
+    PpclCommand.LASER_ROTATION_ANGLE: "PPCL-Laser-Angle-EV",
+    PpclCommand.LASER_START_DATA_COLLECTION: "PPCL-Laser-Start-EV",
+    PpclCommand.LASER_STOP_DATA_COLLECTION: "PPCL-Laser-Stop-EV",
+    PpclCommand.IP_COLOR_TRACKER: "PPCL-IP-Tracker-EV",
+    PpclCommand.IP_STATE_ESTIMATION: "PPCL-IP-State-Est-EV",
+    PpclCommand.IP_ABORT: "PPCL-IP-Abort-EV",
+}
+ARITY: dict[PpclCommand, int] = {
+    PpclCommand.TURN_TO: 2,
+    PpclCommand.LOOK_AT: 4,
+    PpclCommand.ZOOM: 2,
+    PpclCommand.EXPOSURE: 2,
+    PpclCommand.IRIS: 2,
+    PpclCommand.SHUTTER: 2,
+    PpclCommand.IP_COLOR_TRACKER: 2,
+    PpclCommand.LASER_ANGULAR_RESOLUTION: 1,
+    PpclCommand.LASER_DISTANCE_RESOLUTION: 1,
+    PpclCommand.LASER_ROTATION_SPEED: 1,
+    PpclCommand.LASER_ROTATION_ANGLE: 1,
+}
+"""Number of arguments per command (look_at: lon, lat, has_altitude, altitude)."""
+LANDING_CONTROLLED = frozenset({Resource.PTU, Resource.CAMERA, Resource.IMAGE_PROCESSING})
+IP_NOT_AVAILABLE = "image processing functions are not available in this version of the PPC"
+
+
+@dataclass(frozen=True, slots=True)
+class PpclAnswer:
+    """Immediate answer of one PPCL call (PpclReturn)."""
+
+    code: PpclCode
+    reason: str = ""
+    command_id: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class CameraInfo:
+    """Intrinsics of one camera at its current zoom (ppcl_get_camera_info)."""
+
+    width: int
+    height: int
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+    zoom: float
+    hfov: float
+
+
+class PayloadCommandLayer:
+    """Validates, answers and forwards PPCL commands; turns PPC replies into PlatformEvents."""
+
+    def __init__(
+        self,
+        kernel: DrcKernel,
+        frame: WorldFrame,
+        sink: EventSink,
+        ids: IdSource,
+        landing: Callable[[], bool],
+        ptu: PtuLimits | None = None,
+    ) -> None:
+        self.kernel = kernel
+        self.frame = frame
+        self.sink = sink
+        self.ids = ids
+        self.landing = landing
+        """True while a vision-based landing runs (fcl_land in progress)."""
+        self.ptu = ptu or PtuLimits()
+        self.owners: dict[Resource, str] = {}
+        self.activity = PtuActivity.IDLE
+        self.pending: dict[int, tuple[PpclCommand, str]] = {}
+        """Accepted, not yet finished commands: id -> (command, mode key)."""
+        kernel.listeners.append(self)
+
+    def _emit(self, command_id: int, command: PpclCommand, kind: EventKind, reason: str) -> None:
+        self.sink(CompletionEvent(command_id, command.label, kind, reason, self.kernel.status.now))
+
+    # --- ownership ------------------------------------------------------------------------
+    def control(self, resource: int, request: bool, owner: str) -> PpclAnswer:
+        """ppcl_request_*_control / ppcl_release_*_control (synchronous: no events)."""
+        try:
+            res = Resource(resource)
+        except ValueError:
+            return PpclAnswer(PpclCode.NOT_ACCEPTED, f"unknown resource {resource} (0..3)")
+        name = res.name.lower()
+        holder = self.owners.get(res)
+        if request:
+            if not owner.strip():
+                return PpclAnswer(PpclCode.NOT_ACCEPTED, "an owner name is required")
+            if res in LANDING_CONTROLLED and self.landing():
+                return PpclAnswer(
+                    PpclCode.CONTROL_DENIED, f"vision-based landing in progress controls the {name}"
+                )
+            if holder is not None and holder != owner:
+                return PpclAnswer(PpclCode.CONTROL_DENIED, f"{name} is controlled by {holder!r}")
+            self.owners[res] = owner
+            return PpclAnswer(PpclCode.OK)
+        if holder is None:
+            return PpclAnswer(PpclCode.OK, f"{name} was not controlled by anyone")
+        if owner and holder != owner:
+            return PpclAnswer(
+                PpclCode.NOT_ACCEPTED, f"{name} is controlled by {holder!r}, not {owner!r}"
+            )
+        del self.owners[res]
+        return PpclAnswer(PpclCode.OK)
+
+    # --- queries --------------------------------------------------------------------------
+    def camera_info(self, camera_id: int) -> tuple[PpclAnswer, CameraInfo | None]:
+        """Intrinsics at the camera's current zoom (from the PPC's camera state)."""
+        bad = check.camera(camera_id)
+        if bad:
+            return PpclAnswer(PpclCode.NOT_ACCEPTED, bad), None
+        spec = CAMERAS[camera_id]
+        sample = self.kernel.status.cameras.get(camera_id)
+        zoom = sample.zoom if sample is not None else 0.0
+        f = spec.focal(zoom)
+        info = CameraInfo(
+            spec.width,
+            spec.height,
+            f,
+            f,
+            spec.width / 2.0,
+            spec.height / 2.0,
+            zoom,
+            spec.hfov(zoom),
+        )
+        return PpclAnswer(PpclCode.OK), info
+
+    # --- mode and parameter commands ------------------------------------------------------
+    def submit(self, command: PpclCommand, args: Sequence[float], now: float) -> PpclAnswer:
+        """Answer one PPCL mode/parameter call at DRC time ``now``."""
+        count = ARITY.get(command, 0)
+        if len(args) != count:
+            return PpclAnswer(
+                PpclCode.NOT_ACCEPTED, f"{command.label} takes {count} argument(s), got {len(args)}"
+            )
+        try:
+            numbers, key, reason = self._arguments(command, tuple(float(x) for x in args))
+        except (TypeError, ValueError) as exc:
+            return PpclAnswer(PpclCode.NOT_ACCEPTED, f"bad arguments: {exc}")
+        if reason is not None:
+            return PpclAnswer(PpclCode.NOT_ACCEPTED, reason)
+        res = RESOURCE_OF[command]
+        name = res.name.lower()
+        if res in LANDING_CONTROLLED and self.landing():
+            return PpclAnswer(
+                PpclCode.CONTROL_DENIED, f"vision-based landing in progress controls the {name}"
+            )
+        if res not in self.owners:
+            return PpclAnswer(
+                PpclCode.NOT_ACCEPTED,
+                f"request control of the {name} first (ppcl_request_{name}_control)",
+            )
+        if command in (PpclCommand.IP_COLOR_TRACKER, PpclCommand.IP_STATE_ESTIMATION):
+            return PpclAnswer(PpclCode.NOT_ACCEPTED, IP_NOT_AVAILABLE)
+        cid = self.ids.next()
+        if command is PpclCommand.IP_ABORT:
+            self._emit(cid, command, EventKind.FINISHED, "no image processing function running")
+            return PpclAnswer(PpclCode.OK, "", cid)
+        if not self.kernel.status.ppc_fresh():
+            return PpclAnswer(
+                PpclCode.NOT_ACCEPTED,
+                "no data from the perception kernel (PPC): is perception_kernel running?",
+            )
+        for old, (old_command, old_key) in list(self.pending.items()):
+            if old_key == key:
+                del self.pending[old]
+                self._emit(
+                    old,
+                    old_command,
+                    EventKind.CANCELLED,
+                    f"replaced by {command.label} (command {cid})",
+                )
+        self.pending[cid] = (command, key)
+        if command is PpclCommand.TURN_TO:
+            self.activity = PtuActivity.TURNTO
+        elif command is PpclCommand.LOOK_AT:
+            self.activity = PtuActivity.LOOK_AT_POINT
+        elif command is PpclCommand.PTU_ABORT:
+            self.activity = PtuActivity.IDLE
+        self.kernel.post(WIRE_EVENT[command].replace("PPCL-", "Api-Pl-"), encode(cid, numbers))
+        self.kernel.step(now)
+        return PpclAnswer(PpclCode.OK, "", cid)
+
+    def _arguments(
+        self, command: PpclCommand, a: tuple[float, ...]
+    ) -> tuple[tuple[float, ...], str, str | None]:
+        c = PpclCommand
+        if command is c.TURN_TO:
+            pan, tilt = a
+            return (pan, tilt), "ptu", check.pan_tilt(self.ptu, pan, tilt)
+        if command is c.LOOK_AT:
+            lon, lat, has_alt, alt = a
+            bad = check.wgs84(lon, lat) or check.finite(altitude=alt)
+            if bad:
+                return (), "ptu", bad
+            e, n, _ = self.frame.to_enu(lon, lat, self.frame.altitude)
+            if not self.frame.inside(e, n):
+                return (
+                    (),
+                    "ptu",
+                    f"look-at point ({e:.0f} m east, {n:.0f} m north) is far outside the world",
+                )
+            u = (alt - self.frame.altitude) if has_alt else self.frame.ground_up(e, n)
+            return (e, n, u), "ptu", None
+        if command is c.ZOOM:
+            camera, value = a
+            bad = (
+                check.camera(int(camera))
+                if camera == int(camera)
+                else "camera id must be an integer"
+            )
+            return (camera, value), "zoom", bad or check.unit_interval("zoom", value)
+        if command is c.EXPOSURE:
+            camera, auto = a
+            return (camera, 1.0 if auto else 0.0), f"exposure{camera}", check.camera(int(camera))
+        if command in (c.IRIS, c.SHUTTER):
+            camera, value = a
+            bad = check.camera(int(camera)) or (
+                check.unit_interval("iris", value) if command is c.IRIS else check.shutter(value)
+            )
+            return (camera, value), f"{command.value}{camera}", bad
+        if command is c.LASER_ANGULAR_RESOLUTION:
+            (value,) = a
+            return (value,), command.value, check.laser_angular(value)
+        if command is c.LASER_DISTANCE_RESOLUTION:
+            (value,) = a
+            return (value,), command.value, check.laser_distance(value)
+        if command is c.LASER_ROTATION_SPEED:
+            (value,) = a
+            return (value,), "laser_rotation", check.laser_speed(value)
+        if command is c.LASER_ROTATION_ANGLE:
+            (value,) = a
+            bad = check.finite(rotation_angle=value)
+            return ((value % math.tau,) if not bad else ()), "laser_rotation", bad
+        if command is c.IP_COLOR_TRACKER:
+            x, y = a
+            return (x, y), "ip", check.pixel(x, y)
+        key = {c.PTU_ABORT: "ptu", c.LASER_START_DATA_COLLECTION: "laser_collect"}.get(
+            command, "ip"
+        )
+        if command is c.LASER_STOP_DATA_COLLECTION:
+            key = "laser_collect"
+        return (), key, None
+
+    # --- replies from the PPC -------------------------------------------------------------
+    def on_wire(self, event: WireEvent, now: float) -> None:
+        """Finish or fail the pending command the PPC reports on."""
+        if event.name not in ("PPCL-Finished-EV", "PPCL-Failed-EV"):
+            return
+        try:
+            p = decode(event.data)
+        except PayloadError:
+            return
+        entry = self.pending.pop(p.command_id, None)
+        if entry is None:
+            return
+        command, _ = entry
+        if event.name == "PPCL-Finished-EV":
+            self._emit(p.command_id, command, EventKind.FINISHED, "")
+        else:
+            self._emit(p.command_id, command, EventKind.FAILED, p.reason or "failed in the PPC")
+
+    def after_step(self, now: float) -> None:
+        """Nothing to do: PPCL outcomes come with the events."""

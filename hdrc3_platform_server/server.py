@@ -1,0 +1,82 @@
+"""The Platform Server's pure core: DRC kernel + FCL/PPCL command layers + Data Interface.
+
+The node (``node.py``) owns ROS: it calls :meth:`PlatformServerCore.on_pfc` for every PFC state
+report, :meth:`on_camera` for every PPC camera report, :meth:`tick` periodically, and routes the
+services to :attr:`fcl` / :attr:`ppcl`. Everything here runs on the caller's thread.
+"""
+
+from __future__ import annotations
+
+from hdrc3_hcsm.transport import Transport
+from hdrc3_platform_server.codes import FclCommand
+from hdrc3_platform_server.completion import EventSink
+from hdrc3_platform_server.data_interface import (
+    CameraStateData,
+    HelicopterStateData,
+    RateGate,
+    camera_state,
+    helicopter_state,
+)
+from hdrc3_platform_server.drc import DrcKernel
+from hdrc3_platform_server.fcl_api import FlightCommandLayer, IdSource
+from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.limits import Limits
+from hdrc3_platform_server.platform_status import CameraSample, PfcSample, PlatformStatus
+from hdrc3_platform_server.ppcl_api import PayloadCommandLayer
+
+
+class PlatformServerCore:
+    """One agent's Platform Server without ROS."""
+
+    def __init__(
+        self,
+        frame: WorldFrame,
+        transport: Transport | None,
+        sink: EventSink,
+        *,
+        id_start: int = 1,
+        limits: Limits | None = None,
+        settle_timeout: float = 15.0,
+        stale_after: float = 2.0,
+    ) -> None:
+        lim = limits or Limits()
+        self.frame = frame
+        self.status = PlatformStatus(stale_after)
+        self.kernel = DrcKernel(self.status, transport, settle_timeout=settle_timeout)
+        self.ids = IdSource(id_start)
+        self.fcl = FlightCommandLayer(self.kernel, frame, sink, self.ids, lim.flight)
+        self.ppcl = PayloadCommandLayer(
+            self.kernel, frame, sink, self.ids, self.landing_active, lim.ptu
+        )
+        self.gate = RateGate()
+
+    def landing_active(self) -> bool:
+        """True while fcl_land (vision-based landing) is in progress."""
+        cur = self.fcl.current
+        return cur is not None and cur.command is FclCommand.LAND
+
+    def tick(self, now: float) -> None:
+        """Run the DRC automaton once (replies from the PFC/PPC, timeouts)."""
+        self.kernel.step(now)
+
+    def on_pfc(self, sample: PfcSample) -> HelicopterStateData | None:
+        """Take a PFC report; returns the Data Interface sample when one is due (25 Hz)."""
+        self.status.update_pfc(sample)
+        if not self.gate.due(sample.pfc_time):
+            return None
+        # The automaton runs at the DI rate here; replies also get a step from tick() and from
+        # every service call, so 25 Hz of sim time is enough for the conditions.
+        self.kernel.step(sample.received)
+        cams = self.status.cameras.values()
+        ppc_time = max((c.ipc_time for c in cams), default=None)
+        return helicopter_state(
+            sample, self.frame, sample.received, ppc_time, self.status.power_status
+        )
+
+    def on_camera(self, sample: CameraSample) -> None:
+        """Take a PPC camera report."""
+        self.status.update_camera(sample)
+
+    def camera_states(self) -> list[CameraStateData]:
+        """Latest state of every camera the PPC reported (published with each DI sample)."""
+        return [camera_state(c) for _, c in sorted(self.status.cameras.items())]

@@ -1,0 +1,140 @@
+"""The PPC kernel: PPCL events in, device commands and completion events out."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from hdrc3_control.ppc_kernel import PpcKernel
+from hdrc3_control.ppc_modes import Pose, PtuMode
+from hdrc3_hcsm.event import WireEvent
+from hdrc3_hcsm.transport import LoopbackNetwork, LoopbackTransport
+from hdrc3_platform_server.payload import decode, encode
+
+IDS = {
+    "PPCL-Turn-To-EV": 3001,
+    "PPCL-Look-At-EV": 3002,
+    "PPCL-Ptu-Abort-EV": 3003,
+    "PPCL-Zoom-EV": 3004,
+    "PPCL-Exposure-EV": 3005,
+    "PPCL-Iris-EV": 3006,
+    "PPCL-Shutter-EV": 3007,
+    "PPCL-Laser-Angular-EV": 3008,
+    "PPCL-Laser-Distance-EV": 3009,
+    "PPCL-Laser-Speed-EV": 3010,
+    "PPCL-Laser-Angle-EV": 3011,
+    "PPCL-Laser-Start-EV": 3012,
+    "PPCL-Laser-Stop-EV": 3013,
+}
+POSE = Pose((0.0, 0.0, 20.0), 0.0, 0.0, 0.0)
+
+
+class Bench:
+    """A PPC kernel with a simulated PTU (60 deg/s) and zoom motor, driven at 25 Hz."""
+
+    def __init__(self, ptu_timeout: float = 10.0) -> None:
+        net = LoopbackNetwork()
+        self.drc: LoopbackTransport = net.endpoint("DRC")
+        self.kernel = PpcKernel(net.endpoint("PPC"), ptu_timeout=ptu_timeout)
+        self.t = 0.0
+        self.pan = self.tilt = self.zoom = 0.0
+        self.powered = True
+        self.replies: list[tuple[str, int, str]] = []
+
+    def send(self, name: str, cid: int, *numbers: float) -> None:
+        self.drc.send(WireEvent(IDS[name], name, encode(cid, numbers), "DRC", "PPC"))
+
+    def run(self, seconds: float) -> None:
+        for _ in range(round(seconds / 0.04)):
+            self.t += 0.04
+            out = self.kernel.step(self.t, POSE, (self.pan, self.tilt), {0: self.zoom, 1: 0.0})
+            if out.ptu is not None and self.powered:
+                step = math.radians(60.0) * 0.04
+                self.pan += max(-step, min(step, out.ptu[0] - self.pan))
+                self.tilt += max(-step, min(step, out.ptu[1] - self.tilt))
+            for cam in out.cameras:
+                if cam.camera_id == 0:
+                    self.zoom = cam.zoom
+            for event in self.drc.receive():
+                p = decode(event.data)
+                self.replies.append((event.name, p.command_id, p.reason))
+
+    def outcome(self, cid: int) -> str | None:
+        return next((name for name, c, _ in self.replies if c == cid), None)
+
+
+def test_turn_to_moves_the_ptu_and_finishes_on_target() -> None:
+    b = Bench()
+    b.send("PPCL-Turn-To-EV", 7, 0.0, math.radians(90.0))
+    b.run(0.5)
+    assert b.outcome(7) is None  # still slewing at 60 deg/s
+    b.run(1.5)
+    assert b.outcome(7) == "PPCL-Finished-EV"
+    assert b.tilt == pytest.approx(math.radians(90.0))
+    assert b.kernel.mode is PtuMode.TURN_TO
+
+
+def test_look_at_points_down_at_the_spot_below() -> None:
+    b = Bench()
+    b.send("PPCL-Look-At-EV", 8, 0.0, 0.0, 0.0)
+    b.run(3.0)
+    assert b.outcome(8) == "PPCL-Finished-EV"
+    assert b.tilt == pytest.approx(math.radians(88.7), abs=math.radians(1.5))
+
+
+def test_abort_stops_the_mode_and_is_acknowledged() -> None:
+    b = Bench()
+    b.send("PPCL-Turn-To-EV", 1, 1.0, 1.0)
+    b.run(0.2)
+    b.send("PPCL-Ptu-Abort-EV", 2)
+    b.run(0.1)
+    assert b.outcome(2) == "PPCL-Finished-EV" and b.outcome(1) is None
+    assert b.kernel.mode is PtuMode.IDLE
+
+
+def test_unpowered_ptu_times_out_with_a_reason() -> None:
+    b = Bench(ptu_timeout=1.0)
+    b.powered = False
+    b.send("PPCL-Turn-To-EV", 3, 0.5, 0.5)
+    b.run(1.5)
+    failed = [r for r in b.replies if r[1] == 3]
+    assert failed and failed[0][0] == "PPCL-Failed-EV" and "did not reach" in failed[0][2]
+
+
+def test_zoom_and_camera_parameters() -> None:
+    b = Bench()
+    b.send("PPCL-Zoom-EV", 4, 0.0, 0.6)
+    b.send("PPCL-Iris-EV", 5, 1.0, 0.25)
+    b.send("PPCL-Exposure-EV", 6, 0.0, 0.0)
+    b.run(0.2)
+    assert [b.outcome(c) for c in (4, 5, 6)] == ["PPCL-Finished-EV"] * 3
+    assert b.kernel.cameras[0].zoom == 0.6 and not b.kernel.cameras[0].auto_exposure
+    assert b.kernel.cameras[1].iris == 0.25
+
+
+@pytest.mark.parametrize(
+    ("name", "value", "field", "expected"),
+    [
+        ("PPCL-Laser-Angular-EV", 0.25, "angular_resolution", 0.25),
+        ("PPCL-Laser-Distance-EV", 0.001, "distance_resolution", 0.001),
+        ("PPCL-Laser-Speed-EV", -2.0, "rotation_speed", -2.0),
+        ("PPCL-Laser-Angle-EV", 1.0, "hold_angle", True),
+    ],
+)
+def test_laser_parameters(name: str, value: float, field: str, expected: object) -> None:
+    b = Bench()
+    b.send(name, 9, value)
+    b.run(0.08)
+    assert getattr(b.kernel.laser, field) == expected and b.outcome(9) == "PPCL-Finished-EV"
+
+
+def test_laser_collection_start_stop() -> None:
+    b = Bench()
+    b.send("PPCL-Laser-Start-EV", 10)
+    b.run(0.08)
+    assert b.kernel.laser.collect
+    b.send("PPCL-Laser-Stop-EV", 11)
+    b.run(0.08)
+    assert not b.kernel.laser.collect
+    assert b.outcome(10) == b.outcome(11) == "PPCL-Finished-EV"
