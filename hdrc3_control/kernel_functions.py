@@ -167,15 +167,10 @@ class TakeoffFunction:
                 return ctx.fail("take-off: no navigation solution")
             self.done = self.reported = False
             status = self.core.start(state, now)
-            if status is not TakeoffStatus.CLIMBING:
-                what = {
-                    TakeoffStatus.REFUSED_NOT_ON_GROUND: "take-off only from the ground",
-                    TakeoffStatus.REFUSED_ENGINE: (
-                        f"take-off refused: rotor at {state.rotor_rpm:.0f} rpm, "
-                        f"needs {self.core.config.min_rpm:.0f}"
-                    ),
-                }.get(status, f"take-off refused: {status.value}")
-                return ctx.fail(what)
+            if status is TakeoffStatus.REFUSED_NOT_ON_GROUND:
+                return ctx.fail("take-off only from the ground")
+            if status not in (TakeoffStatus.CLIMBING, TakeoffStatus.SPOOLING):
+                return ctx.fail(f"take-off refused: {status.value}")
             return HookResult.DONE
         if phase is Phase.STOPPING:
             ctx.integral = self.core.loop.integral
@@ -190,7 +185,11 @@ class TakeoffFunction:
                 "Takeoff-End-DO", pack_pose(out.hover_point.position, out.hover_point.heading)
             )
             self.done = True
-        failed = out.status in (TakeoffStatus.FAILED_NO_LIFT, TakeoffStatus.NAVIGATION_LOST)
+        failed = out.status in (
+            TakeoffStatus.FAILED_NO_LIFT,
+            TakeoffStatus.NAVIGATION_LOST,
+            TakeoffStatus.REFUSED_ENGINE,
+        )
         if failed and not self.reported:
             self.reported = True
             reason = out.reason or f"take-off failed: {out.status.value}"

@@ -19,13 +19,15 @@ from hdrc3_control.outer_loop import OuterLoop, OuterLoopGains, Reference
 class TakeoffStatus(enum.Enum):
     """Status of the take-off function."""
 
+    SPOOLING = "spooling"
+    """On the skids, waiting for the governor to bring the rotor to ``min_rpm``."""
     CLIMBING = "climbing"
     DONE = "done"
     """Reached the take-off height: engage hovering at ``hover_point``."""
     FAILED_NO_LIFT = "failed_no_lift"
     REFUSED_NOT_ON_GROUND = "refused_not_on_ground"
     REFUSED_ENGINE = "refused_engine"
-    """Rotor not at governed speed."""
+    """Rotor did not reach governed speed within ``spool_timeout``."""
     NAVIGATION_LOST = "navigation_lost"
 
 
@@ -39,6 +41,8 @@ class TakeoffConfig:
     """m/s."""
     min_rpm: float = 800.0
     """Rotor rpm needed to start, rpm."""
+    spool_timeout: float = 30.0
+    """How long to wait on the skids for ``min_rpm`` (engine start, governor ramp), s."""
     lift_timeout: float = 12.0
     """Time allowed to climb ``lift_height`` after the climb command, s."""
     lift_height: float = 1.5
@@ -82,7 +86,7 @@ class Takeoff:
         self._reason = ""
 
     def start(self, state: EstimatedState, now: float) -> TakeoffStatus:
-        """Engage from the skids (Ctrl-Init); returns CLIMBING or a REFUSED_* status."""
+        """Engage from the skids (Ctrl-Init); returns SPOOLING, CLIMBING or REFUSED_*."""
         c = self.config
         self.loop.reset()
         self._start = HoverSetpoint.at(state)
@@ -92,8 +96,7 @@ class Takeoff:
         if not state.on_ground:
             self._status = TakeoffStatus.REFUSED_NOT_ON_GROUND
         elif state.rotor_rpm < c.min_rpm:
-            self._status = TakeoffStatus.REFUSED_ENGINE
-            self._reason = f"rotor at {state.rotor_rpm:.0f} rpm < {c.min_rpm:.0f}"
+            self._status = TakeoffStatus.SPOOLING
         else:
             self._status = TakeoffStatus.CLIMBING
         return self._status
@@ -106,6 +109,16 @@ class Takeoff:
             raise ConfigError("take-off updated before start()")
         height = state.position[2] - sp.position[2]
         target = (sp.position[0], sp.position[1], sp.position[2] + c.height)
+        if self._status is TakeoffStatus.SPOOLING:
+            if state.rotor_rpm >= c.min_rpm:
+                self._status = TakeoffStatus.CLIMBING
+                self._t0 = now  # the lift check counts from the climb command
+            elif now - self._t0 > c.spool_timeout:
+                self._status = TakeoffStatus.REFUSED_ENGINE
+                self._reason = (
+                    f"rotor at {state.rotor_rpm:.0f} rpm after {c.spool_timeout:.0f} s, "
+                    f"needs {c.min_rpm:.0f}"
+                )
         if self._status is TakeoffStatus.CLIMBING:
             self._check(state, now, height)
         if self._status is TakeoffStatus.CLIMBING and state.health is EstimatorHealth.LOST:
@@ -121,7 +134,7 @@ class Takeoff:
         elif self._status is TakeoffStatus.DONE:
             cmd = self.loop.update(state, Reference(position=target, heading=sp.heading), dt)
         else:
-            # failed or refused: back onto (or stay on) the skids, wings level
+            # spooling, failed or refused: back onto (or stay on) the skids, wings level
             cmd = AttitudeCommand(vertical=-0.5 if not state.on_ground else -1.0)
         hover = HoverSetpoint(target, sp.heading) if self._status is TakeoffStatus.DONE else None
         return TakeoffOutput(cmd, self._status, height, hover, self._reason)

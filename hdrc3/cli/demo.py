@@ -20,9 +20,9 @@ from hdrc3.demo_mission import MissionError, SurveyMission
 from hdrc3.errors import ConfigError
 from hdrc3.flight_report import build_report, plot_report
 from hdrc3.ros_runtime import RosProcess
+from hdrc3.safety_pilot import Switch, set_rc
 from hdrc3.survey import SurveyArea, lawn_mower
 from hdrc3_interfaces.msg import HelicopterState, SimResult
-from hdrc3_interfaces.srv import SimSetRc
 from hdrc3_platform_server.client import PlatformClient
 from hdrc3_platform_server.geo_frame import frame_from_world
 
@@ -75,11 +75,10 @@ def _stop(launch: subprocess.Popen[str]) -> int:
 
 def _safety_pilot_engages_autonomy(client: PlatformClient) -> None:
     """Act as the safety pilot on the simulated RC: engine on, switch to autonomous (§6.1.1)."""
-    request = SimSetRc.Request(mode=SimSetRc.Request.MODE_AUTONOMOUS)
-    request.engine = SimSetRc.Request.ENGINE_ON
-    response = client.call(SimSetRc, "rc/set", request, timeout=10.0)
-    if response is None or response.result.code != SimResult.OK:
-        reason = "no answer" if response is None else response.result.reason
+    code, reason = set_rc(
+        client.process, client.node, AGENT, Switch.AUTONOMOUS, Switch.ON, timeout_s=10.0
+    )
+    if code != SimResult.OK:
         raise MissionError(f"the simulated RC did not accept engine on + autonomous: {reason}")
     print("  safety pilot: engine on, RC switch to autonomous")
     states: list[HelicopterState] = []

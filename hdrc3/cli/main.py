@@ -29,6 +29,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "hdrc3.cli.fcl",
     "hdrc3.cli.ppcl",
     "hdrc3.cli.state",
+    "hdrc3.cli.rc",
 )
 
 

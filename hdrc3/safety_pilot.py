@@ -1,0 +1,64 @@
+"""The simulated safety pilot: the RC transmitter of `world_sim` (engine and mode switches).
+
+On the real RMAX a safety pilot starts the engine and hands over with the manual/autonomous
+switch (§6.1.1); in simulation `world_sim` offers the transmitter as `/<agent>/rc/set`.
+"""
+
+from __future__ import annotations
+
+import enum
+
+from rclpy.node import Node
+
+from hdrc3.errors import ConfigError
+from hdrc3.ros_runtime import RosProcess
+from hdrc3_interfaces.msg import SimResult
+from hdrc3_interfaces.srv import SimSetRc
+
+SERVICE_WAIT_S = 5.0
+
+
+class Switch(enum.Enum):
+    """A position of one RC switch, or KEEP to leave it."""
+
+    KEEP = "keep"
+    MANUAL = "manual"
+    AUTONOMOUS = "autonomous"
+    ON = "on"
+    OFF = "off"
+
+
+_MODE = {
+    Switch.KEEP: SimSetRc.Request.KEEP,
+    Switch.MANUAL: SimSetRc.Request.MODE_MANUAL,
+    Switch.AUTONOMOUS: SimSetRc.Request.MODE_AUTONOMOUS,
+}
+_ENGINE = {
+    Switch.KEEP: SimSetRc.Request.KEEP,
+    Switch.ON: SimSetRc.Request.ENGINE_ON,
+    Switch.OFF: SimSetRc.Request.ENGINE_OFF,
+}
+
+
+def set_rc(
+    process: RosProcess, node: Node, agent: str, mode: Switch, engine: Switch, timeout_s: float
+) -> tuple[int, str]:
+    """Flip the simulated transmitter's switches; return world_sim's (code, reason).
+
+    Raises:
+        ConfigError: A switch position that does not belong to the switch, or no `world_sim`
+            serving the agent.
+    """
+    if mode not in _MODE or engine not in _ENGINE:
+        raise ConfigError(f"invalid RC switch positions: mode {mode.value}, engine {engine.value}")
+    client = node.create_client(SimSetRc, f"/{agent}/rc/set")
+    if not process.spin_until(client.service_is_ready, SERVICE_WAIT_S):
+        raise ConfigError(
+            f"no service /{agent}/rc/set: unknown agent {agent!r} or world_sim is not running "
+            "(same ROS_DOMAIN_ID?)"
+        )
+    future = client.call_async(SimSetRc.Request(mode=_MODE[mode], engine=_ENGINE[engine]))
+    if not process.spin_until(future.done, timeout_s):
+        raise ConfigError(f"/{agent}/rc/set did not answer within {timeout_s} s")
+    result: SimResult = future.result().result
+    return int(result.code), str(result.reason)
