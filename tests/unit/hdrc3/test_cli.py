@@ -20,6 +20,7 @@ from hdrc3.cli.main import main
         (["replay", "{tmp}/garbage.mcap", "--speed", "-1"], "invalid --speed"),
         (["record", "{tmp}/out.txt"], "must end in .mcap"),
         (["record", "{tmp}/out.mcap", "--duration", "0"], "--duration must be positive"),
+        (["rc", "UAV 0", "--engine", "on"], "invalid agent name"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, capsys, argv, message) -> None:
