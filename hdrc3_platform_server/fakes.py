@@ -11,13 +11,14 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field, replace
 
+from hdrc3_control.pfc_state import FlightMode
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.transport import LoopbackNetwork, Transport
 from hdrc3_platform_server.completion import CompletionEvent, EventLog
 from hdrc3_platform_server.data_interface import HelicopterStateData
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.payload import PayloadError, decode, encode
-from hdrc3_platform_server.platform_status import CameraSample, PfcMode, PfcSample
+from hdrc3_platform_server.platform_status import CameraSample, PfcSample
 
 PFC_IDS: dict[str, int] = {
     "Cmd-Accepted-EV": 2101,
@@ -85,7 +86,7 @@ class FakePfc:
         self.heading = 0.0
         self.on_ground = on_ground
         self.auto = auto
-        self.mode = PfcMode.GROUND_IDLE if on_ground else PfcMode.HOVER
+        self.mode = FlightMode.GROUND_IDLE if on_ground else FlightMode.HOVER
         self.job: _Job | None = None
         self.received: list[WireEvent] = []
         self.quiet_last_segment = False
@@ -145,7 +146,7 @@ class FakePfc:
             return
         if name == "Emergency-Brake-EV":
             self._abort(f"emergency brake (command {cid})")
-            self._begin(_Job(cid, "brake", self.now + t.brake), PfcMode.BRAKING)
+            self._begin(_Job(cid, "brake", self.now + t.brake), FlightMode.BRAKING)
             return
         if name == "Traj3D-EV" and self.job is not None and self.job.kind == "path":
             self._offer(cid, v)
@@ -161,29 +162,31 @@ class FakePfc:
             if not self.on_ground:
                 self._send("Cmd-Rejected-EV", cid, "already airborne")
                 return
-            self._begin(_Job(cid, "takeoff", self.now + t.takeoff), PfcMode.TAKEOFF)
+            self._begin(_Job(cid, "takeoff", self.now + t.takeoff), FlightMode.TAKEOFF)
             return
         if self.on_ground:
             self._send("Cmd-Rejected-EV", cid, "on the ground")
             return
         if name == "FCL-Land-EV":
-            self._begin(_Job(cid, "land", self.now + t.land), PfcMode.LAND)
+            self._begin(_Job(cid, "land", self.now + t.land), FlightMode.LAND)
         elif name == "FCL-Yaw-EV":
             self.heading = v[0]
-            self._begin(_Job(cid, "yaw", self.now + t.yaw), PfcMode.HOVER)
+            self._begin(_Job(cid, "yaw", self.now + t.yaw), FlightMode.HOVER)
         elif name == "FCL-Climb-EV":
             target = (self.position[0], self.position[1], v[0])
-            self._begin(_Job(cid, "climb", self.now + t.climb, target), PfcMode.FLYTO)
+            self._begin(_Job(cid, "climb", self.now + t.climb, target), FlightMode.FLYTO)
         elif name == "Traj3D-Flyto-EV":
-            self._begin(_Job(cid, "flyto", self.now + t.flyto, (v[0], v[1], v[2])), PfcMode.FLYTO)
+            self._begin(
+                _Job(cid, "flyto", self.now + t.flyto, (v[0], v[1], v[2])), FlightMode.FLYTO
+            )
         elif name == "Traj3D-EV":
             job = _Job(cid, "path", self.now + t.segment, (v[3], v[4], v[5]), v[13])
-            self._begin(job, PfcMode.TRAJ3D)
+            self._begin(job, FlightMode.TRAJ3D)
             self._send("Request-Segment-EV", cid)
         else:
             self._send("Cmd-Failed-EV", cid, "tracking needs the color tracker (not available)")
 
-    def _begin(self, job: _Job, mode: PfcMode) -> None:
+    def _begin(self, job: _Job, mode: FlightMode) -> None:
         self.job = job
         self.mode = mode
         self._send("Cmd-Accepted-EV", job.command_id)
@@ -192,7 +195,7 @@ class FakePfc:
         if self.job is not None:
             self._send("Cmd-Cancelled-EV", self.job.command_id, reason)
             self.job = None
-        self.mode = PfcMode.GROUND_IDLE if self.on_ground else PfcMode.HOVER
+        self.mode = FlightMode.GROUND_IDLE if self.on_ground else FlightMode.HOVER
 
     def _offer(self, cid: int, v: tuple[float, ...]) -> None:
         job = self.job
@@ -243,13 +246,13 @@ class FakePfc:
         self._send("Traj-Arrived-EV" if arrived else "Cmd-Finished-EV", job.command_id)
         if job.kind == "land":
             self.job = None
-            self.mode = PfcMode.GROUND_IDLE
+            self.mode = FlightMode.GROUND_IDLE
             return
         self._hover()
 
     def _hover(self) -> None:
         self.job = None
-        self.mode = PfcMode.HOVER
+        self.mode = FlightMode.HOVER
         self._send("Hover-Stable-EV", None)
 
 

@@ -7,29 +7,15 @@ camera state. The node converts both into these dataclasses; the DRC automaton's
 
 from __future__ import annotations
 
-import enum
 import math
 from dataclasses import dataclass
+
+from hdrc3_control.pfc_state import FlightMode
 
 Vec3 = tuple[float, float, float]
 
 HOVER_SPEED_TOLERANCE = 1.0
 """m/s, horizontal and vertical (Hover-Stable-CO tolerances of section 6.1.1)."""
-
-
-class PfcMode(enum.IntEnum):
-    """The PFC's mode (PfcState.MODE_*)."""
-
-    BOOT = 0
-    MANUAL = 1
-    GROUND_IDLE = 2
-    BRAKING = 3
-    HOVER = 4
-    TAKEOFF = 5
-    TRAJ3D = 6
-    FLYTO = 7
-    LAND = 8
-    SWITCHING = 9
 
 
 @dataclass(frozen=True, slots=True)
@@ -51,7 +37,7 @@ class PfcSample:
     rpm: float
     on_ground: bool
     auto_flag: bool
-    mode: int = PfcMode.BOOT
+    mode: int = FlightMode.BOOT
     command_id: int = 0
     power_status: int = 0
 
@@ -60,7 +46,7 @@ class PfcSample:
         """Hovering in autonomous mode with velocities inside the tolerances."""
         v = self.velocity_enu
         return (
-            self.mode == PfcMode.HOVER
+            self.mode == FlightMode.HOVER
             and self.auto_flag
             and not self.on_ground
             and math.hypot(v[0], v[1]) < HOVER_SPEED_TOLERANCE

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
+from hdrc3_control.pfc_state import FlightMode
 from hdrc3_platform_server.platform_status import (
     CameraSample,
-    PfcMode,
     PfcSample,
     PlatformStatus,
 )
@@ -27,7 +27,7 @@ def pfc(received: float, **changes: object) -> PfcSample:
         rpm=1400.0,
         on_ground=False,
         auto_flag=True,
-        mode=PfcMode.HOVER,
+        mode=FlightMode.HOVER,
     )
     base.update(changes)
     return PfcSample(**base)  # type: ignore[arg-type]
@@ -39,7 +39,7 @@ def pfc(received: float, **changes: object) -> PfcSample:
         ({}, True),
         ({"velocity_enu": (1.5, 0.0, 0.0)}, False),
         ({"velocity_enu": (0.0, 0.0, -1.2)}, False),
-        ({"mode": PfcMode.FLYTO}, False),
+        ({"mode": FlightMode.FLYTO}, False),
         ({"auto_flag": False}, False),
         ({"on_ground": True}, False),
     ],
