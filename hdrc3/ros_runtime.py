@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import signal
+import sys
 import threading
 import time
 from collections import Counter
@@ -18,10 +19,12 @@ from types import FrameType, TracebackType
 
 import rclpy
 from rclpy.context import Context
-from rclpy.executors import SingleThreadedExecutor
+from rclpy.executors import Executor, SingleThreadedExecutor
+from rclpy.experimental.events_executor import EventsExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
+from hdrc3.errors import Hdrc3Error
 from hdrc3.ros_env import apply_localhost_default
 
 
@@ -129,6 +132,39 @@ def node_name_counts(node: Node) -> Counter[str]:
 def node_names(node: Node) -> set[str]:
     """Fully qualified names of the nodes currently visible in the graph."""
     return set(node_name_counts(node))
+
+
+class SteppedNode(Node):
+    """A node that drives its own loop (lockstep ticks) with the executor it is given."""
+
+    def run(self, executor: Executor, stop: threading.Event) -> None:
+        """Serve callbacks and step until ``stop`` is set (the one hook subclasses provide)."""
+        raise NotImplementedError
+
+
+def run_stepped_node(
+    factory: Callable[[Context], SteppedNode], label: str, args: Sequence[str]
+) -> int:
+    """Entry-point body of a lockstepped node on the light events executor.
+
+    Returns:
+        0 after SIGINT/SIGTERM, 2 (with one line on stderr) when the node rejects its
+        parameters.
+    """
+    try:
+        with RosProcess(args=args) as process:
+            node = factory(process.context)
+            executor = EventsExecutor(context=process.context)
+            executor.add_node(node)
+            try:
+                node.run(executor, process.stop_requested)
+            finally:
+                executor.shutdown()
+                node.destroy_node()
+    except Hdrc3Error as exc:
+        print(f"{label}: error: {exc}", file=sys.stderr, flush=True)
+        return 2
+    return 0
 
 
 def run_node(factory: Callable[[Context], Node], args: Sequence[str] | None = None) -> int:

@@ -27,16 +27,14 @@ import pymap3d
 from geometry_msgs.msg import TwistStamped
 from rclpy.context import Context
 from rclpy.executors import Executor
-from rclpy.experimental.events_executor import EventsExecutor
-from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, NavSatFix
 from std_msgs.msg import String
 
-from hdrc3.errors import ConfigError, Hdrc3Error
-from hdrc3.ros_runtime import RosProcess
+from hdrc3.errors import ConfigError
+from hdrc3.ros_runtime import SteppedNode, run_stepped_node
 from hdrc3_control.commands import EstimatorHealth, VerticalMode
 from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult, UiCommand
 from hdrc3_control.measurements import (
@@ -105,7 +103,7 @@ class FiringTrace:
             self.publisher.record(record)
 
 
-class ControlKernelNode(Node):
+class ControlKernelNode(SteppedNode):
     """ROS face of one PfcKernel."""
 
     def __init__(self, context: Context) -> None:
@@ -338,21 +336,9 @@ class ControlKernelNode(Node):
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Console script `hdrc3-control-kernel`: exit 0 on SIGINT/SIGTERM, 2 on bad parameters."""
-    args = list(sys.argv if argv is None else argv)
-    try:
-        with RosProcess(args=args) as process:
-            node = ControlKernelNode(process.context)
-            executor = EventsExecutor(context=process.context)
-            executor.add_node(node)
-            try:
-                node.run(executor, process.stop_requested)
-            finally:
-                executor.shutdown()
-                node.destroy_node()
-    except Hdrc3Error as exc:
-        print(f"control_kernel: error: {exc}", file=sys.stderr, flush=True)
-        return 2
-    return 0
+    return run_stepped_node(
+        ControlKernelNode, "control_kernel", list(sys.argv if argv is None else argv)
+    )
 
 
 if __name__ == "__main__":

@@ -18,13 +18,11 @@ from typing import Any
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType
 from rclpy.context import Context
 from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
-from rclpy.experimental.events_executor import EventsExecutor
-from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 
 from hdrc3.errors import ConfigError, Hdrc3Error
-from hdrc3.ros_runtime import RosProcess
+from hdrc3.ros_runtime import SteppedNode, run_stepped_node
 from hdrc3_interfaces.msg import (
     CameraCommand,
     LaserCommand,
@@ -87,7 +85,7 @@ _SOURCES = {
 }
 
 
-class WorldSimNode(Node):
+class WorldSimNode(SteppedNode):
     """ROS face of one WorldSim."""
 
     def __init__(self, context: Context) -> None:
@@ -426,21 +424,7 @@ class WorldSimNode(Node):
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Console script `hdrc3-world-sim`: exit 0 on SIGINT/SIGTERM, 2 on bad parameters."""
-    args = list(sys.argv if argv is None else argv)
-    try:
-        with RosProcess(args=args) as process:
-            node = WorldSimNode(process.context)
-            executor = EventsExecutor(context=process.context)
-            executor.add_node(node)
-            try:
-                node.run(executor, process.stop_requested)
-            finally:
-                executor.shutdown()
-                node.destroy_node()
-    except Hdrc3Error as exc:
-        print(f"world_sim: error: {exc}", file=sys.stderr, flush=True)
-        return 2
-    return 0
+    return run_stepped_node(WorldSimNode, "world_sim", list(sys.argv if argv is None else argv))
 
 
 if __name__ == "__main__":
