@@ -22,12 +22,11 @@ from hdrc3.flight_report import build_report, plot_report
 from hdrc3.ros_runtime import RosProcess
 from hdrc3.safety_pilot import Switch, set_rc
 from hdrc3.survey import SurveyArea, lawn_mower
-from hdrc3_interfaces.msg import HelicopterState, SimResult
+from hdrc3_interfaces.msg import SimResult
 from hdrc3_platform_server.client import PlatformClient
 from hdrc3_platform_server.geo_frame import frame_from_world
 
 READY_TIMEOUT_S = 120.0
-GOVERNED_RPM = 830.0  # the governor holds ~850 rpm; the PFC takes off from 800 rpm
 AGENT = "uav0"
 WORLD = "revinge"
 # Open fields west of the town, clear of buildings; legs run south, turns to the east.
@@ -81,15 +80,6 @@ def _safety_pilot_engages_autonomy(client: PlatformClient) -> None:
     if code != SimResult.OK:
         raise MissionError(f"the simulated RC did not accept engine on + autonomous: {reason}")
     print("  safety pilot: engine on, RC switch to autonomous")
-    states: list[HelicopterState] = []
-    client.node.create_subscription(
-        HelicopterState, f"/{AGENT}/helicopter_state", states.append, 10
-    )
-    if not client.process.spin_until(
-        lambda: bool(states) and states[-1].rpm >= GOVERNED_RPM, timeout_s=READY_TIMEOUT_S
-    ):
-        raise MissionError(f"the rotor did not reach {GOVERNED_RPM:.0f} rpm")
-    print(f"  safety pilot: rotor at {states[-1].rpm:.0f} rpm, ready for take-off")
 
 
 def run(args: argparse.Namespace) -> int:
