@@ -36,6 +36,8 @@ class AttitudeCommand:
     vertical: float = 0.0
     """Climb rate (m/s) or collective (0 .. 1), see ``vertical_mode``."""
     vertical_mode: VerticalMode = VerticalMode.VERTICAL_RATE
+    engine_off: bool = False
+    """Ask the YACS to stop the engine (the landing mode, once on the skids)."""
 
     def __post_init__(self) -> None:
         """Reject non-finite values and collectives outside the servo travel."""

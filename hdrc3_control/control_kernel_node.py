@@ -288,6 +288,7 @@ class ControlKernelNode(SteppedNode):
             if cmd.vertical_mode is VerticalMode.COLLECTIVE
             else YacsCommand.VERTICAL_RATE
         )
+        m.engine_off = cmd.engine_off
         self.command_pub.publish(m)
 
     def _request_power(self, devices: int) -> None:

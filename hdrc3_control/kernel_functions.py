@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import struct
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from hdrc3.errors import ConfigError
 from hdrc3_control.braking import BrakeStatus, EmergencyBrake
@@ -417,7 +417,7 @@ class LandingFunction:
         if state is None:
             return ctx.fail("landing: navigation solution lost")
         out = self.core.update(state, now, ctx.dt)
-        ctx.command = out.command
+        ctx.command = replace(out.command, engine_off=out.engine_shutdown)
         self.phase = out.phase
         return HookResult.BUSY
 

@@ -55,7 +55,7 @@ def to_yacs(cmd: AttitudeCommand) -> YacsCommand:
         if cmd.vertical_mode is VerticalMode.COLLECTIVE
         else YacsVerticalMode.VERTICAL_RATE
     )
-    return YacsCommand(cmd.roll, cmd.pitch, cmd.yaw_rate, cmd.vertical, mode)
+    return YacsCommand(cmd.roll, cmd.pitch, cmd.yaw_rate, cmd.vertical, mode, cmd.engine_off)
 
 
 def segment_payload(command_id: int, seg: PathSegment) -> bytes:

@@ -63,10 +63,18 @@ class Aircraft:
         )
         self.yacs = Yacs(self.model.params, self.model.dt, gains)
         self.rc = RcTransmitter()
+        self._engine_cut = False
+        self._cut_requested = False
 
     def command(self, cmd: YacsCommand) -> None:
         """Send a flight-computer command to the YACS (effective in AUTONOMOUS mode)."""
         self.yacs.command(cmd)
+        self._cut_requested = cmd.engine_off
+
+    def restart_engine(self) -> None:
+        """The pilot's engine-on: clears a computer engine cut (the switch may already be on)."""
+        self._engine_cut = False
+        self._cut_requested = False
 
     def step(self) -> None:
         """One tick: YACS reads the attitude sensors and the RC, then the flight model moves."""
@@ -82,7 +90,9 @@ class Aircraft:
             on_ground=m.on_ground,
         )
         m.set_servos(self.yacs.step(rc, meas))
-        m.engine_switch = rc.engine_on
+        if self._cut_requested and rc.mode is FlightModeSwitch.AUTONOMOUS:
+            self._engine_cut = True  # the computer's kill stays until the pilot restarts
+        m.engine_switch = rc.engine_on and not self._engine_cut
         m.step()
 
     def run(self, seconds: float) -> None:

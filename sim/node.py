@@ -169,7 +169,9 @@ class WorldSimNode(SteppedNode):
                     if msg.vertical_mode == YacsCommand.COLLECTIVE
                     else VerticalMode.VERTICAL_RATE
                 )
-                command = Command(msg.roll, msg.pitch, msg.yaw_rate, msg.vertical, mode)
+                command = Command(
+                    msg.roll, msg.pitch, msg.yaw_rate, msg.vertical, mode, bool(msg.engine_off)
+                )
             except ConfigError as exc:
                 command = None
                 self.sim.agents[agent].rejected_commands += 1

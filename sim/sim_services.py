@@ -282,6 +282,8 @@ class SimServices:
             rc.set_mode(FlightModeSwitch.MANUAL if manual else FlightModeSwitch.AUTONOMOUS)
         if request.engine:
             rc.set_engine(request.engine == RcSwitch.FIRST)
+            if request.engine == RcSwitch.FIRST:
+                self.sim.agents[agent].aircraft.restart_engine()
         if request.link:
             rc.set_link(request.link == RcSwitch.FIRST)
         if sticks is not None:

@@ -51,6 +51,8 @@ class YacsCommand:
     vertical: float = 0.0
     """Vertical rate (m/s, up) or collective (0 .. 1), see ``vertical_mode``."""
     vertical_mode: VerticalMode = VerticalMode.VERTICAL_RATE
+    engine_off: bool = False
+    """Stop the engine (honoured only while the computer has authority: autonomous mode)."""
 
     def __post_init__(self) -> None:
         """Reject non-finite values and collectives outside the servo travel."""

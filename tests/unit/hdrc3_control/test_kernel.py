@@ -101,6 +101,7 @@ def test_takeoff_hover_path_land() -> None:
     assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 5)
     assert f.sim.truth(f.agent).on_ground and -0.5 < touchdown[0] <= 0.0
     assert abs(math.remainder(f.sim.truth(f.agent).heading - math.pi / 2, math.tau)) < 0.15
+    assert not f.sim.truth(f.agent).engine_running  # the landing mode shut the engine down
 
 
 def test_segments_in_sequence_request_and_switch() -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 
+from hdrc3_dyknow.evaluation import evaluate
 from hdrc3_dyknow.formula_parser import FormulaParser
 from hdrc3_dyknow.grounding import GroundingError, Scope
 from hdrc3_dyknow.interpretation import (
@@ -18,6 +19,7 @@ from hdrc3_dyknow.progression import ProgressionEngine, Progressor, UnknownMonit
 PARSER = FormulaParser()
 LETTER = {"U": Verdict.UNDECIDED, "T": Verdict.TRUE, "F": Verdict.FALSE}
 OBLIGATION = "always(not p implies eventually[0,1000] always[0,999] p)"
+OBLIGATION_RESIDUAL = "always (p or eventually[0,1000] always[0,999] p)"
 AV = Scope(domains={"AV": ("uav0", "uav1")})
 
 
@@ -209,3 +211,75 @@ def test_close_uses_the_end_of_trace_convention() -> None:
     assert progressor.close() is False  # the pending eventuality fails when the trace ends
     progressor.update(State(100, {"p": True, "q": True}))
     assert progressor.close() is True  # only the weak always remains
+
+
+@pytest.mark.parametrize(
+    ("text", "times", "p", "expected"),
+    [
+        ("eventually[0,1000] p", [0, 300], "FF", "eventually[0,700] p"),
+        ("always[500,1000] p", [0, 200], "FF", "always[300,800] p"),
+        ("always[500,1000] p", [0, 600], "FT", "always[0,400] p"),  # window open
+        ("always[200,inf] p", [0, 150], "FT", "always[50,inf] p"),
+        ("always[200,inf] p", [0, 150, 250], "FTT", "always p"),
+        (
+            OBLIGATION,
+            [0, 100, 250],
+            "FTT",
+            "(always[0,849] p or eventually[0,750] always[0,999] p) and " + OBLIGATION_RESIDUAL,
+        ),
+        # The running attempt fails; the obligation (started at 0) is still pending.
+        (
+            OBLIGATION,
+            [0, 100, 250],
+            "FTF",
+            "eventually[0,750] always[0,999] p and " + OBLIGATION_RESIDUAL,
+        ),
+        # A general body (not an atom) takes the general eventually rule.
+        (
+            "eventually[0,300] always[0,100] (p or p)",
+            [0, 70],
+            "TT",
+            "always[0,30] p or eventually[0,230] always[0,100] p",
+        ),
+    ],
+)
+def test_residual_is_relative_to_the_last_state(
+    text: str, times: list[float], p: str, expected: str
+) -> None:
+    progressor = Progressor(PARSER.parse(text))
+    for state in bool_trace(times, p):
+        progressor.update(state)
+    assert str(progressor.residual) == expected
+
+
+@pytest.mark.parametrize(
+    ("text", "times", "p", "expected"),
+    [
+        # The attempt started in the window's last state covers [1000, 1999].
+        (OBLIGATION, [0, 1000, 1999, 2000], "FTTT", "UUUU"),
+        (OBLIGATION, [0, 1000, 1999], "FTF", "UUF"),
+        (OBLIGATION, [0, 1001], "FT", "UF"),  # irregular gap skips the window's end
+        # A later attempt replaces a failed one within the same window.
+        (OBLIGATION, [0, 100, 200, 300, 1299, 1300], "FTFTTT", "UUUUUU"),
+        (OBLIGATION, [0, 100, 200, 300, 1001], "FTFTF", "UUUUF"),
+        # Nested eventually/always with a non-atomic body, edges inclusive.
+        ("eventually[0,200] always[0,100] (p and p)", [0, 100, 200], "FTT", "UUT"),
+        ("eventually[0,200] always[0,100] (p and p)", [0, 150, 201, 251], "FTTF", "UUUT"),
+        ("eventually[0,200] always[0,100] (p and p)", [0, 150, 201], "FTF", "UUF"),
+        ("eventually[0,200] always[100,100] p", [0, 50, 100], "TTT", "UUT"),
+        ("eventually[0,200] always[100,100] p", [0, 50, 100], "TTF", "UUU"),
+        ("always[0,100] eventually[0,50] p", [0, 30, 90, 140], "FTFT", "UUUT"),
+        ("always[0,100] eventually[0,50] p", [0, 30, 90, 141], "FTFT", "UUUF"),
+    ],
+)
+def test_nested_tense_shapes_with_irregular_sampling(
+    text: str, times: list[float], p: str, expected: str
+) -> None:
+    states = bool_trace(times, p)
+    assert verdicts(text, states) == expected
+    for k in range(1, len(states) + 1):
+        # Closing after each prefix agrees with the direct evaluator.
+        progressor = Progressor(PARSER.parse(text))
+        for state in states[:k]:
+            progressor.update(state)
+        assert progressor.close() == evaluate(PARSER.parse(text), states[:k], Scope())

@@ -7,7 +7,7 @@ import math
 import pytest
 
 from hdrc3_dyknow.formula import Atom, FluentTerm
-from hdrc3_dyknow.residual import Node, NodeTable, to_formula
+from hdrc3_dyknow.residual import Kind, Node, NodeTable, to_formula
 
 
 @pytest.fixture
@@ -96,3 +96,88 @@ def test_tense_operands_merge(kind: str, junction: str, expected: str, table: No
     combine = table.conjunction if junction == "and" else table.disjunction
     assert text(combine([make(0, 10, p), atom(table, "q"), make(0, 20, p)])).startswith(expected)
     assert text(combine([make(0, 10, p), make(5, 20, p)])).count(kind) == 2  # lower bounds differ
+
+
+@pytest.mark.parametrize(
+    ("first", "second", "now", "expected"),
+    [
+        # Both lower bounds at or before the current state: equal for every later state.
+        ((50, 1050), (100, 1099), 100, "always[0,950] p"),
+        ((100, 1099), (50, 1050), 100, "always[0,950] p"),
+        ((100, 1099), (100, 1050), 100, "always[0,950] p"),  # lower bound exactly now
+        # A lower bound after the current state differs: no merge.
+        ((50, 1050), (150, 1099), 100, "always[0,950] p or always[50,999] p"),
+        ((101, 1050), (100, 1099), 100, "always[1,950] p or always[0,999] p"),
+    ],
+)
+def test_absolute_tense_operands_merge_up_to_now(
+    first: tuple[float, float], second: tuple[float, float], now: float, expected: str
+) -> None:
+    table = NodeTable()
+    p = atom(table, "p")
+    table.stamp(now)
+    one, two = (
+        table.tense(Kind.ALWAYS, lower, upper, p, None, True) for lower, upper in (first, second)
+    )
+    assert str(to_formula(table.either(one, two), now)) == expected
+
+
+def test_absolute_and_relative_tense_operands_do_not_merge(table: NodeTable) -> None:
+    p = atom(table, "p")
+    table.stamp(0)
+    relative = table.always(0, 10, p)
+    absolute = table.tense(Kind.ALWAYS, 0, 20, p, None, True)
+    assert text(table.either(relative, absolute)) == "always[0,10] p or always[0,20] p"
+
+
+@pytest.mark.parametrize(
+    ("lower", "upper", "time", "expected"),
+    [
+        (1000, 2000, 400, "eventually[600,1600] p"),
+        (1000, 2000, 1000, "eventually[0,1000] p"),
+        (1000, 2000, 1500, "eventually[0,500] p"),  # started: the past part is not shown
+        (1000, math.inf, 1500, "eventually p"),
+    ],
+)
+def test_absolute_intervals_print_relative_to_a_time(
+    lower: float, upper: float, time: float, expected: str, table: NodeTable
+) -> None:
+    node = table.tense(Kind.EVENTUALLY, lower, upper, atom(table, "p"), None, True)
+    assert str(to_formula(node, time)) == expected
+
+
+@pytest.mark.parametrize(
+    ("junction", "keeper", "node", "expected"),
+    [
+        # (kind, lower, upper) of absolute tense nodes over p; the state is at 100 ms.
+        ("or", ("always", 50, 1050), ("always", 100, 1099), True),  # the weaker is kept
+        ("or", ("always", 50, 1050), ("always", 100, 1000), False),
+        ("or", ("always", 50, 1050), ("always", 100, 1050), True),  # equal windows
+        ("and", ("always", 50, 1050), ("always", 100, 1000), True),  # the stronger is kept
+        ("and", ("eventually", 0, 1000), ("eventually", 100, 1100), True),
+        ("or", ("eventually", 0, 1000), ("eventually", 100, 1100), False),
+        ("or", ("always", 50, 1050), ("always", 150, 1099), False),  # lower bound after now
+        ("or", ("always", 50, 1050), ("eventually", 50, 1050), False),  # kinds differ
+    ],
+)
+def test_absorbs_follows_the_merge_rule(
+    junction: str,
+    keeper: tuple[str, float, float],
+    node: tuple[str, float, float],
+    expected: bool,
+) -> None:
+    table = NodeTable()
+    p = atom(table, "p")
+    table.stamp(100)
+    kinds = {"always": Kind.ALWAYS, "eventually": Kind.EVENTUALLY}
+    built = [
+        table.tense(kinds[kind], lower, upper, p, None, True)
+        for kind, lower, upper in (keeper, node)
+    ]
+    kind = Kind.OR if junction == "or" else Kind.AND
+    assert table.absorbs(kind, built[0], built[1]) is expected
+    combine = table.disjunction if junction == "or" else table.conjunction
+    merged = to_formula(combine(built), 100)
+    if expected:  # absorbing agrees with what the junction builds
+        assert str(merged) == str(to_formula(built[0], 100))
+    assert table.absorbs(kind, built[0], built[0])

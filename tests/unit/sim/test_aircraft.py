@@ -62,3 +62,21 @@ def test_manual_pilot_lifts_off_with_throttle() -> None:
     s = ac.truth()
     assert not s.on_ground and s.velocity_enu[2] > 0.5
     assert abs(s.roll) < math.radians(5.0)
+
+
+@pytest.mark.parametrize(
+    ("mode", "stopped"), [(FlightModeSwitch.AUTONOMOUS, True), (FlightModeSwitch.MANUAL, False)]
+)
+def test_computer_engine_cut_needs_authority_and_a_pilot_restart(
+    mode: FlightModeSwitch, stopped: bool
+) -> None:
+    ac = started()
+    ac.rc.set_mode(mode)
+    ac.command(YacsCommand(vertical=-1.0, engine_off=True))
+    ac.run(0.1)
+    ac.command(YacsCommand(vertical=-1.0))  # the cut latches; no need to keep asking
+    ac.run(0.1)
+    assert ac.status().engine_running is not stopped
+    ac.restart_engine()
+    ac.run(0.1)
+    assert ac.status().engine_running
