@@ -4,9 +4,9 @@
 monitor formula through each new state yields TRUE (satisfied whatever comes), FALSE (violated
 whatever comes) or a residual formula that waits for the next state.
 
-Time: a residual is *anchored* at the time of the state that produced it; its intervals are
-relative to that time. When the next state arrives ``delta`` ms later, each tense node at the top
-of the residual shifts its interval by ``delta`` (Definition 9.3 shifts by 1 for unit steps):
+Time: the intervals of a formula are relative to the state it is first progressed through. At
+a state ``delta`` ms after a tense node's anchor, its interval is shifted by ``delta``
+(Definition 9.3 shifts by 1 for unit steps):
 
 * ``phi until[a,b] psi``: ``b-delta < 0`` -> false; ``a-delta <= 0`` ->
   ``Progress(psi) or (Progress(phi) and phi until[a-delta,b-delta] psi)``; otherwise
@@ -15,15 +15,22 @@ of the residual shifts its interval by ``delta`` (Definition 9.3 shifts by 1 for
 * a rest whose upper bound is ``<= 0`` after the shift is dropped (true for ``always``, false
   otherwise): states strictly increase in time, so no later state can fall into its window.
 
-Operands of tense operators are evaluated at the current state (``delta = 0``). Compiled
-formulas are hash-consed (:mod:`residual`) and each state memoises ``(node, delta) -> result``
-on the node, so identical sub-formulas - within one formula or across all formulas of an
-engine - are progressed once per state, and so are the residuals derived from them.
+Rather than shifting, the rest ``... [a-delta,b-delta] ...`` is kept with *absolute* bounds
+(:mod:`residual`): anchor plus ``a`` and ``b``, compared with each state's time. A pending
+obligation is then its own rest, and a residual in which nothing changed is returned as the
+same object, so a waiting monitor allocates nothing. :meth:`ProgressionEngine.residual` prints
+the intervals relative to the last state.
 
-Performance: the Figure 28 formula progresses in about 1 us per state when nothing is pending
-and 6-9 us in the worst case on this project's machines (``bench/progression.py``). While
-progressing, the cyclic garbage collector is paused: the many short-lived nodes are acyclic and
-freed by reference counting, and collector passes over a large heap cost more than the work.
+Operands of tense operators are evaluated at the current state. Compiled formulas are
+hash-consed (:mod:`residual`) and each state memoises ``node -> result`` on the node, so
+identical sub-formulas - within one formula or across all formulas of an engine - are
+progressed once per state, and so are the residuals derived from them.
+
+Performance: the Figure 28 formula progresses in well under 1 us per state when nothing is
+pending and about 4-5 us in the worst case on this project's machines
+(``bench/progression.py``). While progressing, the cyclic garbage collector is paused: the
+short-lived nodes are acyclic and freed by reference counting, and collector passes over a
+large heap cost more than the work.
 
 End of a finite trace (:meth:`ProgressionEngine.close`): a trace that ends has no further
 states, so pending ``eventually``/``until`` obligations are FALSE (strong) and pending ``always``
@@ -46,7 +53,9 @@ from __future__ import annotations
 
 import enum
 import gc
+import itertools
 import math
+import operator
 from collections.abc import Callable, Mapping
 from typing import cast
 
@@ -93,7 +102,7 @@ class ProgressionEngine:
     def __init__(self, table: NodeTable | None = None) -> None:
         self._table = table if table is not None else NodeTable()
         self._formulas: dict[int, Node] = {}
-        self._active: dict[int, Node] = {}  # undecided monitors, residual anchored at _time
+        self._active: dict[int, Node] = {}  # undecided monitors and their residuals
         self._fresh: dict[int, Node] = {}  # added since the last state, not yet progressed
         self._decided: dict[int, Verdict] = {}
         self._next_id = 0
@@ -160,7 +169,6 @@ class ProgressionEngine:
             raise StateOrderError(
                 f"state at {time_ms:g} ms does not follow the previous state at {self._time:g} ms"
             )
-        delta = 0.0 if self._time is None else time_ms - self._time
         step = _Step(self._table, state.values, time_ms)
         progress = step.progress
         active: dict[int, Node] = {}
@@ -170,14 +178,9 @@ class ProgressionEngine:
         collecting = gc.isenabled()
         gc.disable()
         try:
-            for ident, node in self._active.items():
-                node = progress(node, delta)
-                if node.kind > _FALSE:
-                    active[ident] = node
-                else:
-                    finished.append((ident, node))
-            for ident, node in self._fresh.items():
-                node = progress(node, 0.0)
+            # Fresh formulas are relative, so they start at this state like the residuals.
+            for ident, node in itertools.chain(self._active.items(), self._fresh.items()):
+                node = progress(node)
                 if node.kind > _FALSE:
                     active[ident] = node
                 else:
@@ -212,7 +215,10 @@ class ProgressionEngine:
             return to_formula(
                 self._table.true if self._decided[ident] == Verdict.TRUE else self._table.false
             )
-        return to_formula(self._active.get(ident) or self._fresh[ident])
+        if ident in self._fresh:
+            return to_formula(self._fresh[ident])
+        assert self._time is not None
+        return to_formula(self._active[ident], self._time)
 
     def close(self, ident: int) -> bool:
         """Verdict of monitor ``ident`` if the trace ends now (see the module docstring)."""
@@ -279,116 +285,176 @@ class Progressor:
 
 
 class _Step:
-    """Progression of nodes through one state, memoised per (node, delta is zero).
+    """Progression of nodes through one state, memoised per node.
 
     This is the hot loop of monitoring, written for CPython speed: kinds are compared as ints,
     the tense rules are inlined and atoms under tense operators are read directly.
     """
 
-    __slots__ = ("_lookup", "_now_key", "_shifted_key", "_table", "_time", "_values")
+    __slots__ = ("_interning", "_lookup", "_stamp", "_table", "_time", "_values")
 
     def __init__(self, table: NodeTable, values: Mapping[str, FluentValue], time_ms: float):
         self._table = table
+        self._interning = table.interning
         self._values = values
         # Atoms test "value is True" inline with this; _truth is the slow path (keys are str).
         self._lookup = cast("Callable[[object], FluentValue | None]", values.get)
         self._time = time_ms
-        stamp = table.stamp()
-        self._now_key = 2 * stamp
-        self._shifted_key = 2 * stamp + 1
+        self._stamp = table.stamp(time_ms)
 
-    def progress(self, node: Node, delta: float) -> Node:
-        """``Progress(node, state)`` for a node anchored ``delta`` ms before the state."""
+    def progress(self, node: Node) -> Node:
+        """``Progress(node, state)``; a node that progresses to itself is returned as is."""
         # The memo lives on the node: attribute access beats lookups in a dict of all nodes.
-        # A node progressed at both deltas in one state just keeps the later result.
-        memo_key = self._shifted_key if delta else self._now_key
-        if node.memo_key == memo_key:
+        stamp = self._stamp
+        if node.memo_key == stamp:
             return node.memo
         table = self._table
-        lookup = self._lookup
         kind = node.kind
         if kind >= _ALWAYS:
-            upper = node.upper - delta
-            lower = node.lower - delta
-            if lower < 0:
-                lower = 0.0
-            body = node.first
-            # The rest after this state; an unbounded or unshifted node is its own rest.
-            if upper <= 0:
-                rest = table.true if kind == _ALWAYS else table.false
-            elif upper == node.upper and lower == node.lower:
-                rest = node
-            else:
-                rest = table.tense(kind, lower, upper, body, node.second)
-            if upper < 0 or (lower > 0 and kind != _UNTIL):
-                # Window over (Def. 9.3 line 13 and its always twin), or not yet open.
-                result = rest
-            elif kind == _ALWAYS:
-                if body.kind == _ATOM:
-                    holds = lookup(body.key) is True or self._truth(body)
-                    result = rest if holds else table.false
-                else:
-                    result = table.both(self.progress(body, 0.0), rest)
-            elif kind == _EVENTUALLY:
-                if body.kind == _ATOM:
-                    holds = lookup(body.key) is True or self._truth(body)
-                    result = table.true if holds else rest
-                elif body.kind == _ALWAYS and body.lower == 0 < body.upper:
-                    inner = body.first
-                    if inner.kind == _ATOM:
-                        # "always[0,b] atom" at its own anchor is itself while the atom holds.
-                        holds = lookup(inner.key) is True or self._truth(inner)
-                        result = table.either(body, rest) if holds else rest
-                    else:
-                        result = table.either(self.progress(body, 0.0), rest)
-                else:
-                    result = table.either(self.progress(body, 0.0), rest)
-            else:
-                right = node.second
-                assert right is not None
-                # Def. 9.3 lines 14-15: right may hold now only once the window is open.
-                reached = self.progress(right, 0.0) if lower == 0 else table.false
-                if reached is table.true:
-                    result = reached
-                else:
-                    result = table.either(reached, table.both(self.progress(body, 0.0), rest))
+            result = self._tense(node, kind)
         elif kind in (_AND, _OR):
-            # Short-circuit on the absorbing element, left to right.
-            absorbing = table.false if kind == _AND else table.true
-            combine = table.both if kind == _AND else table.either
-            operands = node.operands
-            first = operands[0]
-            if first.kind == _ATOM:
-                holds = lookup(first.key) is True or self._truth(first)
-                result = table.true if holds else table.false
-            else:
-                result = self.progress(first, delta)
-            if len(operands) == 2:
-                if result is not absorbing:
-                    result = combine(result, self.progress(operands[1], delta))
-            elif result is not absorbing:
-                parts = [result]
-                for operand in operands[1:]:
-                    part = self.progress(operand, delta)
-                    if part is absorbing:
-                        result = part
-                        break
-                    parts.append(part)
-                else:
-                    junction = table.conjunction if kind == _AND else table.disjunction
-                    result = junction(parts)
+            result = self._junction(node, kind)
         elif kind == _ATOM:
-            holds = lookup(node.key) is True or self._truth(node)
+            holds = self._lookup(node.key) is True or self._truth(node)
             result = table.true if holds else table.false
         elif kind == _NOT:
-            result = table.negation(self.progress(node.first, delta))
+            operand = self.progress(node.first)
+            result = node if operand is node.first else table.negation(operand)
         elif kind == _COMPARE:
             result = table.true if node.compare(self._values, self._time) else table.false
         else:
             result = node
-        node.memo_key = memo_key
+        node.memo_key = stamp
         node.memo = result
         return result
+
+    def _junction(self, node: Node, kind: int) -> Node:
+        """Progression of an AND/OR node: short-circuit on the absorbing element, in order."""
+        table = self._table
+        if kind == _AND:
+            absorbing, neutral = table.false, table.true
+        else:
+            absorbing, neutral = table.true, table.false
+        operands = node.operands
+        first = operands[0]
+        if first.kind == _ATOM:
+            holds = self._lookup(first.key) is True or self._truth(first)
+            result = table.true if holds else table.false
+        else:
+            result = self.progress(first)
+        if result is absorbing:
+            return result
+        if len(operands) > 2:
+            parts = [result]
+            for operand in operands[1:]:
+                part = self.progress(operand)
+                if part is absorbing:
+                    return part
+                parts.append(part)
+            if all(map(operator.is_, parts, operands)):
+                return node
+            return table.conjunction(parts) if kind == _AND else table.disjunction(parts)
+        # Two operands (by far the most common): the neutral element applied inline.
+        second = operands[1]
+        other = self.progress(second)
+        if other is absorbing or result is neutral:
+            return other
+        if other is neutral or other is result:
+            return result
+        if result is first:
+            if other is second:
+                return node
+            if other.kind == kind and second in other.operands:
+                # What progressing the second operand added may merge into the first (e.g. a
+                # new attempt into the running one): then no junction need be built and merged.
+                for part in other.operands:
+                    if part is not second and not table.absorbs(kind, first, part):
+                        break
+                else:
+                    return node
+        result = table.pair(kind, result, other, absorbing, neutral)
+        # Merging tense operands often rebuilds the residual it started from: keep that one.
+        if result.kind == kind and result.operands == operands:
+            return node
+        return result
+
+    def _tense(self, node: Node, kind: int) -> Node:
+        """Progression of an ALWAYS/EVENTUALLY/UNTIL node (Definition 9.3).
+
+        ``lower``/``upper`` are the interval relative to this state; the rest after this
+        state has absolute bounds, so a pending absolute node is its own rest.
+        """
+        table = self._table
+        time = self._time
+        lower = node.lower
+        upper = node.upper
+        if node.absolute:
+            lower -= time
+            upper -= time
+            if lower < 0:
+                lower = 0.0
+        body = node.first
+        if upper <= 0:
+            # No later state can fall into the window.
+            rest = table.true if kind == _ALWAYS else table.false
+        elif node.absolute or (lower == 0 and upper == math.inf):
+            rest = node
+        elif self._interning:
+            rest = table.tense(kind, time + lower, time + upper, body, node.second, True)
+        else:
+            # Inlined NodeTable.tense without interning: this runs once per new obligation.
+            rest = Node(kind, None)
+            rest.lower = time + lower
+            rest.upper = time + upper
+            rest.first = body
+            rest.second = node.second
+            rest.absolute = True
+        if upper < 0 or (lower > 0 and kind != _UNTIL):
+            # Window over (Def. 9.3 line 13 and its always twin), or not yet open.
+            return rest
+        lookup = self._lookup
+        if kind == _ALWAYS:
+            if body.kind == _ATOM:
+                holds = lookup(body.key) is True or self._truth(body)
+                return rest if holds else table.false
+            now = self.progress(body)
+            return rest if now is table.true else table.both(now, rest)
+        if kind == _EVENTUALLY:
+            if body.kind == _ATOM:
+                holds = lookup(body.key) is True or self._truth(body)
+                return table.true if holds else rest
+            if body.kind == _ALWAYS and body.lower == 0 < body.upper:
+                inner = body.first
+                if inner.kind == _ATOM:
+                    # "always[0,b] atom" now is its rest while the atom holds.
+                    holds = lookup(inner.key) is True or self._truth(inner)
+                    if not holds:
+                        return rest
+                    attempt = self._start(body)
+                    if rest is table.false:
+                        return attempt
+                    if self._interning:
+                        return table.either(attempt, rest)
+                    # Inlined NodeTable.either: the kinds differ and neither is a disjunction.
+                    pending = Node(_OR, None)
+                    pending.operands = (attempt, rest)
+                    return pending
+            now = self.progress(body)
+            return rest if now is table.false else table.either(now, rest)
+        right = node.second
+        assert right is not None
+        # Def. 9.3 lines 14-15: right may hold now only once the window is open.
+        reached = self.progress(right) if lower == 0 else table.false
+        if reached is table.true:
+            return reached
+        return table.either(reached, table.both(self.progress(body), rest))
+
+    def _start(self, node: Node) -> Node:
+        """Rest of relative ``always[0,b] phi`` (b > 0) whose body holds now: anchored now."""
+        if node.upper == math.inf:
+            return node
+        time = self._time
+        return self._table.tense(_ALWAYS, time, time + node.upper, node.first, None, True)
 
     def _truth(self, node: Node) -> bool:
         # Callers test "value is True" inline first; this is the slow path for everything else.

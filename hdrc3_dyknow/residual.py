@@ -11,15 +11,21 @@ The constructors simplify as Definition 9.3 prescribes (``not true = false``, ``
 false``, ``true and a = a``, ...) and additionally flatten nested conjunctions/disjunctions, drop
 duplicates, and merge tense operands of one connective that differ only in their upper bound
 (the chapter's ``eventually[0,t] phi and eventually[0,t'] phi = eventually[0,min(t,t')] phi`` and
-its three siblings for ``or`` and ``always``). Intervals are relative to the node's anchor time
-(the time of the state that produced it); a lower bound below zero is stored as zero because no
-state can arrive in the past.
+its three siblings for ``or`` and ``always``).
+
+Time: the intervals of compiled formulas are *relative* to the state at which the node is
+progressed (a lower bound below zero is stored as zero because no state can arrive in the
+past). Progression turns a pending tense node into one with *absolute* bounds (ms on the
+stream's clock), so a residual need not be rebuilt with shifted intervals at every state: it
+stays the same object until something in it changes. Absolute nodes print relative to a given
+time (:func:`to_formula`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import enum
+import math
 from collections.abc import Callable, Iterable, Iterator, Mapping
 
 from hdrc3_dyknow.formula import (
@@ -70,8 +76,10 @@ class Node:
         first: Operand of NOT/ALWAYS/EVENTUALLY, left operand of UNTIL.
         second: Right operand of UNTIL (None for ALWAYS/EVENTUALLY).
         operands: Operands of AND/OR.
-        lower: Lower interval bound (ms, >= 0) of tense nodes.
+        lower: Lower interval bound (ms) of tense nodes: >= 0 if relative.
         upper: Upper interval bound (ms, may be inf) of tense nodes.
+        absolute: Tense nodes: the bounds are times on the stream's clock, not relative to
+            the state at which the node is progressed.
         compare: COMPARE: compiled comparison.
         source: ATOM/COMPARE: ground syntax tree, for printing residuals.
         memo, memo_key: Last progression result and the key of the step (state and delta
@@ -80,6 +88,7 @@ class Node:
     """
 
     __slots__ = (
+        "absolute",
         "compare",
         "first",
         "key",
@@ -100,6 +109,7 @@ class Node:
     operands: tuple[Node, ...]
     lower: float
     upper: float
+    absolute: bool
     compare: CompareFunction
     source: Formula
     memo: Node
@@ -122,7 +132,7 @@ class Node:
         return ()
 
     def __repr__(self) -> str:
-        return f"Node({to_formula(self)})"
+        return f"Node({to_formula(self, 0.0)})"
 
 
 class NodeTable:
@@ -135,7 +145,7 @@ class NodeTable:
     Residuals built by progression need no table to stay shared: each state's memo maps a node
     to one result, so everything derived from one node remains one object from state to state.
     Interning them as well only unifies residuals that became equal by different routes (e.g.
-    ``eventually[0,1000] p`` added at 0 ms and ``eventually[0,500] p`` added at 500 ms), and
+    ``eventually[500,1500] p`` added at 0 ms and ``eventually[0,1000] p`` added at 500 ms), and
     costs about a quarter of the progression time in the Figure 28 benchmark (hashing keys into
     a large dictionary). It is therefore optional: with ``intern_residuals=True`` they are
     interned per state, and :meth:`advance`, called after each state, forgets them, which
@@ -149,6 +159,7 @@ class NodeTable:
 
     def __init__(self, intern_residuals: bool = False) -> None:
         self._stamp = 0
+        self._now = -math.inf
         self._intern_residuals = intern_residuals
         self._kept: dict[object, Node] = {}
         # Where new nodes are interned: the kept nodes while compiling, the current state's
@@ -171,9 +182,19 @@ class NodeTable:
         finally:
             self._nodes = current
 
-    def stamp(self) -> int:
-        """A new stamp identifying one progression step (nodes memoise results per stamp)."""
+    @property
+    def interning(self) -> bool:
+        """Whether new nodes are interned now (always while compiling, else on request)."""
+        return self._nodes is not None
+
+    def stamp(self, time_ms: float) -> int:
+        """A new stamp identifying one progression step at ``time_ms``.
+
+        Nodes memoise results per stamp. Residuals built from now on hold only for later
+        states, so absolute lower bounds up to ``time_ms`` are equivalent when merging.
+        """
         self._stamp += 1
+        self._now = time_ms
         return self._stamp
 
     def advance(self) -> None:
@@ -241,7 +262,7 @@ class NodeTable:
             return right
         if left is self.false or right is self.false:
             return self.false
-        return self._pair(_AND, left, right, self.false, self.true)
+        return self.pair(_AND, left, right, self.false, self.true)
 
     def either(self, left: Node, right: Node) -> Node:
         """``left or right`` (fast path of :meth:`disjunction`)."""
@@ -251,9 +272,14 @@ class NodeTable:
             return right
         if left is self.true or right is self.true:
             return self.true
-        return self._pair(_OR, left, right, self.true, self.false)
+        return self.pair(_OR, left, right, self.true, self.false)
 
-    def _pair(self, kind: int, left: Node, right: Node, absorbing: Node, neutral: Node) -> Node:
+    def pair(self, kind: int, left: Node, right: Node, absorbing: Node, neutral: Node) -> Node:
+        """Junction of ``kind`` over two operands that are neither constants nor identical.
+
+        The caller has handled the absorbing and neutral element (fast path of :meth:`both`
+        and :meth:`either`).
+        """
         left_kind = left.kind
         right_kind = right.kind
         if (
@@ -274,6 +300,23 @@ class NodeTable:
         node.operands = (left, right)
         return node
 
+    def absorbs(self, kind: int, keeper: Node, node: Node) -> bool:
+        """Whether the junction of ``kind`` over ``keeper`` and ``node`` simplifies to ``keeper``.
+
+        True if they are one node, or tense nodes that merge (see :meth:`conjunction`) into
+        ``keeper`` or into an equivalent node.
+        """
+        if node is keeper:
+            return True
+        tense = node.kind
+        if tense not in (_ALWAYS, _EVENTUALLY) or keeper.kind != tense:
+            return False
+        if not _same_start(keeper, node, self._now):
+            return False
+        return node.upper == keeper.upper or (node.upper > keeper.upper) != _keeps_larger(
+            kind, tense
+        )
+
     def always(self, lower: float, upper: float, body: Node) -> Node:
         """``always[lower, upper] body``; ``lower`` below zero is clamped to zero."""
         if lower > upper or upper < 0 or body is self.true:
@@ -293,14 +336,20 @@ class NodeTable:
         return self.tense(_UNTIL, lower if lower > 0 else 0.0, upper, left, right)
 
     def tense(
-        self, kind: int, lower: float, upper: float, first: Node, second: Node | None
+        self,
+        kind: int,
+        lower: float,
+        upper: float,
+        first: Node,
+        second: Node | None,
+        absolute: bool = False,
     ) -> Node:
-        """Tense node; ``lower`` must already be clamped and the interval non-empty."""
+        """Tense node; a relative ``lower`` must already be clamped, the interval non-empty."""
         nodes = self._nodes
         if nodes is None:
             node = Node(kind, None)
         else:
-            key = (kind, lower, upper, first, second)
+            key = (kind, lower, upper, first, second, absolute)
             found = nodes.get(key)
             if found is not None:
                 return found
@@ -309,13 +358,13 @@ class NodeTable:
         node.upper = upper
         node.first = first
         node.second = second
+        node.absolute = absolute
         return node
 
     def _junction(
         self, kind: int, operands: Iterable[Node], absorbing: Node, neutral: Node
     ) -> Node:
         flat: list[Node] = []
-        tense = 0
         for operand in operands:
             if operand is absorbing:
                 return absorbing
@@ -323,11 +372,11 @@ class NodeTable:
                 continue
             for part in operand.operands if operand.kind == kind else (operand,):
                 if part not in flat:
-                    flat.append(part)
-                    if part.kind == _ALWAYS or part.kind == _EVENTUALLY:
-                        tense += 1
-        if tense > 1:
-            flat = _merge_tense(kind, flat)
+                    part_kind = part.kind
+                    if part_kind in (_ALWAYS, _EVENTUALLY):
+                        _merge_tense(kind, flat, part, self._now)
+                    else:
+                        flat.append(part)
         if len(flat) < 2:
             return flat[0] if flat else neutral
         members = tuple(flat)
@@ -339,46 +388,57 @@ class NodeTable:
         return node
 
 
-def _merge_tense(kind: int, operands: list[Node]) -> list[Node]:
-    """Merge ALWAYS/EVENTUALLY operands that differ only in their upper bound.
+def _merge_tense(kind: int, flat: list[Node], node: Node, now: float) -> None:
+    """Add ALWAYS/EVENTUALLY ``node`` to ``flat``, merged with an operand of equal lower bound.
 
     With equal lower bound and body, the operand with the smaller window implies the other for
     EVENTUALLY and is implied by it for ALWAYS; a conjunction keeps the stronger, a disjunction
-    the weaker operand.
+    the weaker operand, at the position of the first of the two. Junctions are short, so a
+    linear scan beats building an index.
     """
-    best: dict[tuple[int, float, Node], Node] = {}
-    merged: list[Node] = []
-    for node in operands:
-        if node.kind != _ALWAYS and node.kind != _EVENTUALLY:
-            merged.append(node)
-            continue
-        group = (node.kind, node.lower, node.first)
-        other = best.get(group)
-        if other is None:
-            best[group] = node
-            merged.append(node)
-            continue
-        keep_larger = (node.kind == _ALWAYS) == (kind == _AND)
-        if (node.upper > other.upper) == keep_larger:
-            best[group] = node
-            merged[merged.index(other)] = node
-    return merged
+    for index, other in enumerate(flat):
+        if other.kind == node.kind and _same_start(other, node, now):
+            if (node.upper > other.upper) == _keeps_larger(kind, node.kind):
+                flat[index] = node
+            return
+    flat.append(node)
 
 
-def to_formula(node: Node) -> Formula:
-    """The syntax tree of a ground node (for printing residuals)."""
+def _keeps_larger(kind: int, tense: int) -> bool:
+    """Whether a junction of ``kind`` keeps the larger window of two ``tense`` operands."""
+    return (tense == _ALWAYS) == (kind == _AND)
+
+
+def _same_start(one: Node, two: Node, now: float) -> bool:
+    """Whether tense nodes of one kind differ at most in their upper bound, after ``now``.
+
+    Absolute lower bounds up to ``now`` are equal: no later state lies before them.
+    """
+    if one.first is not two.first or one.absolute is not two.absolute:
+        return False
+    if one.absolute:
+        return max(one.lower, now) == max(two.lower, now)
+    return one.lower == two.lower
+
+
+def to_formula(node: Node, time_ms: float = 0.0) -> Formula:
+    """The syntax tree of a ground node, absolute intervals relative to ``time_ms``."""
     kind = node.kind
     if kind == Kind.TRUE or kind == Kind.FALSE:
         return Constant(kind == Kind.TRUE)
     if kind == Kind.ATOM or kind == Kind.COMPARE:
         return node.source
     if kind == Kind.NOT:
-        return Not(to_formula(node.first))
+        return Not(to_formula(node.first, time_ms))
     if kind == Kind.AND:
-        return And(tuple(to_formula(operand) for operand in node.operands))
+        return And(tuple(to_formula(operand, time_ms) for operand in node.operands))
     if kind == Kind.OR:
-        return Or(tuple(to_formula(operand) for operand in node.operands))
-    interval = Interval(node.lower, node.upper)
+        return Or(tuple(to_formula(operand, time_ms) for operand in node.operands))
+    if node.absolute:
+        interval = Interval(max(node.lower - time_ms, 0.0), node.upper - time_ms)
+    else:
+        interval = Interval(node.lower, node.upper)
+    # Operands of tense nodes are compiled formulas: relative, whatever the time.
     if kind == Kind.ALWAYS:
         return Always(interval, to_formula(node.first))
     if kind == Kind.EVENTUALLY:
