@@ -174,12 +174,20 @@ def test_figure_14_then_safety_braking_and_emergency_brake(drc: Drc) -> None:
     p = tuple(drc.states[-1].position_enu)
     seg = PathSegment.straight(p, (p[0], p[1] + 40.0, p[2]), 6.0, 6.0)
     braking_from, states_from = len(drc.track), len(drc.states)
-    sent_at = drc.sim_time
+    trace_from = len(drc.trace)
     cid = drc.send_segment(seg)
     assert drc.spin_until(lambda: len(drc.answers(cid)) >= 2, 30)
-    latency = drc.sim_time - sent_at  # sim time seen by the DRC: includes DDS both ways
-    print(f"Request-Segment-EV after {latency * 1000:.0f} ms of sim time")
-    assert latency < 0.2  # chapter section 7: well below 200 ms
+    # Measured on the PFC's clock, from its trace: the test process is not part of the lockstep,
+    # so sim time it reads races ahead of it on a loaded machine.
+    received = next(r.time for r in drc.trace[trace_from:] if r.event == "Traj3D-EV")
+    requested = next(
+        r.time
+        for r in drc.trace[trace_from:]
+        if any("SEND Request-Segment-EV" in a for t in r.transitions for a in t.actions)
+    )
+    latency = requested - received
+    print(f"Request-Segment-EV after {latency * 1000:.0f} ms of PFC sim time")
+    assert 0.0 <= latency < 0.2  # chapter section 7: well below 200 ms
     assert drc.spin_until(lambda: drc.finished(cid), 60)
     names = [name for name, _ in drc.answers(cid)]
     assert names == ["Cmd-Accepted-EV", "Request-Segment-EV", "Cmd-Failed-EV"]
