@@ -51,6 +51,16 @@ def _conjuncts(formula: Formula) -> list[Formula]:
     return [formula]
 
 
+def _next_literal(formula: Formula) -> tuple[Atom, bool] | None:
+    """(atom, positive) of ``atom[t+1]`` or ``not atom[t+1]``; None for anything else."""
+    if isinstance(formula, FAtom) and formula.time is TimeRef.NEXT:
+        return formula.atom, True
+    arg = formula.arg if isinstance(formula, FNot) else None
+    if isinstance(arg, FAtom) and arg.time is TimeRef.NEXT:
+        return arg.atom, False
+    return None
+
+
 def _find_trigger(
     rule: ControlRule, static: frozenset[str]
 ) -> tuple[tuple[Param, ...], Trigger, Formula] | None:
@@ -73,37 +83,19 @@ def _find_trigger(
         for c in antecedent
         if isinstance(c, FNot) and isinstance(c.arg, FAtom) and c.arg.time is not TimeRef.NEXT
     }
+    # An atom becoming true (false) at t+1 in the antecedent, or one that must not flip
+    # in the consequent, is a change the rule watches: its trigger is that change.
     for c in antecedent:
-        if (
-            isinstance(c, FAtom)
-            and c.time is TimeRef.NEXT
-            and c.atom in now_neg
-            and covered(c.atom)
-        ):
-            return outer, Trigger(c.atom.pred, True, c.atom), formula.body
-        if (
-            isinstance(c, FNot)
-            and isinstance(c.arg, FAtom)
-            and c.arg.time is TimeRef.NEXT
-            and c.arg.atom in now_pos
-            and covered(c.arg.atom)
-        ):
-            return outer, Trigger(c.arg.atom.pred, False, c.arg.atom), formula.body
-    if (
-        isinstance(consequent, FAtom)
-        and consequent.time is TimeRef.NEXT
-        and consequent.atom in now_pos
-        and covered(consequent.atom)
-    ):
-        return outer, Trigger(consequent.atom.pred, False, consequent.atom), formula.body
-    if (
-        isinstance(consequent, FNot)
-        and isinstance(consequent.arg, FAtom)
-        and consequent.arg.time is TimeRef.NEXT
-        and consequent.arg.atom in now_neg
-        and covered(consequent.arg.atom)
-    ):
-        return outer, Trigger(consequent.arg.atom.pred, True, consequent.arg.atom), formula.body
+        literal = _next_literal(c)
+        if literal is not None:
+            atom, positive = literal
+            if atom in (now_neg if positive else now_pos) and covered(atom):
+                return outer, Trigger(atom.pred, positive, atom), formula.body
+    literal = _next_literal(consequent)
+    if literal is not None:
+        atom, positive = literal
+        if atom in (now_pos if positive else now_neg) and covered(atom):
+            return outer, Trigger(atom.pred, not positive, atom), formula.body
     return None
 
 
