@@ -16,6 +16,8 @@ import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
+from hdrc3.errors import ConfigError
+from hdrc3_control.path_segment import PathSegment
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_platform_server import limits as check
 from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
@@ -128,14 +130,21 @@ class IdSource:
         return next(self._ids)
 
 
-ARITY: dict[FclCommand, int] = {
-    FclCommand.LAND: 1,
-    FclCommand.YAW: 1,
-    FclCommand.CLIMB: 1,
-    FclCommand.TRAJ3D_FLYTO: 4,
-    FclCommand.TRAJ3D: 14,
+PARAMETERS: dict[FclCommand, tuple[str, ...]] = {
+    FclCommand.LAND: ("heading",),
+    FclCommand.YAW: ("heading",),
+    FclCommand.CLIMB: ("altitude",),
+    FclCommand.TRAJ3D_FLYTO: ("longitude", "latitude", "altitude", "velocity"),
+    FclCommand.TRAJ3D: (
+        *(f"start_{axis}" for axis in "xyz"),
+        *(f"end_{axis}" for axis in "xyz"),
+        *(f"start_direction_{axis}" for axis in "xyz"),
+        *(f"end_direction_{axis}" for axis in "xyz"),
+        "velocity",
+        "end_velocity",
+    ),
 }
-"""Number of arguments per command (the others take none)."""
+"""Argument names per command, in the order ``submit`` takes them (the others take none)."""
 
 NEEDS_HOVER = frozenset(
     {
@@ -226,15 +235,9 @@ class FlightCommandLayer:
     # --- the commands ---------------------------------------------------------------------
     def submit(self, command: FclCommand, args: Sequence[float], now: float) -> FclAnswer:
         """Answer one FCL call at DRC time ``now``; ``args`` as the service defines them."""
-        count = ARITY.get(command, 0)
-        if len(args) != count:
-            return FclAnswer(
-                FclCode.NOT_ACCEPTED, f"{command.label} takes {count} argument(s), got {len(args)}"
-            )
-        try:
-            numbers, reason = self._arguments(command, args)
-        except (TypeError, ValueError) as exc:  # not numbers
-            return FclAnswer(FclCode.NOT_ACCEPTED, f"bad arguments: {exc}")
+        values, reason = check.arguments(command.label, PARAMETERS.get(command, ()), args)
+        if reason is None:
+            numbers, reason = self._arguments(command, values)
         if reason is not None:
             return FclAnswer(FclCode.NOT_ACCEPTED, reason)
         if command is FclCommand.CANCEL:
@@ -305,26 +308,25 @@ class FlightCommandLayer:
 
     # --- arguments ------------------------------------------------------------------------
     def _arguments(
-        self, command: FclCommand, args: Sequence[float]
+        self, command: FclCommand, a: tuple[float, ...]
     ) -> tuple[tuple[float, ...], str | None]:
+        """Command-specific checks of finite arguments; the numbers sent to the PFC."""
         lim = self.limits
-        a = tuple(float(x) for x in args)
         if command in (FclCommand.LAND, FclCommand.YAW):
             (heading,) = a
-            bad = check.finite(heading=heading)
+            bad = check.angle("heading", heading)
             return ((heading % math.tau,) if bad is None else ()), bad
         if command is FclCommand.CLIMB:
             (altitude,) = a
-            bad = check.finite(altitude=altitude)
-            if bad:
-                return (), bad
             up = altitude - self.frame.altitude
             pfc = self.kernel.status.pfc
             east, north = (pfc.position_enu[0], pfc.position_enu[1]) if pfc else (0.0, 0.0)
             return (up,), check.position(self.frame, lim, east, north, up, "climb target")
         if command is FclCommand.TRAJ3D_FLYTO:
             lon, lat, alt, vel = a
-            bad = check.wgs84(lon, lat) or check.finite(altitude=alt) or check.velocity(lim, vel)
+            bad = (
+                check.wgs84(lon, lat) or check.altitude(self.frame, alt) or check.velocity(lim, vel)
+            )
             if bad:
                 return (), bad
             e, n, u = self.frame.to_enu(lon, lat, alt)
@@ -343,9 +345,6 @@ class FlightCommandLayer:
 
     def _segment_problem(self, seg: Segment) -> str | None:
         lim = self.limits
-        bad = check.finite(**{f"value{i}": v for i, v in enumerate(seg.numbers())})
-        if bad:
-            return "segment " + bad
         bad = check.velocity(lim, seg.velocity)
         if bad:
             return bad
@@ -357,8 +356,17 @@ class FlightCommandLayer:
                 return bad
         if math.dist(seg.start, seg.end) > lim.max_segment_length:
             return f"segment longer than {lim.max_segment_length:g} m"
-        if math.dist(seg.start, seg.end) < 1e-3:
-            return "segment start and end coincide"
+        try:  # the PFC's own definition of a flyable cubic segment (chord, tangents)
+            PathSegment(
+                seg.start,
+                seg.end,
+                seg.start_direction,
+                seg.end_direction,
+                seg.velocity,
+                seg.end_velocity,
+            )
+        except ConfigError as exc:
+            return str(exc).removeprefix("segment 0: ")
         return None
 
     # --- replies from the PFC -------------------------------------------------------------

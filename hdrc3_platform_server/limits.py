@@ -7,6 +7,7 @@ layer answers FCL_NOT_ACCEPTED / PPCL_NOT_ACCEPTED with that reason.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from hdrc3_control.ppc_hardware import (
@@ -44,11 +45,62 @@ class Limits:
     ptu: PtuLimits = field(default_factory=PtuLimits)
 
 
+HEADING_LIMIT = math.tau
+"""rad: headings and rotation angles are accepted within +-one turn (+-360 deg)."""
+ALTITUDE_SPAN = 10_000.0
+"""m: an altitude (WGS84) is refused more than this far above or below the world's origin."""
+MAX_OWNER_LENGTH = 64
+"""characters of a PPCL resource owner name."""
+
+
 def finite(**values: float) -> str | None:
     """Reason if any value is NaN or infinite."""
     for name, value in values.items():
         if not math.isfinite(value):
             return f"{name} must be a finite number, got {value}"
+    return None
+
+
+def arguments(
+    label: str, names: Sequence[str], args: Sequence[float]
+) -> tuple[tuple[float, ...], str | None]:
+    """The arguments as finite floats, or a reason (wrong count, not numbers, NaN/inf).
+
+    Runs before any command-specific check, so that none of them ever converts an infinite or
+    NaN value (``int(inf)`` raises).
+    """
+    if len(args) != len(names):
+        return (), f"{label} takes {len(names)} argument(s), got {len(args)}"
+    try:
+        values = tuple(float(x) for x in args)
+    except (TypeError, ValueError) as exc:  # not numbers
+        return (), f"bad arguments: {exc}"
+    return values, finite(**dict(zip(names, values, strict=True)))
+
+
+def angle(name: str, value: float) -> str | None:
+    """A heading or rotation angle within +-one turn."""
+    bad = finite(**{name: value})
+    if bad:
+        return bad
+    if abs(value) > HEADING_LIMIT:
+        return f"{name} {value:g} rad outside [-2 pi, 2 pi] rad (+-360 deg)"
+    return None
+
+
+def flag(name: str, value: float) -> str | None:
+    """A boolean carried as a number: exactly 0 or 1."""
+    if value not in (0.0, 1.0):
+        return f"{name} must be 0 or 1, got {value:g}"
+    return None
+
+
+def owner(name: str, *, required: bool) -> str | None:
+    """A resource owner name: not longer than MAX_OWNER_LENGTH, not blank when ``required``."""
+    if required and not name.strip():
+        return "an owner name is required"
+    if len(name) > MAX_OWNER_LENGTH:
+        return f"owner name of {len(name)} characters; at most {MAX_OWNER_LENGTH}"
     return None
 
 
@@ -93,6 +145,19 @@ def position(
     return None
 
 
+def altitude(frame: WorldFrame, value: float, what: str = "altitude") -> str | None:
+    """A WGS84 altitude within ALTITUDE_SPAN of the world's origin (checked before geodesy)."""
+    bad = finite(**{what: value})
+    if bad:
+        return bad
+    if abs(value - frame.altitude) > ALTITUDE_SPAN:
+        return (
+            f"{what} {value:g} m is more than {ALTITUDE_SPAN:g} m from the "
+            f"world's origin altitude ({frame.altitude:g} m)"
+        )
+    return None
+
+
 def wgs84(longitude: float, latitude: float) -> str | None:
     """Longitude/latitude that exist."""
     bad = finite(longitude=longitude, latitude=latitude)
@@ -118,10 +183,12 @@ def pan_tilt(limits: PtuLimits, pan: float, tilt: float) -> str | None:
     return None
 
 
-def camera(camera_id: int) -> str | None:
-    """A camera that exists."""
-    if camera_id not in CAMERAS:
-        return f"unknown camera id {camera_id} (0 = color, 1 = thermal)"
+def camera(camera_id: float) -> str | None:
+    """A camera that exists (an integral id)."""
+    if not math.isfinite(camera_id) or camera_id != int(camera_id):
+        return f"camera id must be an integer, got {camera_id:g}"
+    if int(camera_id) not in CAMERAS:
+        return f"unknown camera id {camera_id:g} (0 = color, 1 = thermal)"
     return None
 
 

@@ -62,20 +62,23 @@ WIRE_EVENT: dict[PpclCommand, str] = {
     PpclCommand.IP_STATE_ESTIMATION: "PPCL-IP-State-Est-EV",
     PpclCommand.IP_ABORT: "PPCL-IP-Abort-EV",
 }
-ARITY: dict[PpclCommand, int] = {
-    PpclCommand.TURN_TO: 2,
-    PpclCommand.LOOK_AT: 4,
-    PpclCommand.ZOOM: 2,
-    PpclCommand.EXPOSURE: 2,
-    PpclCommand.IRIS: 2,
-    PpclCommand.SHUTTER: 2,
-    PpclCommand.IP_COLOR_TRACKER: 2,
-    PpclCommand.LASER_ANGULAR_RESOLUTION: 1,
-    PpclCommand.LASER_DISTANCE_RESOLUTION: 1,
-    PpclCommand.LASER_ROTATION_SPEED: 1,
-    PpclCommand.LASER_ROTATION_ANGLE: 1,
+PARAMETERS: dict[PpclCommand, tuple[str, ...]] = {
+    PpclCommand.TURN_TO: ("pan", "tilt"),
+    PpclCommand.LOOK_AT: ("longitude", "latitude", "has_altitude", "altitude"),
+    PpclCommand.ZOOM: ("camera_id", "zoom"),
+    PpclCommand.EXPOSURE: ("camera_id", "auto_exposure"),
+    PpclCommand.IRIS: ("camera_id", "iris"),
+    PpclCommand.SHUTTER: ("camera_id", "shutter"),
+    PpclCommand.IP_COLOR_TRACKER: ("x", "y"),
+    PpclCommand.LASER_ANGULAR_RESOLUTION: ("angular_resolution",),
+    PpclCommand.LASER_DISTANCE_RESOLUTION: ("distance_resolution",),
+    PpclCommand.LASER_ROTATION_SPEED: ("rotation_speed",),
+    PpclCommand.LASER_ROTATION_ANGLE: ("rotation_angle",),
 }
-"""Number of arguments per command (look_at: lon, lat, has_altitude, altitude)."""
+"""Argument names per command, in the order ``submit`` takes them (the others take none).
+
+Booleans (``has_altitude``, ``auto_exposure``) are 0 or 1, camera ids integral numbers.
+"""
 LANDING_CONTROLLED = frozenset({Resource.PTU, Resource.CAMERA, Resource.IMAGE_PROCESSING})
 IP_NOT_AVAILABLE = "image processing functions are not available in this version of the PPC"
 
@@ -140,9 +143,10 @@ class PayloadCommandLayer:
             return PpclAnswer(PpclCode.NOT_ACCEPTED, f"unknown resource {resource} (0..3)")
         name = res.name.lower()
         holder = self.owners.get(res)
+        bad = check.owner(owner, required=request)
+        if bad:
+            return PpclAnswer(PpclCode.NOT_ACCEPTED, bad)
         if request:
-            if not owner.strip():
-                return PpclAnswer(PpclCode.NOT_ACCEPTED, "an owner name is required")
             if res in LANDING_CONTROLLED and self.landing():
                 return PpclAnswer(
                     PpclCode.CONTROL_DENIED, f"vision-based landing in progress controls the {name}"
@@ -185,15 +189,9 @@ class PayloadCommandLayer:
     # --- mode and parameter commands ------------------------------------------------------
     def submit(self, command: PpclCommand, args: Sequence[float], now: float) -> PpclAnswer:
         """Answer one PPCL mode/parameter call at DRC time ``now``."""
-        count = ARITY.get(command, 0)
-        if len(args) != count:
-            return PpclAnswer(
-                PpclCode.NOT_ACCEPTED, f"{command.label} takes {count} argument(s), got {len(args)}"
-            )
-        try:
-            numbers, key, reason = self._arguments(command, tuple(float(x) for x in args))
-        except (TypeError, ValueError) as exc:
-            return PpclAnswer(PpclCode.NOT_ACCEPTED, f"bad arguments: {exc}")
+        values, reason = check.arguments(command.label, PARAMETERS.get(command, ()), args)
+        if reason is None:
+            numbers, key, reason = self._arguments(command, values)
         if reason is not None:
             return PpclAnswer(PpclCode.NOT_ACCEPTED, reason)
         res = RESOURCE_OF[command]
@@ -241,13 +239,18 @@ class PayloadCommandLayer:
     def _arguments(
         self, command: PpclCommand, a: tuple[float, ...]
     ) -> tuple[tuple[float, ...], str, str | None]:
+        """Command-specific checks of finite arguments; numbers for the PPC and the mode key."""
         c = PpclCommand
         if command is c.TURN_TO:
             pan, tilt = a
             return (pan, tilt), "ptu", check.pan_tilt(self.ptu, pan, tilt)
         if command is c.LOOK_AT:
             lon, lat, has_alt, alt = a
-            bad = check.wgs84(lon, lat) or check.finite(altitude=alt)
+            bad = (
+                check.wgs84(lon, lat)
+                or check.flag("has_altitude", has_alt)
+                or check.altitude(self.frame, alt, "look-at altitude")
+            )
             if bad:
                 return (), "ptu", bad
             e, n, _ = self.frame.to_enu(lon, lat, self.frame.altitude)
@@ -261,21 +264,18 @@ class PayloadCommandLayer:
             return (e, n, u), "ptu", None
         if command is c.ZOOM:
             camera, value = a
-            bad = (
-                check.camera(int(camera))
-                if camera == int(camera)
-                else "camera id must be an integer"
-            )
-            return (camera, value), "zoom", bad or check.unit_interval("zoom", value)
+            bad = check.camera(camera) or check.unit_interval("zoom", value)
+            return (camera, value), "zoom", bad
         if command is c.EXPOSURE:
             camera, auto = a
-            return (camera, 1.0 if auto else 0.0), f"exposure{camera}", check.camera(int(camera))
+            bad = check.camera(camera) or check.flag("auto_exposure", auto)
+            return (camera, auto), f"exposure{camera:g}", bad
         if command in (c.IRIS, c.SHUTTER):
             camera, value = a
-            bad = check.camera(int(camera)) or (
+            bad = check.camera(camera) or (
                 check.unit_interval("iris", value) if command is c.IRIS else check.shutter(value)
             )
-            return (camera, value), f"{command.value}{camera}", bad
+            return (camera, value), f"{command.value}{camera:g}", bad
         if command is c.LASER_ANGULAR_RESOLUTION:
             (value,) = a
             return (value,), command.value, check.laser_angular(value)
@@ -287,7 +287,7 @@ class PayloadCommandLayer:
             return (value,), "laser_rotation", check.laser_speed(value)
         if command is c.LASER_ROTATION_ANGLE:
             (value,) = a
-            bad = check.finite(rotation_angle=value)
+            bad = check.angle("rotation_angle", value)
             return ((value % math.tau,) if not bad else ()), "laser_rotation", bad
         if command is c.IP_COLOR_TRACKER:
             x, y = a

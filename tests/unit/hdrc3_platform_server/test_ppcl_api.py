@@ -33,7 +33,7 @@ VALID: dict[PpclCommand, tuple[float, ...]] = {
     P.LASER_ANGULAR_RESOLUTION: (0.5,),
     P.LASER_DISTANCE_RESOLUTION: (0.001,),
     P.LASER_ROTATION_SPEED: (-1.0,),
-    P.LASER_ROTATION_ANGLE: (7.0,),
+    P.LASER_ROTATION_ANGLE: (-1.0,),
     P.LASER_START_DATA_COLLECTION: (),
     P.LASER_STOP_DATA_COLLECTION: (),
     P.IP_COLOR_TRACKER: (100.0, 100.0),
@@ -107,9 +107,18 @@ def test_release(holder: str | None, releaser: str, code: PpclCode) -> None:
     assert (Resource.PTU in r.core.ppcl.owners) is (code is PpclCode.NOT_ACCEPTED)
 
 
-@pytest.mark.parametrize(("resource", "owner"), [(7, "a"), (0, " ")])
-def test_bad_control_requests(resource: int, owner: str) -> None:
-    assert rig().core.ppcl.control(resource, True, owner).code is PpclCode.NOT_ACCEPTED
+@pytest.mark.parametrize(
+    ("resource", "requesting", "owner", "words"),
+    [
+        (7, True, "a", "unknown resource"),
+        (0, True, " ", "owner name is required"),
+        (0, True, "x" * 100_000, "at most 64"),
+        (0, False, "x" * 100_000, "at most 64"),
+    ],
+)
+def test_bad_control_requests(resource: int, requesting: bool, owner: str, words: str) -> None:
+    answer = rig().core.ppcl.control(resource, requesting, owner)
+    assert answer.code is PpclCode.NOT_ACCEPTED and words in answer.reason
 
 
 # --- mode and parameter rows -----------------------------------------------------------------
@@ -197,6 +206,20 @@ def test_commands_need_a_running_ppc() -> None:
         (P.LOOK_AT, (15.0, 55.7, 0.0, 0.0), "far outside"),
         (P.LOOK_AT, (math.nan, 55.7, 0.0, 0.0), "finite"),
         (P.IP_COLOR_TRACKER, (1000.0, 10.0), "outside"),
+        # fuzz-found: infinite camera ids once reached int() (OverflowError)
+        (P.IRIS, (math.inf, 0.5), "camera_id must be a finite number"),
+        (P.EXPOSURE, (math.inf, 1.0), "camera_id must be a finite number"),
+        (P.ZOOM, (-math.inf, 0.5), "camera_id must be a finite number"),
+        (P.ZOOM, (math.nan, 0.5), "camera_id must be a finite number"),
+        (P.IRIS, (0.5, 0.3), "camera id must be an integer"),
+        (P.SHUTTER, (1e300, 0.002), "unknown camera"),
+        (P.EXPOSURE, (0.0, 0.5), "auto_exposure must be 0 or 1"),
+        (P.LOOK_AT, (LON, LAT, 2.0, 0.0), "has_altitude must be 0 or 1"),
+        (P.LOOK_AT, (LON, LAT, 1.0, 1e308), "from the world's origin altitude"),
+        (P.LOOK_AT, (LON, LAT, 1.0, -1e308), "from the world's origin altitude"),
+        (P.LASER_ROTATION_ANGLE, (1e308,), "outside [-2 pi, 2 pi]"),
+        (P.LASER_ROTATION_ANGLE, (-1e308,), "outside [-2 pi, 2 pi]"),
+        (P.TURN_TO, (0.0,), "takes 2 argument(s), got 1"),
     ],
 )
 def test_bad_arguments(command: PpclCommand, bad: tuple[float, ...], words: str) -> None:
