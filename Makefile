@@ -18,11 +18,12 @@ IFACE_STAMP := $(VENV)/.stamp-interfaces-$(IFACE_HASH)
 # DDS stays on loopback unless the user widens it deliberately.
 export ROS_AUTOMATIC_DISCOVERY_RANGE ?= LOCALHOST
 
-.PHONY: help setup demo test check bench clean
+.PHONY: help setup demo test fuzz check bench clean
 
 help:
 	@echo "make demo   - set up and run the demo mission"
 	@echo "make test   - set up and run the test suite"
+	@echo "make fuzz   - the property tests with 2500 examples each from random seeds"
 	@echo "make check  - ruff + mypy"
 	@echo "make bench  - run the benchmarks under bench/"
 	@echo "make setup  - create .venv, install ROS 2 Jazzy wheels, hdrc3 and hdrc3_interfaces"
@@ -57,7 +58,11 @@ demo: setup
 	$(VENV)/bin/hdrc3 demo
 
 test: setup
-	$(PY) -m pytest -n 2 --dist loadgroup -q
+	$(PY) -m pytest -n 2 --dist loadgroup -q --hypothesis-profile=ci
+
+# One process, so that Hypothesis prints how many examples each property test ran.
+fuzz: setup
+	$(PY) -m pytest -q -m property --hypothesis-profile=fuzz --hypothesis-show-statistics
 
 check: setup
 	$(VENV)/bin/ruff check .

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from hdrc3_dyknow.evaluation import evaluate
@@ -141,7 +141,6 @@ def check_against_evaluator(formula: Formula, trace: list[State], intern: bool) 
             assert (verdict == Verdict.TRUE) == final
 
 
-@settings(max_examples=400, deadline=None)
 @given(formulas, traces(), st.booleans())
 def test_progression_agrees_with_direct_evaluation(
     formula: Formula, trace: list[State], intern: bool
@@ -149,7 +148,6 @@ def test_progression_agrees_with_direct_evaluation(
     check_against_evaluator(formula, trace, intern)
 
 
-@settings(max_examples=100, deadline=None)
 @given(formulas)
 def test_printed_formulas_parse_back(formula: Formula) -> None:
     assert PARSER.parse(str(formula)) == formula
@@ -183,7 +181,6 @@ def long_traces(draw: st.DrawFn) -> list[State]:
     return [State(time, {key: draw(st.booleans()) for key in keys}) for time in times]
 
 
-@settings(max_examples=400, deadline=None)
 @given(monitor_formulas, long_traces(), st.booleans())
 def test_progression_of_monitor_formulas_agrees(
     formula: Formula, trace: list[State], intern: bool

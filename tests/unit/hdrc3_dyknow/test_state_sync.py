@@ -1,5 +1,5 @@
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from hdrc3_dyknow.policy import MissingHandling
@@ -163,7 +163,6 @@ def test_unknown_key() -> None:
         StateSynchronizer(["a"], 10, 0).update("zz", Sample(0, 0, 1.0))
 
 
-@settings(max_examples=60, deadline=None)
 @given(
     st.lists(
         st.tuples(st.sampled_from(["a", "b", "c"]), st.integers(0, 2000), st.integers(0, 300)),

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from hdrc3_hcsm.conditions import ConditionTable
@@ -396,7 +396,6 @@ CONDS = {
 PFC_EVENTS = ["Traj3D-EV", "Ctrl-Ok-EV", "Ctrl-Stop-EV", "Ctrl-Stopped-EV", "Nope-EV", "exit"]
 
 
-@settings(max_examples=60, deadline=None)
 @given(
     st.lists(
         st.tuples(

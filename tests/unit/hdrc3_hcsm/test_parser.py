@@ -1,7 +1,7 @@
 from __future__ import annotations
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from hdrc3_hcsm.loader import LoadStatus, check_text
@@ -146,7 +146,6 @@ TOKENS = st.sampled_from(
 )
 
 
-@settings(max_examples=300, deadline=None)
 @given(st.lists(TOKENS, max_size=40).map(" ".join))
 def test_fuzz_token_soup_never_crashes(text: str) -> None:
     result = check_text(text, "fuzz.hcsm")
@@ -154,7 +153,6 @@ def test_fuzz_token_soup_never_crashes(text: str) -> None:
     assert all(d.pos.file == "fuzz.hcsm" for d in result.diagnostics)
 
 
-@settings(max_examples=100, deadline=None)
 @given(st.text(max_size=40))
 def test_fuzz_include_paths_never_crash(path: str) -> None:
     escaped = path.replace("\\", "\\\\").replace('"', '\\"').replace("\n", " ")
@@ -162,14 +160,12 @@ def test_fuzz_include_paths_never_crash(path: str) -> None:
     assert result.status in (LoadStatus.OK, LoadStatus.INVALID)
 
 
-@settings(max_examples=200, deadline=None)
 @given(st.text(max_size=200))
 def test_fuzz_arbitrary_text_never_crashes(text: str) -> None:
     result = check_text(text, "fuzz.hcsm")
     assert result.status in (LoadStatus.OK, LoadStatus.INVALID)
 
 
-@settings(max_examples=150, deadline=None)
 @given(st.integers(0, len(SMALL) - 1), st.integers(1, 30))
 def test_fuzz_truncated_and_spliced_models_never_crash(cut: int, width: int) -> None:
     for text in (SMALL[:cut], SMALL[:cut] + SMALL[cut + width :]):
