@@ -58,12 +58,7 @@ class Drc:
         self.replies: list[WireEvent] = []
         self.node.create_subscription(PfcState, "pfc/state", self.states.append, 50)
         self.node.create_subscription(TruthState, "ground_truth/state", self._on_truth, 10)
-        self.node.create_subscription(
-            String,
-            "hcsm/trace",
-            lambda m: self.trace.append(TraceRecord.from_json(m.data)),
-            EVENT_QOS,
-        )
+        self.node.create_subscription(String, "hcsm/trace", self._on_trace, EVENT_QOS)
         self._ids = iter(range(1, 10_000))
 
     def _on_trace(self, msg: Any) -> None:
@@ -122,7 +117,35 @@ class Drc:
         return bool(self.states) and self.states[-1].mode_switch_state == "Hovering-ST"
 
     def speed(self) -> float:
+        """The latest true speed, whatever its time (for waits on the truth topic itself)."""
         return 0.0 if self.truth is None else math.hypot(*self.truth.velocity_enu)
+
+    def truth_at(self, sim_time: float, timeout: float = 30.0) -> Any:
+        """The ground truth once a sample of ``sim_time`` or later has arrived.
+
+        Ground truth is a topic of its own (world_sim's), unordered against ``pfc/state``, the
+        trace and the replies: a test that waited on one of those waits here before reading it.
+        """
+        assert self.spin_until(
+            lambda: self.truth is not None and stamp_ns(self.truth) >= round(sim_time * 1e9),
+            timeout,
+        ), f"no ground truth at or after {sim_time:.2f} s of sim time"
+        return self.truth
+
+    def speed_at(self, sim_time: float) -> float:
+        """True speed from a ground-truth sample of ``sim_time`` or later."""
+        return math.hypot(*self.truth_at(sim_time).velocity_enu)
+
+    def traced(self, since: int, match: Callable[[TraceRecord], bool]) -> TraceRecord:
+        """The first PFC trace record from index ``since`` on that ``match``es (waits for it)."""
+
+        def found() -> TraceRecord | None:
+            return next((r for r in self.trace[since:] if match(r)), None)
+
+        assert self.spin_until(lambda: found() is not None, 30.0), "no such trace record"
+        record = found()
+        assert record is not None
+        return record
 
     def close(self) -> None:
         self.executor.shutdown()
@@ -158,17 +181,15 @@ def test_figure_14_then_safety_braking_and_emergency_brake(drc: Drc) -> None:
     assert drc.spin_until(lambda: drc.truth.height_above_ground > 6.0, 60)
     drc.set_rc(set_sticks=True, throttle=0.55, pitch=0.3)
     drc.wait_sim(2.0)
-    assert drc.speed() > 3.0
+    assert drc.speed_at(drc.sim_time) > 3.0
     mark = len(drc.trace)
     drc.set_rc(mode=2)  # autonomous
     assert drc.spin_until(lambda: any(e.name == "Hover-Stable-EV" for e in drc.replies), 60)
 
-    def fired() -> list[str]:
-        return [t.tid for r in drc.trace[mark:] for t in r.transitions if t.tid[0] in "AB"]
-
-    assert drc.spin_until(lambda: "A.5" in fired(), 10)  # the trace is a topic of its own
-    assert fired()[: len(FIGURE_14)] == FIGURE_14
-    assert drc.speed() < 1.0
+    hovered = drc.traced(mark, lambda r: any(t.tid == "A.5" for t in r.transitions))
+    fired = [t.tid for r in drc.trace[mark:] for t in r.transitions if t.tid[0] in "AB"]
+    assert fired[: len(FIGURE_14)] == FIGURE_14
+    assert drc.speed_at(hovered.time) < 1.0
 
     # a path whose next segment never comes: safety braking, then hover
     p = tuple(drc.states[-1].position_enu)
@@ -179,13 +200,12 @@ def test_figure_14_then_safety_braking_and_emergency_brake(drc: Drc) -> None:
     assert drc.spin_until(lambda: len(drc.answers(cid)) >= 2, 30)
     # Measured on the PFC's clock, from its trace: the test process is not part of the lockstep,
     # so sim time it reads races ahead of it on a loaded machine.
-    received = next(r.time for r in drc.trace[trace_from:] if r.event == "Traj3D-EV")
-    requested = next(
-        r.time
-        for r in drc.trace[trace_from:]
-        if any("SEND Request-Segment-EV" in a for t in r.transitions for a in t.actions)
+    received = drc.traced(trace_from, lambda r: r.event == "Traj3D-EV")
+    requested = drc.traced(
+        trace_from,
+        lambda r: any("SEND Request-Segment-EV" in a for t in r.transitions for a in t.actions),
     )
-    latency = requested - received
+    latency = requested.time - received.time
     print(f"Request-Segment-EV after {latency * 1000:.0f} ms of PFC sim time")
     assert 0.0 <= latency < 0.2  # chapter section 7: well below 200 ms
     assert drc.spin_until(lambda: drc.finished(cid), 60)
@@ -201,7 +221,7 @@ def test_figure_14_then_safety_braking_and_emergency_brake(drc: Drc) -> None:
         f"safety braking: stopped {seg.end[1] - furthest:.2f} m before the end (estimate), "
         f"truth {seg.end[1] - truth:+.2f} m"
     )
-    assert furthest < seg.end[1] and drc.speed() < 1.0
+    assert furthest < seg.end[1] and drc.speed_at(drc.sim_time) < 1.0
 
     # emergency brake in the middle of a fast path
     p = tuple(drc.states[-1].position_enu)
@@ -210,7 +230,7 @@ def test_figure_14_then_safety_braking_and_emergency_brake(drc: Drc) -> None:
     bid = drc.send("Emergency-Brake-EV")
     assert drc.spin_until(lambda: drc.finished(bid), 60)
     assert drc.answers(cid)[-1] == ("Cmd-Cancelled-EV", "emergency brake")
-    assert drc.spin_until(drc.hovering, 10) and drc.speed() < 1.0
+    assert drc.spin_until(drc.hovering, 10) and drc.speed_at(drc.sim_time) < 1.0
 
     # a GPS outage from world_sim: reported to the DRC, the PFC keeps hovering on dead reckoning
     from hdrc3_interfaces.srv import SimInjectFault
@@ -229,7 +249,7 @@ def test_figure_14_then_safety_braking_and_emergency_brake(drc: Drc) -> None:
     assert drc.spin_until(lambda: any("degraded" in text for text in fault_reports()), 20)
     degraded = drc.states[-1].HEALTH_DEGRADED
     assert drc.spin_until(lambda: drc.states[-1].estimator_health == degraded, 10)
-    assert drc.hovering() and drc.speed() < 1.0
+    assert drc.hovering() and drc.speed_at(drc.sim_time) < 1.0
 
     # lockstep: the PFC answered every 20 ms tick of this flight (its tick counter vs sim time)
     first, last = drc.states[drc.states.index(start)], drc.states[-1]
@@ -261,7 +281,7 @@ def test_takeoff_flyto_land(drc: Drc) -> None:
     assert drc.spin_until(lambda: drc.finished(lid), 120)
     assert drc.answers(lid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
     assert drc.spin_until(lambda: drc.states[-1].mode == drc.states[-1].MODE_GROUND_IDLE, 10)
-    assert drc.truth.on_ground and drc.states[-1].on_ground
+    assert drc.truth_at(drc.sim_time).on_ground and drc.states[-1].on_ground
     sim_s, wall_s = drc.sim_time - sim0, time.monotonic() - wall0
 
     # a full world reset restarts sim time at 0: the PFC restarts and keeps the lockstep going
@@ -269,10 +289,17 @@ def test_takeoff_flyto_land(drc: Drc) -> None:
 
     reset = drc.node.create_client(SimReset, "/world_sim/reset")
     assert reset.wait_for_service(timeout_sec=10.0)
+    before, seen = drc.sim_time, len(drc.states)
     future = reset.call_async(SimReset.Request(agent=""))
     assert drc.spin_until(future.done, 10.0) and future.result().result.code == 0
-    assert drc.spin_until(lambda: 1.0 < drc.sim_time < 5.0, 30)
-    assert drc.states[-1].mode in (drc.states[-1].MODE_BOOT, drc.states[-1].MODE_MANUAL)
+
+    def restarted() -> Any:
+        # pfc/state is keep-last: a test process slower than the lockstep may miss the samples
+        # of any given second, so look for the first sample past 1 s of the new sim time.
+        return next((s for s in drc.states[seen:] if 1e9 < stamp_ns(s) < before * 1e9), None)
+
+    assert drc.spin_until(lambda: restarted() is not None, 30)
+    assert restarted().mode in (restarted().MODE_BOOT, restarted().MODE_MANUAL)
     print(f"lockstep: {sim_s:.1f} s sim in {wall_s:.1f} s wall ({sim_s / wall_s:.1f}x real time)")
     print(f"steps longer than 20 ms (wall): {drc.states[-1].overruns} of {drc.states[-1].ticks}")
 
