@@ -14,7 +14,7 @@ from typing import Any
 
 from geometry_msgs.msg import Point, Vector3
 
-from hdrc3.errors import Hdrc3Error
+from hdrc3_base.errors import Hdrc3Error
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_interfaces.msg import FclReturn
 from hdrc3_interfaces.msg import PathSegment as PathSegmentMsg

@@ -17,9 +17,9 @@ import pymap3d
 from numpy.typing import NDArray
 from rclpy.serialization import deserialize_message
 
-from hdrc3.errors import DataError
 from hdrc3.mcap_recording import RecordingReader
 from hdrc3.message_types import message_class
+from hdrc3_base.errors import DataError
 from hdrc3_control.path_segment import PathSegment
 
 _EVENT_KINDS = {0: "FINISHED", 1: "FAILED", 2: "CANCELLED", 3: "SEGMENT_REQUEST", 4: "INFO"}

@@ -8,16 +8,14 @@ from __future__ import annotations
 
 import enum
 import math
-import re
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from hdrc3.errors import ConfigError
 from hdrc3.supervisor import ProcessSpec
+from hdrc3_base.errors import ConfigError
 
-_AGENT_NAME = re.compile(r"^[a-z][a-z0-9_]{0,31}$")
 MAX_DOMAIN_ID = 101  # highest id whose DDS ports are valid on Linux with default port mapping
 RECORDER = "recorder"
 
@@ -107,22 +105,6 @@ class LaunchOptions:
     """Real-time factor; ``math.inf`` means as fast as possible."""
     record: Path | None
     domain_id: int | None
-
-
-def parse_agents(text: str) -> tuple[str, ...]:
-    """Parse ``uav0,uav1`` into agent names, rejecting malformed or duplicate names."""
-    agents = tuple(a.strip() for a in text.split(",") if a.strip())
-    if not agents:
-        raise ConfigError("no agent given (expected e.g. --agents uav0,uav1)")
-    for agent in agents:
-        if not _AGENT_NAME.match(agent):
-            raise ConfigError(
-                f"invalid agent name {agent!r}: use lower-case letters, digits and '_', "
-                "starting with a letter (it becomes the ROS namespace /<agent>)"
-            )
-    if len(set(agents)) != len(agents):
-        raise ConfigError(f"agent listed twice in {text!r}")
-    return agents
 
 
 def parse_nodes(text: str | None, catalog: Sequence[NodeKind] = CATALOG) -> tuple[str, ...]:

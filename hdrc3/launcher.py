@@ -15,8 +15,8 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from hdrc3.launch_plan import RECORDER
-from hdrc3.ros_runtime import node_name_counts, node_names
 from hdrc3.supervisor import ProcessSpec, ProcessState, Supervisor
+from hdrc3_base.ros_runtime import node_name_counts, node_names
 from hdrc3_interfaces.msg import LaunchStatus, SupervisedProcess
 
 STATUS_TOPIC = "/hdrc3/launch_status"

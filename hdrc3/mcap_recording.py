@@ -22,8 +22,8 @@ from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
 
 from hdrc3 import __version__
-from hdrc3.errors import DataError, Hdrc3Error
 from hdrc3.message_types import DefinitionResolver, MessageTypeName
+from hdrc3_base.errors import DataError, Hdrc3Error
 
 ROS2_PROFILE = "ros2"
 SCHEMA_ENCODING = "ros2msg"

@@ -11,9 +11,9 @@ from rclpy.node import Node
 from rclpy.publisher import Publisher
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from hdrc3.errors import ConfigError
 from hdrc3.mcap_recording import RecordedMessage
 from hdrc3.message_types import message_class
+from hdrc3_base.errors import ConfigError
 
 REPLAY_QOS = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,

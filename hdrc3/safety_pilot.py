@@ -10,8 +10,8 @@ import enum
 
 from rclpy.node import Node
 
-from hdrc3.errors import ConfigError
-from hdrc3.ros_runtime import RosProcess
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import RosProcess
 from hdrc3_interfaces.msg import SimResult
 from hdrc3_interfaces.srv import SimSetRc
 

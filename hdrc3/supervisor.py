@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 _PR_SET_PDEATHSIG = 1  # from <linux/prctl.h>
 

@@ -6,7 +6,7 @@ import enum
 import math
 from dataclasses import dataclass
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 Vec3 = tuple[float, float, float]
 

@@ -33,8 +33,8 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, NavSatFix
 from std_msgs.msg import String
 
-from hdrc3.errors import ConfigError
-from hdrc3.ros_runtime import SteppedNode, run_stepped_node
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import SteppedNode, run_stepped_node
 from hdrc3_control.commands import EstimatorHealth, VerticalMode
 from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult, UiCommand
 from hdrc3_control.measurements import (

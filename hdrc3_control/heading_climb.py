@@ -11,7 +11,7 @@ import enum
 import math
 from dataclasses import dataclass
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, Vec3, wrap_2pi, wrap_pi
 from hdrc3_control.hover import HoverController, HoverSetpoint
 from hdrc3_control.path_following import PathFollower, PathFollowingConfig, PathStatus

@@ -6,7 +6,7 @@ import enum
 import math
 from dataclasses import dataclass
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth, Vec3, wrap_pi
 from hdrc3_control.outer_loop import OuterLoop, OuterLoopGains, Reference, accel_to_attitude
 

@@ -24,7 +24,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.automata import automaton_path
 from hdrc3_control.braking import BrakeStatus
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth, Vec3

@@ -15,7 +15,7 @@ import struct
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.braking import BrakeStatus, EmergencyBrake
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth, Vec3
 from hdrc3_control.event_codec import command_id_of, decode, encode

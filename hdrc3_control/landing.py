@@ -14,7 +14,7 @@ import enum
 import math
 from dataclasses import dataclass, field
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import (
     AttitudeCommand,
     EstimatedState,

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import Vec3
 
 # 8-point Gauss-Legendre nodes/weights on [0, 1] for arc lengths

@@ -19,7 +19,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-from hdrc3.ros_runtime import run_node
+from hdrc3_base.ros_runtime import run_node
 from hdrc3_control.ppc_kernel import PpcKernel, PpcOutputs
 from hdrc3_control.ppc_modes import Pose
 from hdrc3_hcsm.ros_transport import RosTransport

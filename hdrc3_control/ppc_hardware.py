@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 
 @dataclass(frozen=True, slots=True)

@@ -16,7 +16,7 @@ import numpy as np
 from filterpy.kalman import KalmanFilter
 from numpy.typing import NDArray
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import EstimatedState, EstimatorHealth, G, Vec3, wrap_2pi
 from hdrc3_control.measurements import (
     AttitudeMeasurement,

@@ -10,7 +10,7 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth
 from hdrc3_control.hover import HoverSetpoint
 from hdrc3_control.outer_loop import OuterLoop, OuterLoopGains, Reference

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 
 class PlanningInputError(ConfigError):

@@ -12,7 +12,7 @@ from rclpy.context import Context
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 
-from hdrc3.ros_env import apply_localhost_default
+from hdrc3_base.ros_env import apply_localhost_default
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
 from hdrc3_deliberative.result import PlanResult, PlanStatus
 from hdrc3_interfaces.srv import Plan

@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from enum import StrEnum
 
-from hdrc3.errors import Hdrc3Error
+from hdrc3_base.errors import Hdrc3Error
 from hdrc3_dyknow.formula import (
     Always,
     And,

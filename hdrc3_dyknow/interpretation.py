@@ -15,7 +15,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TypeAlias
 
-from hdrc3.errors import DataError
+from hdrc3_base.errors import DataError
 
 FluentValue: TypeAlias = bool | int | float | str
 """Value of a fluent in a state: booleans for boolean fluents, numbers, or object names."""

@@ -23,9 +23,9 @@ from rclpy.publisher import Publisher
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.subscription import Subscription
 
-from hdrc3.errors import ConfigError, Hdrc3Error
-from hdrc3.ros_env import apply_localhost_default
-from hdrc3.ros_runtime import run_node
+from hdrc3_base.errors import ConfigError, Hdrc3Error
+from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_runtime import run_node
 from hdrc3_dyknow.coordinator import (
     MonitorResult,
     MonitorStatus,

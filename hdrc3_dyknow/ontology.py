@@ -15,7 +15,7 @@ from pathlib import Path
 import rdflib
 from rdflib.namespace import OWL, RDF, RDFS
 
-from hdrc3.errors import Hdrc3Error
+from hdrc3_base.errors import Hdrc3Error
 
 NAMESPACE = rdflib.Namespace("https://hdrc3.example.org/dyknow#")
 OBJECT_ROOT = "Object"

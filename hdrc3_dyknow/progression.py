@@ -59,7 +59,7 @@ import operator
 from collections.abc import Callable, Mapping
 from typing import cast
 
-from hdrc3.errors import Hdrc3Error
+from hdrc3_base.errors import Hdrc3Error
 from hdrc3_dyknow.formula import Formula
 from hdrc3_dyknow.grounding import Scope, compile_formula
 from hdrc3_dyknow.interpretation import (

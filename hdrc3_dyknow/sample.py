@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 from typing import TypeAlias
 
-from hdrc3.errors import Hdrc3Error
+from hdrc3_base.errors import Hdrc3Error
 
 Value: TypeAlias = bool | int | float | str | tuple["Value", ...]
 """A sample value: a scalar or a (possibly nested) tuple such as a (lat, lon, alt) position."""

@@ -25,7 +25,7 @@ from typing import Any
 
 import lark
 
-from hdrc3.errors import Hdrc3Error
+from hdrc3_base.errors import Hdrc3Error
 from hdrc3_dyknow.policy import LateHandling, MissingHandling, Policy
 from hdrc3_dyknow.sample import FeatureTerm, StreamError
 

@@ -21,7 +21,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from hdrc3.errors import DataError
+from hdrc3_base.errors import DataError
 from hdrc3_dyknow.interpretation import (
     FluentValue,
     State,

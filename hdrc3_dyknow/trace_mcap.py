@@ -22,7 +22,7 @@ from mcap.exceptions import McapError
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 
-from hdrc3.errors import ConfigError, DataError
+from hdrc3_base.errors import ConfigError, DataError
 from hdrc3_dyknow.interpretation import FluentValue, State, atom_key, parse_atom_key
 
 NS_PER_MS = 1_000_000

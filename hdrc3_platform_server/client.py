@@ -14,9 +14,9 @@ from typing import Any
 
 from rclpy.node import Node
 
-from hdrc3.errors import ConfigError
-from hdrc3.launch_plan import parse_agents
-from hdrc3.ros_runtime import RosProcess
+from hdrc3_base.agents import parse_agents
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import RosProcess
 from hdrc3_interfaces.msg import PlatformEvent
 from hdrc3_platform_server.codes import EventKind
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent

@@ -19,7 +19,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
 
-from hdrc3.ros_runtime import run_node
+from hdrc3_base.ros_runtime import run_node
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import CameraState, PfcState
 from hdrc3_platform_server.fakes import FakePfc, FakePfcTiming, FakePpc

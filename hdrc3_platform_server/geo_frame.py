@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import pymap3d
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 GroundFn = Callable[[float, float], float]
 """Terrain height (m, ENU up) at (east, north)."""

@@ -25,8 +25,8 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from hdrc3.errors import ConfigError
-from hdrc3.ros_runtime import RosProcess
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import RosProcess
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import (
     CameraState,

@@ -10,7 +10,7 @@ import struct
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from hdrc3.errors import DataError
+from hdrc3_base.errors import DataError
 
 _ID = struct.Struct("<Q")
 _F64 = 8

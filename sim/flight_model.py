@@ -14,7 +14,7 @@ from pathlib import Path
 
 import jsbsim
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from sim.geodesy import GeodeticOrigin, LocalFrame
 from sim.powertrain import Powertrain
 from sim.rmax_params import RmaxParams

@@ -20,7 +20,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Generic, TypeVar
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 CommandT = TypeVar("CommandT")
 

@@ -21,8 +21,8 @@ from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValu
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 
-from hdrc3.errors import ConfigError, Hdrc3Error
-from hdrc3.ros_runtime import SteppedNode, run_stepped_node
+from hdrc3_base.errors import ConfigError, Hdrc3Error
+from hdrc3_base.ros_runtime import SteppedNode, run_stepped_node
 from hdrc3_interfaces.msg import (
     CameraCommand,
     LaserCommand,

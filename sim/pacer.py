@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 
 class Pacer:

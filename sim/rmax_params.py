@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 MAX_MEAN_WIND = 40.0
 """m/s: stronger mean wind is rejected (far beyond what the RMAX flies in)."""

@@ -16,7 +16,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, TypeVar
 
-from hdrc3.errors import DataError
+from hdrc3_base.errors import DataError
 from sim.geodesy import GeodeticOrigin
 from sim.terrain import Terrain
 from sim.world import (

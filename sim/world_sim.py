@@ -16,7 +16,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from sim.aircraft import Aircraft, YacsStatus
 from sim.flight_model import InitialPlacement
 from sim.sensors.power import PowerDevice

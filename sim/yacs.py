@@ -23,7 +23,7 @@ import enum
 import math
 from dataclasses import dataclass
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from sim.flight_model import ServoCommand
 from sim.rc_transmitter import FlightModeSwitch, RcState
 from sim.rmax_params import RmaxParams

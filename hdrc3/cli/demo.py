@@ -17,11 +17,11 @@ import time
 from pathlib import Path
 
 from hdrc3.demo_mission import MissionError, SurveyMission
-from hdrc3.errors import ConfigError
 from hdrc3.flight_report import build_report, plot_report
-from hdrc3.ros_runtime import RosProcess
 from hdrc3.safety_pilot import Switch, set_rc
 from hdrc3.survey import SurveyArea, lawn_mower
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import RosProcess
 from hdrc3_interfaces.msg import SimResult
 from hdrc3_platform_server.client import PlatformClient
 from hdrc3_platform_server.geo_frame import frame_from_world

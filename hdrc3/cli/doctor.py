@@ -8,7 +8,7 @@ import importlib.metadata
 import os
 import sys
 
-from hdrc3.ros_env import DISCOVERY_RANGE_VAR
+from hdrc3_base.ros_env import DISCOVERY_RANGE_VAR
 
 _DISTRIBUTIONS = (
     ("rclpy", "ros-jazzy-rclpy"),
@@ -42,7 +42,7 @@ def _selftest() -> str:
     from rclpy.node import Node
     from std_msgs.msg import String
 
-    from hdrc3.ros_runtime import RosProcess
+    from hdrc3_base.ros_runtime import RosProcess
 
     received: list[String] = []
     with RosProcess(handle_signals=False) as process:

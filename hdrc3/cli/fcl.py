@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 COMMANDS: dict[str, tuple[str, ...]] = {
     "takeoff": (),
@@ -104,7 +104,7 @@ def build_request(command: str, values: tuple[float, ...]) -> tuple[object, obje
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``hdrc3 fcl``."""
-    from hdrc3.ros_runtime import RosProcess
+    from hdrc3_base.ros_runtime import RosProcess
     from hdrc3_platform_server.client import PlatformClient, check_agent
 
     check_agent(args.agent)

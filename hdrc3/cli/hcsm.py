@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_hcsm.conditions import ConditionTable
 from hdrc3_hcsm.diagnostics import Severity
 from hdrc3_hcsm.event import PostStatus

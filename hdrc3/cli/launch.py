@@ -7,7 +7,6 @@ import math
 import os
 import sys
 
-from hdrc3.errors import ConfigError
 from hdrc3.launch_plan import (
     CATALOG,
     LaunchOptions,
@@ -15,12 +14,13 @@ from hdrc3.launch_plan import (
     check_domain_id,
     check_record_path,
     check_world,
-    parse_agents,
     parse_nodes,
     parse_speed,
 )
 from hdrc3.launcher import LauncherNode
-from hdrc3.ros_runtime import RosProcess
+from hdrc3_base.agents import parse_agents
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import RosProcess
 
 CONFLICT_WAIT_S = 1.5
 

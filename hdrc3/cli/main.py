@@ -12,8 +12,8 @@ import sys
 from collections.abc import Sequence
 
 from hdrc3 import __version__
-from hdrc3.errors import Hdrc3Error
-from hdrc3.ros_env import apply_localhost_default
+from hdrc3_base.errors import Hdrc3Error
+from hdrc3_base.ros_env import apply_localhost_default
 
 # Subcommand modules, in the order `hdrc3 --help` lists them.
 COMMAND_MODULES: tuple[str, ...] = (

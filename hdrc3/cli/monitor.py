@@ -12,7 +12,7 @@ import argparse
 from collections.abc import Iterable
 from pathlib import Path
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_dyknow.formula_parser import FormulaParser
 from hdrc3_dyknow.grounding import Scope, quantified_sorts
 from hdrc3_dyknow.interpretation import State, parse_atom_key

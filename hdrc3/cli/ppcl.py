@@ -13,7 +13,7 @@ import argparse
 import math
 from typing import Any
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 RESOURCES = {"ptu": 0, "camera": 1, "ip": 2, "laser": 3}
 CAMERAS = {"color": 0, "thermal": 1}
@@ -156,7 +156,7 @@ def _print_query(cmd: str, response: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``hdrc3 ppcl``."""
-    from hdrc3.ros_runtime import RosProcess
+    from hdrc3_base.ros_runtime import RosProcess
     from hdrc3_platform_server.client import PlatformClient, check_agent
 
     check_agent(args.agent)

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from hdrc3.launch_plan import parse_agents
 from hdrc3.safety_pilot import Switch, set_rc
+from hdrc3_base.agents import parse_agents
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -23,7 +23,7 @@ def run(args: argparse.Namespace) -> int:
     """Set the switches; exit 0 when world_sim accepted them, 1 when it refused."""
     from rclpy.node import Node
 
-    from hdrc3.ros_runtime import RosProcess
+    from hdrc3_base.ros_runtime import RosProcess
 
     (agent,) = parse_agents(args.agent)
     mode = Switch(args.mode) if args.mode else Switch.KEEP

@@ -6,10 +6,10 @@ import argparse
 import sys
 import time
 
-from hdrc3.errors import ConfigError
 from hdrc3.mcap_recording import RecordingWriter
 from hdrc3.recorder import RecorderNode
-from hdrc3.ros_runtime import RosProcess
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import RosProcess
 
 DRAIN_S = 1.5
 """After a stop request, keep writing what DDS already delivered for at most this long, s."""

@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 import math
 
-from hdrc3.errors import ConfigError
 from hdrc3.mcap_recording import RecordingReader
 from hdrc3.replayer import ReplayerNode, paced, select_topics
-from hdrc3.ros_runtime import RosProcess
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import RosProcess
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:

@@ -14,7 +14,7 @@ import math
 import time
 from typing import Any
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -60,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
     """Handler of ``hdrc3 state``."""
     from rclpy.node import Node
 
-    from hdrc3.ros_runtime import RosProcess
+    from hdrc3_base.ros_runtime import RosProcess
     from hdrc3_interfaces.msg import CameraState, HelicopterState
     from hdrc3_platform_server.client import check_agent
     from hdrc3_platform_server.node import STATE_QOS

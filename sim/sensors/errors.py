@@ -1,6 +1,6 @@
 """Exceptions of the sensor models (misuse, never expected failures)."""
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 
 
 class SensorError(ConfigError):

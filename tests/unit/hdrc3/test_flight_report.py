@@ -4,9 +4,9 @@ import pymap3d
 import pytest
 from rclpy.serialization import serialize_message
 
-from hdrc3.errors import DataError
 from hdrc3.flight_report import build_report, plot_report
 from hdrc3.mcap_recording import RecordingWriter, TopicInfo
+from hdrc3_base.errors import DataError
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_interfaces.msg import HelicopterState, PfcState, PlatformEvent
 

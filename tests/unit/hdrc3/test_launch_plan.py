@@ -4,7 +4,6 @@ from pathlib import Path
 import pytest
 
 from hdrc3 import launch_plan
-from hdrc3.errors import ConfigError
 from hdrc3.launch_plan import (
     LaunchOptions,
     NodeKind,
@@ -13,10 +12,10 @@ from hdrc3.launch_plan import (
     check_domain_id,
     check_record_path,
     check_world,
-    parse_agents,
     parse_nodes,
     parse_speed,
 )
+from hdrc3_base.errors import ConfigError
 
 CATALOG = (
     NodeKind("system_monitor", "hdrc3-system-monitor", Scope.GLOBAL, ""),
@@ -24,29 +23,6 @@ CATALOG = (
     NodeKind("platform_server", "hdrc3-platform-server", Scope.AGENT, ""),
     NodeKind("dyknow", "hdrc3-dyknow", Scope.AGENT, "", default=False),
 )
-
-
-@pytest.mark.parametrize(
-    ("text", "agents"),
-    [("uav0", ("uav0",)), ("uav0, uav1", ("uav0", "uav1")), ("a_1,", ("a_1",))],
-)
-def test_parse_agents(text: str, agents: tuple[str, ...]) -> None:
-    assert parse_agents(text) == agents
-
-
-@pytest.mark.parametrize(
-    ("text", "message"),
-    [
-        ("", "no agent given"),
-        ("UAV0", "invalid agent name 'UAV0'"),
-        ("uav-0", "invalid agent name"),
-        ("0uav", "invalid agent name"),
-        ("uav0,uav0", "agent listed twice"),
-    ],
-)
-def test_bad_agents(text: str, message: str) -> None:
-    with pytest.raises(ConfigError, match=message):
-        parse_agents(text)
 
 
 def test_parse_nodes_keeps_catalog_order_and_always_started_nodes() -> None:

@@ -5,8 +5,8 @@ from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 from rclpy.serialization import deserialize_message, serialize_message
 
-from hdrc3.errors import DataError, Hdrc3Error
 from hdrc3.mcap_recording import RecordingReader, RecordingWriter, TopicInfo
+from hdrc3_base.errors import DataError, Hdrc3Error
 from hdrc3_interfaces.msg import HelicopterState
 
 TOPIC = "/uav0/helicopter_state"

@@ -4,8 +4,8 @@ import time
 
 import pytest
 
-from hdrc3.errors import ConfigError
 from hdrc3.supervisor import ProcessSpec, ProcessState, RestartPolicy, Supervisor
+from hdrc3_base.errors import ConfigError
 
 
 def _python(code: str, name: str = "p") -> ProcessSpec:

@@ -4,8 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from hdrc3.errors import ConfigError
 from hdrc3.survey import SurveyArea, lawn_mower
+from hdrc3_base.errors import ConfigError
 
 
 @pytest.mark.parametrize(("legs", "segments"), [(1, 1), (2, 3), (4, 7)])

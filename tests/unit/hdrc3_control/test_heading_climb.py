@@ -7,7 +7,7 @@ from types import ModuleType
 
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, wrap_pi
 from hdrc3_control.heading_climb import ClimbMode, ModeOutput, ModeStatus, YawMode
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.path_segment import PathSegment
 
 TURN = PathSegment((0.0, 0.0, 10.0), (30.0, 30.0, 10.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), 5.0)

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import EstimatorHealth, G
 from hdrc3_control.measurements import (
     AttitudeMeasurement,

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_dyknow.formula import (
     Always,
     And,

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from hdrc3.errors import DataError
+from hdrc3_base.errors import DataError
 from hdrc3_dyknow.interpretation import StateOrderError
 from hdrc3_dyknow.trace_csv import parse_value, read_trace_csv
 

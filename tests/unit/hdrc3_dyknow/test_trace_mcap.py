@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from hdrc3.errors import ConfigError, DataError
+from hdrc3_base.errors import ConfigError, DataError
 from hdrc3_dyknow.fake_recording import FakeSample, write_fake_recording
 from hdrc3_dyknow.trace_mcap import FluentSource, parse_fluent_source, read_trace_mcap
 

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_hcsm.loader import load_file
 from hdrc3_hcsm.models import model_path
 from hdrc3_hcsm.parser import parse_text

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from hdrc3_platform_server.geo_frame import WorldFrame, frame_from_world
 
 

@@ -3,7 +3,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from sim.aircraft import Aircraft
 from sim.flight_model import MODEL_DIR, FlightModel, InitialPlacement, ServoCommand
 from sim.rc_transmitter import FlightModeSwitch

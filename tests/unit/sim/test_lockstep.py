@@ -1,6 +1,6 @@
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from sim.lockstep import LockstepBarrier, Offer, Verdict
 
 AGENTS = ("uav0", "uav1")

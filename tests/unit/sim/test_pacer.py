@@ -2,7 +2,7 @@ import math
 
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from sim.pacer import Pacer
 
 

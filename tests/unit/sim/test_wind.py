@@ -3,7 +3,7 @@ import math
 import numpy as np
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from sim.wind import Wind, WindSettings
 
 

@@ -3,7 +3,7 @@ from dataclasses import replace
 
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from sim.rc_transmitter import FlightModeSwitch
 from sim.wind import WindSettings
 from sim.world_loader import load_world

@@ -2,7 +2,7 @@ import math
 
 import pytest
 
-from hdrc3.errors import ConfigError
+from hdrc3_base.errors import ConfigError
 from sim.aircraft import Aircraft
 from sim.rc_transmitter import FlightModeSwitch, RcState, RcSticks
 from sim.rmax_params import RmaxParams

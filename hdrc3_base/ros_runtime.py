@@ -24,8 +24,8 @@ from rclpy.experimental.events_executor import EventsExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
-from hdrc3.errors import Hdrc3Error
-from hdrc3.ros_env import apply_localhost_default
+from hdrc3_base.errors import Hdrc3Error
+from hdrc3_base.ros_env import apply_localhost_default
 
 
 class RosProcess:
