@@ -32,6 +32,8 @@ stream p/ba contains XYDist(uav2, av1) = xy_dist(b/pos, a/pos) with period 100 m
 stream p/ca contains XYDist(uav3, av1) = xy_dist(c/pos, a/pos) with period 100 ms, max_delay 100 ms;
 """
 FORMULA = "forall x in AV: x != av1 implies always XYDist(x, av1) > 10"
+TOPIC_STREAMS = ("a/pos", "b/alt", "b/pos", "c/pos")
+"""The SPEC's streams fed directly by a helicopter_state topic."""
 
 
 @dataclass
@@ -72,6 +74,25 @@ class Rig:
             msg.header.stamp.sec, msg.header.stamp.nanosec = clock.clock.sec, clock.clock.nanosec
             msg.latitude, msg.longitude, msg.altitude = LAT0 + north / DEG_LAT_M, LON0, 100.0
             self.states[av].publish(msg)
+
+    def samples_in(self) -> dict[str, int]:
+        """Samples every stream has been offered so far, from the node's ListStreams service."""
+        from hdrc3_interfaces.srv import ListStreams
+
+        listing = self.call(self.list_streams, ListStreams.Request())
+        return {info.label: info.samples_in for info in listing.streams}
+
+    def step(self, t_ms: int, norths: dict[str, float], count: int) -> None:
+        """Publish /clock and every AV's state at ``t_ms``; wait until the node has taken them.
+
+        DDS does not order /clock against the state topics: without the wait, the next step's
+        /clock could overtake this step's states, which would then arrive late. ``count`` is the
+        number of samples each topic-fed stream has been offered once this step's have arrived.
+        """
+        self.publish(t_ms, norths)
+        assert self.spin_until(
+            lambda: all(self.samples_in()[label] == count for label in TOPIC_STREAMS)
+        ), (t_ms, self.samples_in())
 
 
 @pytest.fixture
@@ -164,9 +185,7 @@ def test_xydist_violation_is_detected_over_matched_streams(rig: Rig) -> None:
 
     uav3 = [50.0, 40.0, 30.0, 20.0, 15.0, 5.0, 5.0, 5.0, 5.0, 5.0]
     for step, north in enumerate(uav3):
-        rig.publish(1000 + 100 * step, {"av1": 0.0, "uav2": 100.0, "uav3": north})
-        for _ in range(10):
-            rig.executor.spin_once(timeout_sec=SPIN_TIMEOUT)
+        rig.step(1000 + 100 * step, {"av1": 0.0, "uav2": 100.0, "uav3": north}, step + 1)
     assert rig.spin_until(
         lambda: any(v.verdict == MonitorVerdict.VERDICT_FALSE for v in rig.verdicts)
     )
@@ -286,6 +305,7 @@ def test_console_script_runs_in_a_namespace(ros_context: object, tmp_path: Any) 
             if future.done():
                 break
             executor.spin_once(timeout_sec=SPIN_TIMEOUT)
+        assert future.done(), "list_streams did not answer"
         labels = [info.label for info in future.result().streams]
         assert labels == ["a/pos", "b/alt", "b/pos", "c/pos", "p/ba", "p/ca"]
     finally:

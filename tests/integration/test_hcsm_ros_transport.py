@@ -97,7 +97,10 @@ def test_corrupted_message_is_dropped(rig: Rig) -> None:
 
     executor, pfc, drc, node = rig
     raw = node.create_publisher(Event, f"{DEFAULT_PREFIX}/PFC", EVENT_QOS)
-    assert spin_until(executor, lambda: raw.get_subscription_count() > 0)
+    # both writers must be matched: the "ok" event comes from the DRC's, not from ``raw``
+    assert spin_until(
+        executor, lambda: raw.get_subscription_count() > 0 and drc.subscribers("PFC") > 0
+    )
     bad = to_msg(WireEvent(7001, "Go-EV", b"abc", "DRC", "PFC").sealed(1))
     bad.data = b"abd"  # payload changed after sealing
     raw.publish(bad)
@@ -124,9 +127,18 @@ def test_interpreter_round_trip_over_ros(rig: Rig) -> None:
     published: list[str] = []
     from std_msgs.msg import String
 
-    pfc_node.create_subscription(String, "hcsm/trace", lambda m: published.append(m.data), 10)
+    trace_sub = pfc_node.create_subscription(
+        String, "hcsm/trace", lambda m: published.append(m.data), 10
+    )
     publisher = TracePublisher(pfc_node, "hcsm/trace")
-    assert spin_until(executor, lambda: drc.subscribers("PFC") > 0 and pfc.subscribers("DRC") > 0)
+    assert spin_until(
+        executor,
+        lambda: (
+            drc.subscribers("PFC") > 0
+            and pfc.subscribers("DRC") > 0
+            and trace_sub.get_publisher_count() > 0
+        ),
+    )
     drc.send(WireEvent(7001, "Go-EV", b"wp-1", "DRC", "PFC"))
     now = 0.0
     replies: list[WireEvent] = []

@@ -16,6 +16,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
 from hdrc3.launcher import STATUS_QOS, STATUS_TOPIC
+from hdrc3.mcap_recording import RecordingReader
+from hdrc3_base.errors import DataError
 from hdrc3_interfaces.msg import LaunchStatus, SupervisedProcess
 
 pytestmark = pytest.mark.ros
@@ -28,6 +30,14 @@ def _spin_until(executor: SingleThreadedExecutor, predicate, timeout: float) -> 
             return False
         executor.spin_once(timeout_sec=0.1)
     return True
+
+
+def _flushed(path: Path) -> Counter[str]:
+    """Messages per topic in the chunks a running recorder has flushed to ``path`` so far."""
+    try:
+        return Counter(m.topic for m in RecordingReader.open(path).messages())
+    except DataError:  # not created yet, or a chunk read while it is being written
+        return Counter()
 
 
 def test_launch_records_supervises_and_stops_cleanly(hdrc3_cli, ros_context, tmp_path: Path):
@@ -67,6 +77,14 @@ def test_launch_records_supervises_and_stops_cleanly(hdrc3_cli, ros_context, tmp
 
     assert _spin_until(executor, restarted, 20), statuses[-1:]
     launch.wait_for_line("system_monitor: restarted (restart 1)")
+
+    # The recorder is a reader of its own: what this test received says nothing about what it
+    # wrote (it may have subscribed after the first diagnostics). Wait for the file to show it.
+    def recorded() -> bool:
+        counts = _flushed(out)
+        return counts["/diagnostics"] >= 1 and counts[STATUS_TOPIC] >= 2
+
+    assert _spin_until(executor, recorded, 30), _flushed(out)
     node.destroy_node()
 
     begin = time.monotonic()

@@ -23,6 +23,12 @@ pytestmark = pytest.mark.ros
 
 BIN = Path(sys.executable).parent
 AGENT = "uav0"
+SETTLE_S = 1.0
+"""Sim seconds after a completion event at which the end-to-end test reads the aircraft's state."""
+
+
+def _seconds(stamp: Any) -> float:
+    return stamp.sec + 1e-9 * stamp.nanosec
 
 
 def _spawn(args: list[str]) -> subprocess.Popen[bytes]:
@@ -97,7 +103,8 @@ class Client:
         return done()
 
     def call(self, srv: Any, name: str, **fields: Any) -> Any:
-        client = self.node.create_client(srv, f"/{AGENT}/{name}")
+        """Call a service of the agent (``name`` relative to it) or an absolute ``/name``."""
+        client = self.node.create_client(srv, name if name.startswith("/") else f"/{AGENT}/{name}")
         assert self.spin_until(client.service_is_ready, 30.0), name
         request = srv.Request()
         for key, value in fields.items():
@@ -106,14 +113,44 @@ class Client:
         assert self.spin_until(future.done, 10.0)
         return future.result()
 
-    def final(self, command_id: int, timeout: float = 30.0) -> Any:
+    def final(
+        self, command_id: int | None = None, timeout: float = 30.0, *, command: str = ""
+    ) -> Any:
+        """The completion event (finished, failed, cancelled) of a command, by id or by name."""
+
         def find() -> Any:
             return next(
-                (e for e in self.events if e.command_id == command_id and e.kind in (0, 1, 2)), None
+                (
+                    e
+                    for e in self.events
+                    if e.kind in (0, 1, 2)
+                    and (command_id is None or e.command_id == command_id)
+                    and (not command or e.command == command)
+                ),
+                None,
             )
 
         self.spin_until(lambda: find() is not None, timeout)
         return find()
+
+    def states_since(self, t: float) -> list[Any]:
+        """The Data Interface samples received so far that are stamped at or after sim time t."""
+        i = len(self.states)
+        while i > 0 and _seconds(self.states[i - 1].pfc_time) >= t:
+            i -= 1
+        return self.states[i:]
+
+    def state_at(self, t: float, timeout: float = 60.0) -> Any:
+        """The first Data Interface sample stamped at or after sim time ``t`` (bounded wait).
+
+        DDS does not order the state topic against the event topic: a sample read right after
+        an event arrived may still be one of before the event, so wait for the sim time instead.
+        """
+        assert self.spin_until(lambda: bool(self.states_since(t)), timeout), (
+            t,
+            [_seconds(s.pfc_time) for s in self.states[-1:]],
+        )
+        return self.states_since(t)[0]
 
 
 @pytest.fixture
@@ -144,13 +181,15 @@ def test_fcl_over_dds_ok_busy_finished_and_data_interface(client: Client) -> Non
         velocity=8.0,
     ).result
     assert bad.code == 2 and "finite" in bad.reason
-    # Data Interface: 25 Hz of sim time, airborne after the take-off
-    client.states.clear()
-    client.spin_until(lambda: len(client.states) >= 30, 20.0)
-    stamps = [s.pfc_time.sec + 1e-9 * s.pfc_time.nanosec for s in client.states]
+    # Data Interface: 25 Hz of sim time, airborne after the take-off (samples stamped from the
+    # completion event's sim time on: one received after the event may be older than it)
+    finished = _seconds(event.header.stamp)
+    client.spin_until(lambda: len(client.states_since(finished)) >= 30, 20.0)
+    states = client.states_since(finished)
+    stamps = [_seconds(s.pfc_time) for s in states]
     gaps = [b - a for a, b in itertools.pairwise(stamps)]
     assert len(stamps) >= 30 and all(abs(g - 0.04) < 1e-6 for g in gaps), gaps
-    assert not client.states[-1].on_ground_flag
+    assert not states[-1].on_ground_flag
 
 
 def test_services_survive_random_requests(client: Client) -> None:
@@ -217,7 +256,7 @@ def test_end_to_end_with_the_real_kernels(
     """Issue 6 "done when": take-off, 300 m fly-to (+ FCL_BUSY), land, through the real stack."""
     import pymap3d
 
-    from hdrc3_interfaces.srv import SimSetRc
+    from hdrc3_interfaces.srv import SimPause, SimSetRc
 
     launch = hdrc3_cli("launch", "--agents", AGENT, "--world", "revinge")
     launch.wait_for_line("READY", timeout=90)
@@ -232,7 +271,9 @@ def test_end_to_end_with_the_real_kernels(
         assert client.spin_until(lambda: client.states[-1].rpm >= 800.0, 120.0)
         assert hdrc3_main(["fcl", AGENT, "takeoff", "--timeout", "300"]) == 0
         assert "FCL_FINISHED" in capsys.readouterr().out
-        s = client.states[-1]
+        takeoff = client.final(command="fcl_takeoff", timeout=60.0)
+        assert takeoff is not None and takeoff.kind == 0, takeoff
+        s = client.state_at(_seconds(takeoff.header.stamp))
         e, n, _ = pymap3d.geodetic2enu(s.latitude, s.longitude, s.altitude, 55.70, 13.47, 95.0)
         lat, lon, alt = pymap3d.enu2geodetic(e + 300.0, n, 30.0, 55.70, 13.47, 95.0)
         from hdrc3_interfaces.srv import FclTraj3dFlyto
@@ -246,17 +287,26 @@ def test_end_to_end_with_the_real_kernels(
             velocity=8.0,
         ).result
         assert flyto.code == 0, flyto.reason
-        assert hdrc3_main(["fcl", AGENT, "traj3d_flyto", str(lon), str(lat), str(alt), "8"]) == 1
-        assert "FCL_BUSY" in capsys.readouterr().out
+        # sim time stands still while the CLI starts, so the fly-to is still running when the
+        # second one arrives, however long that takes on a loaded machine
+        paused = client.call(SimPause, "/world_sim/pause", paused=True).result
+        assert paused.code == 0, paused.reason
+        try:
+            argv = ["fcl", AGENT, "traj3d_flyto", str(lon), str(lat), str(alt), "8"]
+            assert hdrc3_main(argv) == 1
+            assert "FCL_BUSY" in capsys.readouterr().out
+        finally:
+            resumed = client.call(SimPause, "/world_sim/pause", paused=False).result
+        assert resumed.code == 0, resumed.reason
         final = client.final(flyto.command_id, timeout=300.0)
         assert final is not None and final.kind == 0, final
-        client.spin_until(lambda: False, 1.0)
-        s = client.states[-1]
+        s = client.state_at(_seconds(final.header.stamp) + SETTLE_S)
         offset = pymap3d.geodetic2enu(s.latitude, s.longitude, s.altitude, lat, lon, alt)
         assert math.dist(offset, (0.0, 0.0, 0.0)) <= 3.0, offset
         assert hdrc3_main(["fcl", AGENT, "land", "0", "--timeout", "300"]) == 0
-        client.spin_until(lambda: False, 1.0)
-        assert client.states[-1].on_ground_flag
+        landed = client.final(command="fcl_land", timeout=60.0)
+        assert landed is not None and landed.kind == 0, landed
+        assert client.state_at(_seconds(landed.header.stamp) + SETTLE_S).on_ground_flag
     finally:
         client.executor.shutdown()
         launch.interrupt(timeout=30)

@@ -9,6 +9,7 @@ import pytest
 from rclpy.duration import Duration
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from hdrc3.mcap_recording import RecordingReader
 from hdrc3_interfaces.msg import HelicopterState
@@ -16,6 +17,9 @@ from hdrc3_interfaces.msg import HelicopterState
 pytestmark = pytest.mark.ros
 TOPIC = "/uav0/helicopter_state"
 COUNT = 25
+# keep every sample of the burst until the recorder has acknowledged it: a shallower keep-last
+# history drops unacknowledged samples when the recorder is slow to read on a loaded machine
+BURST_QOS = QoSProfile(depth=COUNT, reliability=ReliabilityPolicy.RELIABLE)
 
 
 def _spin_until(executor: SingleThreadedExecutor, predicate, timeout: float) -> bool:
@@ -32,7 +36,7 @@ def test_record_then_replay_delivers_the_same_messages(hdrc3_cli, ros_context, t
     node = Node("scenario", context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
-    publisher = node.create_publisher(HelicopterState, TOPIC, 10)
+    publisher = node.create_publisher(HelicopterState, TOPIC, BURST_QOS)
 
     recorder = hdrc3_cli("record", str(out), "--topics", TOPIC)
     assert _spin_until(executor, lambda: publisher.get_subscription_count() > 0, 30)

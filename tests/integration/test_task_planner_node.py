@@ -47,6 +47,8 @@ def planner_client(ros_context: Any) -> Iterator[tuple[Any, Any]]:
 def _call(executor: Any, client: Any, **fields: Any) -> Any:
     from hdrc3_interfaces.srv import Plan
 
+    # a request sent before the client has matched the server is lost: wait for the match
+    assert client.wait_for_service(timeout_sec=WAIT_S), "plan service not discovered"
     request = Plan.Request()
     request.timeout = 20.0
     for key, value in fields.items():

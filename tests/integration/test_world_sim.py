@@ -81,6 +81,23 @@ def _spin_until(executor: SingleThreadedExecutor, done: Callable[[], bool], time
     return True
 
 
+def _sim_now(executor: SingleThreadedExecutor, node: Node) -> int:
+    """A sim time (ns) at or after that of every world_sim request answered so far.
+
+    world_sim serves a request between ticks, after the /clock of the current tick; /clock is
+    latched keep-last 1, so a subscription created now first receives the latest value, which
+    is at least the tick at which the request was served. (A /clock value already received
+    may be older than the request: DDS does not order /clock against the service reply.)
+    """
+    now: list[int] = []
+    sub = node.create_subscription(Clock, "/clock", lambda m: now.append(_ns(m.clock)), CLOCK_QOS)
+    try:
+        assert _spin_until(executor, lambda: bool(now), 20.0), "no /clock"
+    finally:
+        node.destroy_subscription(sub)
+    return now[0]
+
+
 def _call(executor: SingleThreadedExecutor, node: Node, srv: Any, name: str, **fields: Any) -> Any:
     client = node.create_client(srv, name)
     try:
@@ -259,14 +276,25 @@ def test_launch_two_rmaxes_rates_hover_and_bit_identical_lockstep(hdrc3_cli, ros
                 RELIABLE,
             )
         )
-    matched = lambda: bool(clock) and all(sub.get_publisher_count() for sub in subs)  # noqa: E731
-    assert _spin_until(executor, matched, 30.0), "world_sim's topics not discovered"
-    start = clock[-1] + 500_000_000  # the writer side of the match may lag the reader side
+    # The writer side of a match may lag the reader side, and world_sim publishes only to matched
+    # readers: count from the first sample every topic has delivered (from then on nothing is
+    # missed), not from a guessed margin.
+    keys = [f"{agent}/{topic}" for agent in pads for topic in RATES]
+
+    def flowing() -> bool:
+        return bool(clock) and all(stamps.get(k) for k in keys) and len(truth_last) == len(pads)
+
+    assert _spin_until(executor, flowing, 30.0), [k for k in keys if not stamps.get(k)]
+    start = max(stamps[k][0] for k in keys)
     end = start + 2_000_000_000
     assert _spin_until(executor, lambda: clock[-1] >= end + 100_000_000, 30.0), clock[-1:]
     assert clock == sorted(clock) and clock[-1] > clock[0]
-    # /clock (keep-last 1) runs ahead of a backlog on the busier topics: drain past the window
-    drained = lambda: all(ns and ns[-1] >= end for ns in stamps.values())  # noqa: E731
+
+    def drained() -> bool:
+        """/clock (keep-last 1) runs ahead of a backlog on the busier topics: drain the window."""
+        truth_stamps = [_ns(truth_last[a].header.stamp) for a in pads]
+        return all(stamps[k][-1] >= end for k in keys) and min(truth_stamps) >= end
+
     assert _spin_until(executor, drained, 30.0), {k: v[-1:] for k, v in stamps.items()}
     for key, ns in stamps.items():
         rate = RATES[key.split("/", 1)[1]][1]
@@ -352,7 +380,8 @@ def test_requests_change_the_running_world(hdrc3_cli, ros_context) -> None:
     node.create_subscription(WindState, "/world_sim/wind", wind.append, RELIABLE)
 
     def advance(seconds: float) -> None:
-        goal = clock[-1] + int(seconds * 1e9)
+        """Let ``seconds`` of sim time pass after every request answered so far."""
+        goal = _sim_now(executor, node) + int(seconds * 1e9)
         assert _spin_until(executor, lambda: clock[-1] >= goal, 20.0), clock[-1]
 
     assert _spin_until(executor, lambda: bool(gps and objects and truth and wind), 20.0)
@@ -391,7 +420,7 @@ def test_requests_change_the_running_world(hdrc3_cli, ros_context) -> None:
         _call(executor, node, SimTeleport, "/world_sim/teleport", agent="uav0",
               frame=SimTeleport.Request.FRAME_WGS84, x=o.latitude, y=o.longitude, height=4.0)
     )  # fmt: skip
-    moved_at = clock[-1]
+    moved_at = _sim_now(executor, node)  # clock[-1] may still be of before the teleport
     later = lambda: _ns(truth[-1].header.stamp) > moved_at + 500_000_000  # noqa: E731
     assert _spin_until(executor, later, 20.0)
     assert math.dist(truth[-1].position_enu[:2], (0.0, 0.0)) < 0.5
