@@ -119,6 +119,11 @@ class Yas:
         if readings.ground_contact is not None:
             self._on_ground = readings.ground_contact.on_ground
 
+    @property
+    def accel_bias(self) -> float:
+        """Estimated bias of the vertical specific force, m/s^2 (for test evaluation)."""
+        return self._accel_bias
+
     def measurement(self) -> YacsInput:
         """The YACS input now."""
         p, q, r = self._rates if self.rates_ok or self.attitude_ok else (0.0, 0.0, 0.0)
