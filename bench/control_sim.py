@@ -111,12 +111,6 @@ class SimFlight:
     ) -> None:
         self.world = load_world("revinge")
         o = self.world.origin
-        self.aircraft = Aircraft(
-            placement=placement or InitialPlacement(),
-            origin=(o.latitude, o.longitude, o.altitude),
-            terrain_height=self.world.terrain.height,
-            payload=payload,
-        )
         self.suite = SensorSuite(self.world, seed=seed, geometry=WorldGeometry(self.world))
         # imaging payloads cost milliseconds per frame and play no part in flight control
         for dev in (
@@ -126,6 +120,14 @@ class SimFlight:
             PowerDevice.PTU,
         ):
             self.suite.power.switch(dev, on=False)
+        # the YACS flies on the same suite the estimator is fed from (as in world_sim)
+        self.aircraft = Aircraft(
+            placement=placement or InitialPlacement(),
+            origin=(o.latitude, o.longitude, o.altitude),
+            terrain_height=self.world.terrain.height,
+            payload=payload,
+            sensors=self.suite,
+        )
         self.estimator = StateEstimator(estimator)
         self.wind = wind
         self.gusts = GustModel(gust_sigma, 2.0, seed + 1000)
@@ -177,11 +179,12 @@ class SimFlight:
     def step_fdm(self) -> None:
         """One 200 Hz step of the world and the sensors into the estimator."""
         was_on_ground = self.aircraft.model.on_ground
-        self.aircraft.step()
+        readings = self.aircraft.step()
         truth = self.aircraft.truth()
         if truth.on_ground and not was_on_ground:
             self.touchdowns.append(truth)
-        self._feed(self.suite.step(truth, self.dt_fdm))
+        if readings is not None:  # always: the aircraft has the suite
+            self._feed(readings)
 
     def tick(self, controller: Controller) -> EstimatedState:
         """One 50 Hz control tick: estimate -> controller -> YACS, then 4 FDM steps."""

@@ -1,14 +1,23 @@
-"""One simulated RMAX: flight model + YACS inner loop + the safety pilot's RC transmitter."""
+"""One simulated RMAX: flight model + YACS inner loop + the safety pilot's RC transmitter.
+
+With a ``SensorSuite`` the YACS flies on those sensors (through the YAS front end,
+:mod:`sim.yas`), the same samples the rest of the simulation publishes. Without one it reads the
+true state: ideal sensors, for studies of the airframe and the inner loop alone (the flight-model
+unit tests and ``bench/rmax_performance.py``).
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from hdrc3_base.errors import ConfigError
 from sim.flight_model import FlightModel, InitialPlacement, TerrainHeight, flat_terrain
 from sim.rc_transmitter import FlightModeSwitch, RcTransmitter
 from sim.rmax_params import RmaxParams
+from sim.sensors.suite import SensorReadings, SensorSuite
 from sim.truth_state import TruthState
 from sim.yacs import CommandSource, Yacs, YacsCommand, YacsGains, YacsInput
+from sim.yas import Yas
 
 
 @dataclass(frozen=True, slots=True)
@@ -23,6 +32,8 @@ class YacsStatus:
     rotor_rpm: float
     source: CommandSource
     """Command source the YACS used in the last step."""
+    attitude_ok: bool = True
+    """False while the YACS's attitude sensor is lost (roll/pitch coasted on the gyros)."""
 
 
 class Aircraft:
@@ -50,8 +61,13 @@ class Aircraft:
         payload: float = 0.0,
         rate_hz: float = 200.0,
         gains: YacsGains | None = None,
+        sensors: SensorSuite | None = None,
     ) -> None:
-        """Build the aircraft on the ground, engine off, RC in manual mode (see ``FlightModel``)."""
+        """Build the aircraft on the ground, engine off, RC in manual mode (see ``FlightModel``).
+
+        ``sensors``: the aircraft's sensor suite, read after every step and flown on by the YACS
+        (None: the YACS reads the true state).
+        """
         self.model = FlightModel(
             params,
             placement=placement,
@@ -62,6 +78,9 @@ class Aircraft:
             rate_hz=rate_hz,
         )
         self.yacs = Yacs(self.model.params, self.model.dt, gains)
+        self.sensors = sensors
+        self.yas = Yas()
+        """The YACS's view of ``sensors`` (unused without them)."""
         self.rc = RcTransmitter()
         self._engine_cut = False
         self._cut_requested = False
@@ -76,11 +95,36 @@ class Aircraft:
         self._engine_cut = False
         self._cut_requested = False
 
-    def step(self) -> None:
-        """One tick: YACS reads the attitude sensors and the RC, then the flight model moves."""
+    def step(self) -> SensorReadings | None:
+        """One tick: YACS reads its sensors and the RC, the flight model moves, sensors are read.
+
+        Returns the samples that came due at the new time (None without a sensor suite).
+        """
         m = self.model
         rc = self.rc.state
-        meas = YacsInput(
+        m.set_servos(self.yacs.step(rc, self._measure()))
+        if self._cut_requested and rc.mode is FlightModeSwitch.AUTONOMOUS:
+            self._engine_cut = True  # the computer's kill stays until the pilot restarts
+        m.engine_switch = rc.engine_on and not self._engine_cut
+        m.step()
+        return None if self.sensors is None else self.read_sensors(m.dt)
+
+    def read_sensors(self, dt: float) -> SensorReadings:
+        """Step the sensor suite by ``dt`` at the current truth; the YAS takes the samples too.
+
+        ConfigError without a sensor suite.
+        """
+        if self.sensors is None:
+            raise ConfigError("this aircraft has no sensor suite")
+        readings = self.sensors.step(self.truth(), dt)
+        self.yas.observe(readings)
+        return readings
+
+    def _measure(self) -> YacsInput:
+        if self.sensors is not None:
+            return self.yas.measurement()
+        m = self.model
+        return YacsInput(
             roll=m.roll,
             pitch=m.pitch,
             p=m.p,
@@ -89,11 +133,6 @@ class Aircraft:
             climb_rate=m.velocity_enu[2],
             on_ground=m.on_ground,
         )
-        m.set_servos(self.yacs.step(rc, meas))
-        if self._cut_requested and rc.mode is FlightModeSwitch.AUTONOMOUS:
-            self._engine_cut = True  # the computer's kill stays until the pilot restarts
-        m.engine_switch = rc.engine_on and not self._engine_cut
-        m.step()
 
     def run(self, seconds: float) -> None:
         """Step for ``seconds`` of simulated time (rounded to whole steps)."""
@@ -113,4 +152,5 @@ class Aircraft:
             engine_running=self.model.powertrain.running,
             rotor_rpm=self.model.powertrain.omega * 60.0 / 6.283185307179586,
             source=self.yacs.source,
+            attitude_ok=self.sensors is None or self.yas.attitude_ok,
         )

@@ -32,7 +32,6 @@ FDM_RATE_HZ = 200
 STEPS_PER_TICK = FDM_RATE_HZ // TICK_RATE_HZ
 TICK_NS = 1_000_000_000 // TICK_RATE_HZ
 TICK_S = 1.0 / TICK_RATE_HZ
-FDM_DT = 1.0 / FDM_RATE_HZ
 
 OFF_AT_START = PowerDevice.LASER
 """Devices switched off when an agent starts: the laser scanner is a mission payload (section
@@ -170,15 +169,21 @@ class WorldSim:
 
     def _build(self, agent: SimAgent) -> None:
         pad = agent.pad
-        agent.aircraft = self._new_aircraft(InitialPlacement(pad.east, pad.north, pad.heading))
         agent.sensors = SensorSuite(self.world, agent.seed, self.geometry)
         agent.sensors.power.switch(OFF_AT_START, False)
+        agent.aircraft = self._new_aircraft(
+            InitialPlacement(pad.east, pad.north, pad.heading), agent.sensors
+        )
         agent.rejected_commands = 0
         agent.command = YacsCommand()
-        self._readings[agent.name] = [agent.sensors.step(agent.aircraft.truth(), 0.0)]
+        self._readings[agent.name] = [agent.aircraft.read_sensors(0.0)]
 
     def _new_aircraft(
-        self, placement: InitialPlacement, fuel: float | None = None, payload: float | None = None
+        self,
+        placement: InitialPlacement,
+        sensors: SensorSuite,
+        fuel: float | None = None,
+        payload: float | None = None,
     ) -> Aircraft:
         aircraft = Aircraft(
             placement=placement,
@@ -187,6 +192,7 @@ class WorldSim:
             fuel=self.config.fuel if fuel is None else fuel,
             payload=self.config.payload if payload is None else payload,
             rate_hz=FDM_RATE_HZ,
+            sensors=sensors,
         )
         # all aircraft share the world's clock (sensors schedule on truth.time)
         aircraft.model.steps = self.tick * STEPS_PER_TICK
@@ -195,10 +201,15 @@ class WorldSim:
         return aircraft
 
     def place(self, agent: str, east: float, north: float, height: float, heading: float) -> None:
-        """Teleport: same aircraft state of engine, rotor, fuel, payload and RC; at rest, level."""
+        """Teleport: same aircraft state of engine, rotor, fuel, payload and RC; at rest, level.
+
+        The sensors are the same (same noise streams, faults and power switches); the YACS and
+        its YAS estimate start afresh (level, at rest) like the rest of the rebuilt aircraft.
+        """
         old = self.agents[agent].aircraft
         new = self._new_aircraft(
             InitialPlacement(east, north, heading, height),
+            self.agents[agent].sensors,
             fuel=old.model.powertrain.fuel,
             payload=old.model.payload,
         )
@@ -232,11 +243,11 @@ class WorldSim:
         for agent in self.agents.values():
             aircraft = agent.aircraft
             aircraft.model.set_wind(mean, gust)
-            sensors = agent.sensors
             out = self._readings[agent.name]
             for _ in range(STEPS_PER_TICK):
-                aircraft.step()
-                out.append(sensors.step(aircraft.truth(), FDM_DT))
+                readings = aircraft.step()
+                if readings is not None:  # every world_sim aircraft has its suite
+                    out.append(readings)
         self.tick += 1
 
     def take_readings(self) -> dict[str, list[SensorReadings]]:

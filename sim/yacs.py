@@ -15,6 +15,12 @@ Control law per axis (roll shown; pitch alike, all gains in ``YacsGains``)::
 the rate term damps the rotor-fuselage mode; the integral (only in the air) trims out tail-rotor
 side force, CG offsets and wind. Gains were tuned on this flight model for about 0.35-0.5 s rise
 time and < 15 % overshoot to a 10 degree attitude step.
+
+The measurements (``YacsInput``) come from the aircraft's sensors through the YAS front end
+(:mod:`sim.yas`): filtered, noisy, biased and faulty like the sensors. While the attitude sensor
+is lost (``attitude_ok`` False) the loops fly the gyro-coasted attitude with the roll/pitch
+integrators frozen, since that estimate drifts with the gyro bias and integrating its error
+would walk the trim away; the servos stay on the trim they had.
 """
 
 from __future__ import annotations
@@ -119,6 +125,8 @@ class YacsInput:
     climb_rate: float
     """m/s, up positive."""
     on_ground: bool
+    attitude_ok: bool = True
+    """False while the attitude sensor is lost and roll/pitch are coasted on the gyros."""
 
 
 def _clip(value: float, limit: float) -> float:
@@ -182,10 +190,10 @@ class Yacs:
         pitch_err = _clip(cmd.pitch, g.max_attitude) - meas.pitch
         p_cmd = _clip(g.k_att * roll_err, g.max_rate)
         q_cmd = _clip(g.k_att * pitch_err, g.max_rate)
-        if airborne:
+        if airborne and meas.attitude_ok:
             self._int_roll = _clip(self._int_roll + g.k_int * roll_err * dt, cyc)
             self._int_pitch = _clip(self._int_pitch + g.k_int * pitch_err * dt, cyc)
-        else:
+        elif not airborne:
             self._int_roll = self._int_pitch = 0.0
         lat = tau * p_cmd + g.k_rate * (p_cmd - meas.p) + self._int_roll
         lon = -(tau * q_cmd + g.k_rate * (q_cmd - meas.q) + self._int_pitch)
