@@ -17,6 +17,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_control.event_codec import command_id_of, decode, encode
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_platform_server import limits as check
@@ -25,7 +26,6 @@ from hdrc3_platform_server.completion import CompletionEvent, EventSink
 from hdrc3_platform_server.drc import DrcKernel, FlightState, PlatformState
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.limits import FlightLimits
-from hdrc3_platform_server.payload import PayloadError, decode, encode
 
 API_EVENT: dict[FclCommand, str] = {
     FclCommand.TAKEOFF: "Api-Takeoff-EV",
@@ -389,14 +389,10 @@ class FlightCommandLayer:
         if event.name not in PFC_REPLIES:
             return
         cur = self.current
-        try:
-            p = decode(event.data)
-        except PayloadError:
-            return
-        if cur is None or p.command_id not in cur.open_ids():
+        cid = command_id_of(event.data)  # 0 for a short payload: never an open id
+        if cur is None or cid not in cur.open_ids():
             return
         name = event.name
-        cid = p.command_id
         if name == "Request-Segment-EV":
             self._segment_started(cur, cid)
         elif name == "Cmd-Accepted-EV":
@@ -480,8 +476,5 @@ class FlightCommandLayer:
 
 
 def _reason(data: bytes, default: str) -> str:
-    try:
-        text = decode(data).reason.strip()
-    except PayloadError:
-        return default
-    return text or default
+    # text with invalid UTF-8 is still shown (replaced bytes): it only names a reason
+    return decode(data, 0, with_reason=True).reason.strip() or default

@@ -16,6 +16,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from hdrc3_control.event_codec import decode, encode
 from hdrc3_control.ppc_hardware import CAMERAS, PtuLimits
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_platform_server import limits as check
@@ -24,7 +25,6 @@ from hdrc3_platform_server.completion import CompletionEvent, EventSink
 from hdrc3_platform_server.drc import DrcKernel
 from hdrc3_platform_server.fcl_api import IdSource
 from hdrc3_platform_server.geo_frame import WorldFrame
-from hdrc3_platform_server.payload import PayloadError, decode, encode
 
 RESOURCE_OF: dict[PpclCommand, Resource] = {
     PpclCommand.LOOK_AT: Resource.PTU,
@@ -304,10 +304,9 @@ class PayloadCommandLayer:
         """Finish or fail the pending command the PPC reports on."""
         if event.name not in ("PPCL-Finished-EV", "PPCL-Failed-EV"):
             return
-        try:
-            p = decode(event.data)
-        except PayloadError:
-            return
+        # a short payload decodes to id 0, which is never pending; an invalid UTF-8 reason is
+        # still shown (replaced bytes)
+        p = decode(event.data, 0, with_reason=True)
         entry = self.pending.pop(p.command_id, None)
         if entry is None:
             return
