@@ -15,23 +15,12 @@ from hdrc3_control.event_codec import decode, encode
 from hdrc3_control.pfc_state import FlightMode
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.transport import LoopbackNetwork, Transport
+from hdrc3_platform_server.commands import wire_arity
 from hdrc3_platform_server.completion import CompletionEvent, EventLog
 from hdrc3_platform_server.data_interface import HelicopterStateData
 from hdrc3_platform_server.drc import load_model
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.platform_status import CameraSample, PfcSample
-
-ARITY = {
-    "FCL-Takeoff-EV": 0,
-    "FCL-Land-EV": 1,
-    "FCL-Yaw-EV": 1,
-    "FCL-Climb-EV": 1,
-    "Traj3D-Flyto-EV": 4,
-    "Traj3D-EV": 14,
-    "FCL-Track-EV": 0,
-    "Emergency-Brake-EV": 0,
-    "FCL-Cancel-EV": 0,
-}
 
 
 def _event_id(name: str) -> int:
@@ -128,9 +117,10 @@ class FakePfc:
     # --- commands -------------------------------------------------------------------------
     def _command(self, event: WireEvent) -> None:
         name = event.name
-        if name not in ARITY:
+        arity = wire_arity().get(name)
+        if arity is None:
             return
-        p = decode(event.data, ARITY[name])
+        p = decode(event.data, arity)
         if not p.ok:
             return
         cid, v = p.command_id, p.values
@@ -250,26 +240,6 @@ class FakePfc:
         self._send("Hover-Stable-EV", None)
 
 
-PPC_ARITY = {
-    "PPCL-Turn-To-EV": 2,
-    "PPCL-Look-At-EV": 3,
-    "PPCL-Ptu-Abort-EV": 0,
-    "PPCL-Zoom-EV": 2,
-    "PPCL-Exposure-EV": 2,
-    "PPCL-Iris-EV": 2,
-    "PPCL-Shutter-EV": 2,
-    "PPCL-Laser-Angular-EV": 1,
-    "PPCL-Laser-Distance-EV": 1,
-    "PPCL-Laser-Speed-EV": 1,
-    "PPCL-Laser-Angle-EV": 1,
-    "PPCL-Laser-Start-EV": 0,
-    "PPCL-Laser-Stop-EV": 0,
-    "PPCL-IP-Tracker-EV": 2,
-    "PPCL-IP-State-Est-EV": 0,
-    "PPCL-IP-Abort-EV": 0,
-}
-
-
 class FakePpc:
     """A PPC stand-in: PTU and zoom move in ``move_time``; parameters apply at once."""
 
@@ -295,7 +265,7 @@ class FakePpc:
         self.now = now
         for event in self.transport.receive():
             self.received.append(event)
-            arity = PPC_ARITY.get(event.name)
+            arity = wire_arity().get(event.name)
             if arity is None:
                 continue
             p = decode(event.data, arity)
