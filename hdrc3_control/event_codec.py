@@ -1,8 +1,11 @@
 """Payloads of the real-time events between DRC, PFC and PPC (docs/realtime_events.md).
 
 Every command event starts with the DRC's command id as a little-endian ``uint64``; numbers
-follow as little-endian ``float64``; a reason is UTF-8 text after the numbers. Decoding never
-raises on bad bytes: it returns a :class:`Decoded` with a status and a readable reason.
+follow as little-endian ``float64``; a reason is UTF-8 text after the numbers. This is the one
+codec of these payloads: the PFC and PPC kernels, the Platform Server and its fakes all use it.
+Decoding never raises on bad bytes: it returns a :class:`Decoded` with a status and a readable
+problem. The receiver knows how many numbers an event carries (the Platform Server's command
+registry, ``hdrc3_platform_server.commands``, for the command events).
 """
 
 from __future__ import annotations
@@ -10,23 +13,11 @@ from __future__ import annotations
 import enum
 import math
 import struct
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 _ID = struct.Struct("<Q")
 _F64 = 8
-
-# Numbers after the id, per command event (contract table "DRC -> PFC").
-COMMAND_ARITY: dict[str, int] = {
-    "FCL-Takeoff-EV": 0,
-    "FCL-Land-EV": 1,
-    "FCL-Yaw-EV": 1,
-    "FCL-Climb-EV": 1,
-    "Traj3D-Flyto-EV": 4,
-    "Traj3D-EV": 14,
-    "FCL-Track-EV": 0,
-    "Emergency-Brake-EV": 0,
-    "FCL-Cancel-EV": 0,
-}
 
 
 class DecodeStatus(enum.Enum):
@@ -41,7 +32,10 @@ class DecodeStatus(enum.Enum):
 
 @dataclass(frozen=True, slots=True)
 class Decoded:
-    """A decoded payload: the command id, the numbers and the reason text."""
+    """A decoded payload: the command id, the numbers and the reason text.
+
+    ``reason`` is also set for BAD_TEXT, with the invalid bytes replaced by U+FFFD.
+    """
 
     status: DecodeStatus
     command_id: int = 0
@@ -55,7 +49,7 @@ class Decoded:
         return self.status is DecodeStatus.OK
 
 
-def encode(command_id: int, values: tuple[float, ...] = (), reason: str = "") -> bytes:
+def encode(command_id: int, values: Sequence[float] = (), reason: str = "") -> bytes:
     """Id, numbers and reason in the contract's layout."""
     if not 0 <= command_id < 2**64:
         raise ValueError(f"command id {command_id} outside uint64")
@@ -89,13 +83,7 @@ def decode(data: bytes, count: int, *, with_reason: bool = False) -> Decoded:
         try:
             reason = data[need:].decode("utf-8")
         except UnicodeDecodeError as exc:
-            return Decoded(DecodeStatus.BAD_TEXT, cid, tuple(values), problem=str(exc))
+            # the text stays readable (invalid bytes replaced) for callers that only show it
+            text = data[need:].decode("utf-8", errors="replace")
+            return Decoded(DecodeStatus.BAD_TEXT, cid, tuple(values), text, str(exc))
     return Decoded(DecodeStatus.OK, cid, tuple(values), reason)
-
-
-def decode_command(name: str, data: bytes) -> Decoded:
-    """Decode a DRC -> PFC command event by name (unknown names are WRONG_LENGTH)."""
-    count = COMMAND_ARITY.get(name)
-    if count is None:
-        return Decoded(DecodeStatus.WRONG_LENGTH, problem=f"{name} is not a command event")
-    return decode(data, count)

@@ -21,7 +21,7 @@ from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from hdrc3_control.event_codec import COMMAND_ARITY, command_id_of, encode
+from hdrc3_control.event_codec import command_id_of, encode
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.trace import TraceRecord, TraceSink
 
@@ -30,8 +30,6 @@ WITH_REASON = frozenset({"Cmd-Rejected-EV", "Cmd-Failed-EV", "Cmd-Cancelled-EV"}
 FINAL = frozenset(
     {"Cmd-Finished-EV", "Traj-Arrived-EV", "Cmd-Failed-EV", "Cmd-Cancelled-EV", "Cmd-Rejected-EV"}
 )
-REJECTED_ID = 2102
-"""Id of Cmd-Rejected-EV (pfc_events.hcsm)."""
 FUNCTION_EVENT_PREFIX = "Fn-"
 """Events posted by the control functions already carry the contract's payload."""
 
@@ -103,9 +101,13 @@ def _where(configuration: Iterable[str]) -> str:
 
 
 class SendLog:
-    """Trace sink: remembers remote SENDs and unanswered command events; forwards records."""
+    """Trace sink: remembers remote SENDs and unanswered command events; forwards records.
 
-    def __init__(self, forward: TraceSink | None = None) -> None:
+    ``commands`` are the DRC's command events: those the PFC model declares ``from DRC``.
+    """
+
+    def __init__(self, commands: frozenset[str], forward: TraceSink | None = None) -> None:
+        self.commands = commands
         self.forward = forward
         self.sends: list[SendRecord] = []
         self.unanswered: list[Unanswered] = []
@@ -119,7 +121,7 @@ class SendLog:
         """Take one micro step's record."""
         if record.origin == "external" and self._posted:
             name, data = self._posted.popleft()
-            if name in COMMAND_ARITY and not record.transitions:
+            if name in self.commands and not record.transitions:
                 self.unanswered.append(Unanswered(name, data, _where(record.configuration)))
         for fired in record.transitions:
             for action in fired.actions:
@@ -140,9 +142,13 @@ class SendLog:
 class EventProtocol:
     """Turns the automata's outgoing events into the contract's payloads."""
 
-    def __init__(self, failure_reason: Callable[[], str]) -> None:
-        """``failure_reason`` gives the reason of the last control function failure."""
+    def __init__(self, failure_reason: Callable[[], str], rejected_id: int) -> None:
+        """``failure_reason`` gives the reason of the last control function failure.
+
+        ``rejected_id`` is the model's id of Cmd-Rejected-EV, which the protocol sends itself.
+        """
         self.failure_reason = failure_reason
+        self.rejected_id = rejected_id
         self.active: set[int] = set()
         self.dropped = 0
         self.current = 0
@@ -171,7 +177,9 @@ class EventProtocol:
                 continue
             reason = f"{item.event} not accepted in {item.state or 'the current state'}"
             out.append(
-                WireEvent(REJECTED_ID, "Cmd-Rejected-EV", encode(cid, (), reason), "PFC", "DRC")
+                WireEvent(
+                    self.rejected_id, "Cmd-Rejected-EV", encode(cid, (), reason), "PFC", "DRC"
+                )
             )
         return out
 

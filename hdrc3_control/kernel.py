@@ -19,6 +19,7 @@ ground) and the :class:`~hdrc3_control.pfc_state.PfcSnapshot`.
 from __future__ import annotations
 
 import enum
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -66,12 +67,16 @@ from hdrc3_hcsm.interpreter import Interpreter, StepResult
 from hdrc3_hcsm.loader import load_file
 from hdrc3_hcsm.main_loop import MainLoop
 from hdrc3_hcsm.memory import ActionFlags, MemoryBank
-from hdrc3_hcsm.tables import compile_model
+from hdrc3_hcsm.tables import CompiledModel, compile_model
 from hdrc3_hcsm.trace import TraceSink
 from hdrc3_hcsm.transport import SendStatus, Transport
 
 MODE_CHANGED_ID = 2107
-"""Mode-Changed-EV (docs/realtime_events.md): sent by the kernel itself on every mode change."""
+"""Mode-Changed-EV (docs/realtime_events.md): sent by the kernel itself on every mode change.
+
+The one id the PFC models cannot give: no automaton sends the event, and declaring it there
+would be an unused declaration (W002). The DRC model declares it, and test_drc checks this id.
+"""
 
 _FUNCTION_MODES = {
     "hover": FlightMode.HOVER,
@@ -84,6 +89,12 @@ GROUND_IDLE = AttitudeCommand(vertical=-1.0)
 """On the skids: minimum collective (the YACS keeps the collective at 0 when not climbing)."""
 LEVEL_HOLD = AttitudeCommand()
 """Airborne with no function running (for a tick between two functions): level, climb rate 0."""
+
+
+@functools.cache
+def load_model() -> CompiledModel:
+    """The shipped PFC model, loaded and compiled once (raises on a broken file: packaging)."""
+    return compile_model(load_file(automaton_path()))
 
 
 class UiCommand(enum.Enum):
@@ -186,10 +197,13 @@ class PfcKernel:
                 "Land-Mode-AC": ControlFunctionRunner("landing", self.landing),
             }
         )
-        self.log = SendLog(trace)
-        self.protocol = EventProtocol(lambda: self.ctx.failure)
-        model = compile_model(load_file(c.model or automaton_path()))
-        self.interpreter = Interpreter(model, self._conditions(), trace=self.log)
+        self.model = load_model() if c.model is None else compile_model(load_file(c.model))
+        """The compiled PFC model: its events' ids are the wire contract's."""
+        events = self.model.source.events
+        self.log = SendLog(frozenset(e.name for e in events if e.source == "DRC"), trace)
+        rejected = self.model.events.id_of("Cmd-Rejected-EV")
+        self.protocol = EventProtocol(lambda: self.ctx.failure, rejected)
+        self.interpreter = Interpreter(self.model, self._conditions(), trace=self.log)
         self.loop = MainLoop(self.interpreter, (self, self.braking, self.functions))
         self.estimator = StateEstimator(c.estimator)
         self.state: EstimatedState | None = None

@@ -13,7 +13,7 @@ from collections.abc import Callable
 
 from hdrc3_control.commands import AttitudeCommand, VerticalMode
 from hdrc3_control.event_codec import command_id_of, encode
-from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult
+from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult, load_model
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,
@@ -34,18 +34,10 @@ from sim.world_sim import SimConfig, WorldSim
 from sim.yacs import VerticalMode as YacsVerticalMode
 from sim.yacs import YacsCommand
 
-# Ids of the DRC -> PFC events (docs/realtime_events.md).
-COMMAND_IDS: dict[str, int] = {
-    "FCL-Takeoff-EV": 2001,
-    "FCL-Land-EV": 2002,
-    "FCL-Yaw-EV": 2003,
-    "FCL-Climb-EV": 2004,
-    "Traj3D-Flyto-EV": 2005,
-    "Traj3D-EV": 1022,
-    "FCL-Track-EV": 2006,
-    "Emergency-Brake-EV": 2007,
-    "FCL-Cancel-EV": 2008,
-}
+
+def event_id(name: str) -> int:
+    """Id of the PFC event ``name``, from the shipped PFC model (docs/realtime_events.md)."""
+    return load_model().events.id_of(name)
 
 
 def to_yacs(cmd: AttitudeCommand) -> YacsCommand:
@@ -162,14 +154,14 @@ class KernelFlight:
         """Send a DRC command event; returns its command id."""
         cid = next(self._ids)
         payload = encode(cid, values) if data is None else data
-        self.drc.send(WireEvent(COMMAND_IDS[name], name, payload, "DRC", "PFC"))
+        self.drc.send(WireEvent(event_id(name), name, payload, "DRC", "PFC"))
         return command_id_of(payload)
 
     def send_segment(self, seg: PathSegment) -> int:
         """Send one Traj3D-EV segment."""
         cid = next(self._ids)
         payload = segment_payload(cid, seg)
-        self.drc.send(WireEvent(COMMAND_IDS["Traj3D-EV"], "Traj3D-EV", payload, "DRC", "PFC"))
+        self.drc.send(WireEvent(event_id("Traj3D-EV"), "Traj3D-EV", payload, "DRC", "PFC"))
         return cid
 
     def reply(self, name: str, command_id: int | None = None) -> WireEvent | None:

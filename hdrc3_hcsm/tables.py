@@ -85,6 +85,10 @@ class EventTable:
     index: dict[str, int]
     by_id: dict[int, int]
 
+    def id_of(self, name: str) -> int:
+        """The globally unique id of the event ``name`` (KeyError if the model lacks it)."""
+        return self.ids[self.index[name]]
+
 
 @dataclass(frozen=True)
 class CompiledModel:

@@ -1,7 +1,10 @@
 """Answer codes, event kinds and command names of FCL and PPCL (chapter sections 6.2.2-6.2.3).
 
 The numeric values equal the constants of hdrc3_interfaces FclReturn, PpclReturn and
-PlatformEvent, so the node copies them into messages unchanged.
+PlatformEvent, so the node copies them into messages unchanged. ``FclCode.FINISHED`` is never an
+immediate answer: the chapter's FCL_FINISHED return arrives as a PlatformEvent of kind FINISHED,
+and ``hdrc3 fcl`` names that event with it. What each command is (service, arguments, events,
+required state) is in ``commands.py``.
 """
 
 from __future__ import annotations
@@ -10,7 +13,7 @@ import enum
 
 
 class FclCode(enum.IntEnum):
-    """Immediate answer of an FCL command (FclReturn.code)."""
+    """Answer of an FCL command (FclReturn.code; FINISHED only names the completion event)."""
 
     OK = 0
     BUSY = 1

@@ -15,12 +15,12 @@ from importlib import resources
 from pathlib import Path
 from typing import Protocol
 
+from hdrc3_control.event_codec import command_id_of
 from hdrc3_hcsm.event import PostStatus, WireEvent
 from hdrc3_hcsm.interpreter import Interpreter
 from hdrc3_hcsm.loader import load_file
 from hdrc3_hcsm.tables import CompiledModel, compile_model
 from hdrc3_hcsm.transport import SendStatus, Transport
-from hdrc3_platform_server.payload import command_id_of
 from hdrc3_platform_server.platform_status import PlatformStatus
 
 
@@ -97,8 +97,7 @@ class DrcKernel:
 
     # --- conditions -----------------------------------------------------------------------
     def _current_cmd(self) -> bool:
-        cid = command_id_of(self.interpreter.memory.cache)
-        return cid is not None and cid in self.current_ids
+        return command_id_of(self.interpreter.memory.cache) in self.current_ids
 
     def _settle_timeout(self) -> bool:
         since = self.waiting_since

@@ -11,37 +11,21 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field, replace
 
+from hdrc3_control.event_codec import decode, encode
 from hdrc3_control.pfc_state import FlightMode
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.transport import LoopbackNetwork, Transport
+from hdrc3_platform_server.commands import wire_arity
 from hdrc3_platform_server.completion import CompletionEvent, EventLog
 from hdrc3_platform_server.data_interface import HelicopterStateData
+from hdrc3_platform_server.drc import load_model
 from hdrc3_platform_server.geo_frame import WorldFrame
-from hdrc3_platform_server.payload import PayloadError, decode, encode
 from hdrc3_platform_server.platform_status import CameraSample, PfcSample
 
-PFC_IDS: dict[str, int] = {
-    "Cmd-Accepted-EV": 2101,
-    "Cmd-Rejected-EV": 2102,
-    "Cmd-Finished-EV": 2103,
-    "Traj-Arrived-EV": 1024,
-    "Request-Segment-EV": 2104,
-    "Cmd-Failed-EV": 2105,
-    "Cmd-Cancelled-EV": 2106,
-    "Hover-Stable-EV": 1021,
-}
-PPC_IDS: dict[str, int] = {"PPCL-Finished-EV": 3101, "PPCL-Failed-EV": 3102}
-ARITY = {
-    "FCL-Takeoff-EV": 0,
-    "FCL-Land-EV": 1,
-    "FCL-Yaw-EV": 1,
-    "FCL-Climb-EV": 1,
-    "Traj3D-Flyto-EV": 4,
-    "Traj3D-EV": 14,
-    "FCL-Track-EV": 0,
-    "Emergency-Brake-EV": 0,
-    "FCL-Cancel-EV": 0,
-}
+
+def _event_id(name: str) -> int:
+    """Id of a reply event: the DRC model declares every event the kernels send it."""
+    return load_model().events.id_of(name)
 
 
 @dataclass
@@ -99,7 +83,7 @@ class FakePfc:
     # --- wire -----------------------------------------------------------------------------
     def _send(self, name: str, command_id: int | None, reason: str = "") -> None:
         data = b"" if command_id is None else encode(command_id, (), reason)
-        self.transport.send(WireEvent(PFC_IDS[name], name, data, "PFC", "DRC"))
+        self.transport.send(WireEvent(_event_id(name), name, data, "PFC", "DRC"))
 
     def step(self, now: float) -> PfcSample:
         """Advance to sim time ``now``: take commands, finish jobs, report the state."""
@@ -133,13 +117,13 @@ class FakePfc:
     # --- commands -------------------------------------------------------------------------
     def _command(self, event: WireEvent) -> None:
         name = event.name
-        if name not in ARITY:
+        arity = wire_arity().get(name)
+        if arity is None:
             return
-        try:
-            p = decode(event.data, ARITY[name])
-        except PayloadError:
+        p = decode(event.data, arity)
+        if not p.ok:
             return
-        cid, v = p.command_id, p.numbers
+        cid, v = p.command_id, p.values
         t = self.timing
         if name == "FCL-Cancel-EV":
             self._abort(f"cancelled by command {cid}")
@@ -256,26 +240,6 @@ class FakePfc:
         self._send("Hover-Stable-EV", None)
 
 
-PPC_ARITY = {
-    "PPCL-Turn-To-EV": 2,
-    "PPCL-Look-At-EV": 3,
-    "PPCL-Ptu-Abort-EV": 0,
-    "PPCL-Zoom-EV": 2,
-    "PPCL-Exposure-EV": 2,
-    "PPCL-Iris-EV": 2,
-    "PPCL-Shutter-EV": 2,
-    "PPCL-Laser-Angular-EV": 1,
-    "PPCL-Laser-Distance-EV": 1,
-    "PPCL-Laser-Speed-EV": 1,
-    "PPCL-Laser-Angle-EV": 1,
-    "PPCL-Laser-Start-EV": 0,
-    "PPCL-Laser-Stop-EV": 0,
-    "PPCL-IP-Tracker-EV": 2,
-    "PPCL-IP-State-Est-EV": 0,
-    "PPCL-IP-Abort-EV": 0,
-}
-
-
 class FakePpc:
     """A PPC stand-in: PTU and zoom move in ``move_time``; parameters apply at once."""
 
@@ -294,28 +258,27 @@ class FakePpc:
     def _reply(self, cid: int, reason: str | None) -> None:
         name = "PPCL-Finished-EV" if reason is None else "PPCL-Failed-EV"
         data = encode(cid, (), reason or "")
-        self.transport.send(WireEvent(PPC_IDS[name], name, data, "PPC", "DRC"))
+        self.transport.send(WireEvent(_event_id(name), name, data, "PPC", "DRC"))
 
     def step(self, now: float) -> list[CameraSample]:
         """Advance to ``now``; returns the camera reports (color and thermal)."""
         self.now = now
         for event in self.transport.receive():
             self.received.append(event)
-            arity = PPC_ARITY.get(event.name)
+            arity = wire_arity().get(event.name)
             if arity is None:
                 continue
-            try:
-                p = decode(event.data, arity)
-            except PayloadError:
+            p = decode(event.data, arity)
+            if not p.ok:
                 continue
             if self.fail_next is not None:
                 self._reply(p.command_id, self.fail_next)
                 self.fail_next = None
                 continue
             if event.name == "PPCL-Turn-To-EV":
-                self.pan, self.tilt = p.numbers
+                self.pan, self.tilt = p.values
             elif event.name == "PPCL-Zoom-EV":
-                self.zoom = p.numbers[1]
+                self.zoom = p.values[1]
             if event.name in ("PPCL-Turn-To-EV", "PPCL-Look-At-EV", "PPCL-Zoom-EV"):
                 self.pending.append((now + self.move_time, p.command_id))
             else:

@@ -17,27 +17,17 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_control.event_codec import command_id_of, decode, encode
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_platform_server import limits as check
 from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
+from hdrc3_platform_server.commands import FCL
 from hdrc3_platform_server.completion import CompletionEvent, EventSink
 from hdrc3_platform_server.drc import DrcKernel, FlightState, PlatformState
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.limits import FlightLimits
-from hdrc3_platform_server.payload import PayloadError, decode, encode
 
-API_EVENT: dict[FclCommand, str] = {
-    FclCommand.TAKEOFF: "Api-Takeoff-EV",
-    FclCommand.LAND: "Api-Land-EV",
-    FclCommand.YAW: "Api-Yaw-EV",
-    FclCommand.CLIMB: "Api-Climb-EV",
-    FclCommand.TRAJ3D_FLYTO: "Api-Flyto-EV",
-    FclCommand.TRAJ3D: "Api-Traj3D-EV",
-    FclCommand.TRACK: "Api-Track-EV",
-    FclCommand.EMERGENCY_BRAKE: "Api-Brake-EV",
-    FclCommand.CANCEL: "Api-Cancel-EV",
-}
 PFC_REPLIES = frozenset(
     {
         "Cmd-Accepted-EV",
@@ -130,34 +120,6 @@ class IdSource:
         return next(self._ids)
 
 
-PARAMETERS: dict[FclCommand, tuple[str, ...]] = {
-    FclCommand.LAND: ("heading",),
-    FclCommand.YAW: ("heading",),
-    FclCommand.CLIMB: ("altitude",),
-    FclCommand.TRAJ3D_FLYTO: ("longitude", "latitude", "altitude", "velocity"),
-    FclCommand.TRAJ3D: (
-        *(f"start_{axis}" for axis in "xyz"),
-        *(f"end_{axis}" for axis in "xyz"),
-        *(f"start_direction_{axis}" for axis in "xyz"),
-        *(f"end_direction_{axis}" for axis in "xyz"),
-        "velocity",
-        "end_velocity",
-    ),
-}
-"""Argument names per command, in the order ``submit`` takes them (the others take none)."""
-
-NEEDS_HOVER = frozenset(
-    {
-        FclCommand.LAND,
-        FclCommand.YAW,
-        FclCommand.CLIMB,
-        FclCommand.TRAJ3D_FLYTO,
-        FclCommand.TRAJ3D,
-        FclCommand.TRACK,
-    }
-)
-
-
 class FlightCommandLayer:
     """Validates, answers and forwards FCL commands; turns PFC replies into PlatformEvents."""
 
@@ -206,17 +168,16 @@ class FlightCommandLayer:
         return f"{cur.command.label} (command {cur.command_id}) is being executed"
 
     def _state_reason(self, command: FclCommand) -> str | None:
+        spec = FCL[command]
         platform = self.kernel.platform()
         if platform is PlatformState.UNKNOWN:
             return "no state data from the control kernel (PFC): is control_kernel running?"
         if platform is PlatformState.MANUAL:
             return "the aircraft is in manual flight mode (RC switch)"
-        if command is FclCommand.TAKEOFF and platform is not PlatformState.GROUND:
-            return "take-off can only be commanded when the aircraft is on the ground"
-        if command is FclCommand.TAKEOFF and not self.kernel.status.auto():
+        if spec.requires is not None and platform is not spec.requires:
+            return spec.not_accepted.format(label=command.label)
+        if spec.requires is PlatformState.GROUND and not self.kernel.status.auto():
             return "the RC switch is in manual mode: the safety pilot must select autonomous"
-        if command in NEEDS_HOVER and platform is not PlatformState.AIR:
-            return f"{command.label} needs the aircraft hovering; it is on the ground"
         return None
 
     def _start(self, command: FclCommand, numbers: Sequence[float], now: float) -> FclAnswer:
@@ -228,14 +189,14 @@ class FlightCommandLayer:
             active.progress[cid] = _Seg.SENT
         self.current = active
         self._sync_ids()
-        self.kernel.post(API_EVENT[command], encode(cid, numbers))
+        self.kernel.post(FCL[command].api_event, encode(cid, numbers))
         self.kernel.step(now)
         return FclAnswer(FclCode.OK, "", cid)
 
     # --- the commands ---------------------------------------------------------------------
     def submit(self, command: FclCommand, args: Sequence[float], now: float) -> FclAnswer:
         """Answer one FCL call at DRC time ``now``; ``args`` as the service defines them."""
-        values, reason = check.arguments(command.label, PARAMETERS.get(command, ()), args)
+        values, reason = check.arguments(command.label, FCL[command].names, args)
         if reason is None:
             numbers, reason = self._arguments(command, values)
         if reason is not None:
@@ -246,6 +207,11 @@ class FlightCommandLayer:
             return self._brake(now)
         if command is FclCommand.TRAJ3D and self.current is not None:
             return self._next_segment(numbers, now)
+        # Python decides BUSY / NOT_ACCEPTED here, beside the DRC automaton, because the answer
+        # is due in this call with a reason naming the running command or the state: an Api
+        # event that fires no transition is only dropped by the interpreter, which neither
+        # answers nor says why. The inputs are the automaton's (Platform state, Flight idle via
+        # the command it runs) and the registry's required state per command.
         busy = self.busy_with()
         if busy is not None:
             return FclAnswer(FclCode.BUSY, busy)
@@ -257,7 +223,7 @@ class FlightCommandLayer:
     def _cancel(self, now: float) -> FclAnswer:
         cid = self.ids.next()
         self._end_current(EventKind.CANCELLED, f"cancelled by fcl_cancel (command {cid})")
-        self.kernel.post(API_EVENT[FclCommand.CANCEL], encode(cid))
+        self.kernel.post(FCL[FclCommand.CANCEL].api_event, encode(cid))
         self.kernel.step(now)
         self._emit(cid, FclCommand.CANCEL, EventKind.FINISHED, "")
         return FclAnswer(FclCode.OK, "", cid)
@@ -272,13 +238,13 @@ class FlightCommandLayer:
                 if platform is PlatformState.MANUAL
                 else "not flying: nothing to brake"
             )
-            self.kernel.post(API_EVENT[FclCommand.CANCEL], encode(cid))
+            self.kernel.post(FCL[FclCommand.CANCEL].api_event, encode(cid))
             self.kernel.step(now)
             self._emit(cid, FclCommand.EMERGENCY_BRAKE, EventKind.FINISHED, why)
             return FclAnswer(FclCode.OK, why, cid)
         self.current = _Active(FclCommand.EMERGENCY_BRAKE, cid)
         self._sync_ids()
-        self.kernel.post(API_EVENT[FclCommand.EMERGENCY_BRAKE], encode(cid))
+        self.kernel.post(FCL[FclCommand.EMERGENCY_BRAKE].api_event, encode(cid))
         self.kernel.step(now)
         return FclAnswer(FclCode.OK, "", cid)
 
@@ -302,7 +268,7 @@ class FlightCommandLayer:
         cur.end_velocity[cid] = numbers[-1]
         cur.progress[cid] = _Seg.SENT
         self._sync_ids()
-        self.kernel.post(API_EVENT[FclCommand.TRAJ3D], encode(cid, numbers))
+        self.kernel.post(FCL[FclCommand.TRAJ3D].api_event, encode(cid, numbers))
         self.kernel.step(now)
         return FclAnswer(FclCode.OK, "replaces the next segment" if replace else "", cid)
 
@@ -389,14 +355,10 @@ class FlightCommandLayer:
         if event.name not in PFC_REPLIES:
             return
         cur = self.current
-        try:
-            p = decode(event.data)
-        except PayloadError:
-            return
-        if cur is None or p.command_id not in cur.open_ids():
+        cid = command_id_of(event.data)  # 0 for a short payload: never an open id
+        if cur is None or cid not in cur.open_ids():
             return
         name = event.name
-        cid = p.command_id
         if name == "Request-Segment-EV":
             self._segment_started(cur, cid)
         elif name == "Cmd-Accepted-EV":
@@ -480,8 +442,5 @@ class FlightCommandLayer:
 
 
 def _reason(data: bytes, default: str) -> str:
-    try:
-        text = decode(data).reason.strip()
-    except PayloadError:
-        return default
-    return text or default
+    # text with invalid UTF-8 is still shown (replaced bytes): it only names a reason
+    return decode(data, 0, with_reason=True).reason.strip() or default

@@ -36,29 +36,13 @@ from hdrc3_interfaces.msg import (
     PowerStatus,
 )
 from hdrc3_interfaces.srv import (
-    FclCancel,
-    FclClimb,
-    FclEmergencyBrake,
-    FclLand,
-    FclTakeoff,
-    FclTrack,
-    FclTraj3d,
-    FclTraj3dFlyto,
-    FclYaw,
-    PpclCameraValue,
-    PpclColorTracker,
     PpclControl,
-    PpclExposure,
     PpclGetCameraInfo,
-    PpclLaserValue,
-    PpclLookAt,
     PpclPtuActivityInfo,
     PpclPtuLimits,
-    PpclTrigger,
-    PpclTurnTo,
-    PpclZoom,
 )
-from hdrc3_platform_server.codes import FclCode, FclCommand, PpclCode, PpclCommand
+from hdrc3_platform_server.codes import FclCode, PpclCode
+from hdrc3_platform_server.commands import FCL, PPCL, FclSpec, PpclSpec
 from hdrc3_platform_server.completion import CompletionEvent
 from hdrc3_platform_server.data_interface import HelicopterStateData
 from hdrc3_platform_server.geo_frame import WorldFrame, frame_from_world
@@ -76,63 +60,6 @@ STATE_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 """Deep enough that a 50 Hz state stream at 10x real time survives a 200 ms stall of a reader."""
 TICK_PERIOD_S = 0.02
 """Wall-clock period of the DRC loop when no PFC data drives it (replies, timeouts)."""
-
-FCL_SERVICES: dict[FclCommand, tuple[Any, Callable[[Any], tuple[float, ...]]]] = {
-    FclCommand.TAKEOFF: (FclTakeoff, lambda r: ()),
-    FclCommand.LAND: (FclLand, lambda r: (r.heading,)),
-    FclCommand.YAW: (FclYaw, lambda r: (r.heading,)),
-    FclCommand.CLIMB: (FclClimb, lambda r: (r.altitude,)),
-    FclCommand.TRAJ3D_FLYTO: (
-        FclTraj3dFlyto,
-        lambda r: (r.longitude, r.latitude, r.altitude, r.velocity),
-    ),
-    FclCommand.TRAJ3D: (
-        FclTraj3d,
-        lambda r: (
-            r.segment.start_point.x,
-            r.segment.start_point.y,
-            r.segment.start_point.z,
-            r.segment.end_point.x,
-            r.segment.end_point.y,
-            r.segment.end_point.z,
-            r.segment.start_direction.x,
-            r.segment.start_direction.y,
-            r.segment.start_direction.z,
-            r.segment.end_direction.x,
-            r.segment.end_direction.y,
-            r.segment.end_direction.z,
-            r.velocity,
-            r.end_velocity,
-        ),
-    ),
-    FclCommand.TRACK: (FclTrack, lambda r: ()),
-    FclCommand.EMERGENCY_BRAKE: (FclEmergencyBrake, lambda r: ()),
-    FclCommand.CANCEL: (FclCancel, lambda r: ()),
-}
-PPCL_SERVICES: dict[PpclCommand, tuple[Any, Callable[[Any], tuple[float, ...]]]] = {
-    PpclCommand.LOOK_AT: (
-        PpclLookAt,
-        lambda r: (r.longitude, r.latitude, 1.0 if r.has_altitude else 0.0, r.altitude),
-    ),
-    PpclCommand.TURN_TO: (PpclTurnTo, lambda r: (r.pan, r.tilt)),
-    PpclCommand.PTU_ABORT: (PpclTrigger, lambda r: ()),
-    PpclCommand.IP_COLOR_TRACKER: (PpclColorTracker, lambda r: (r.x, r.y)),
-    PpclCommand.IP_STATE_ESTIMATION: (PpclTrigger, lambda r: ()),
-    PpclCommand.IP_ABORT: (PpclTrigger, lambda r: ()),
-    PpclCommand.ZOOM: (PpclZoom, lambda r: (float(r.camera_id), r.value)),
-    PpclCommand.EXPOSURE: (
-        PpclExposure,
-        lambda r: (float(r.camera_id), 1.0 if r.auto_exposure else 0.0),
-    ),
-    PpclCommand.IRIS: (PpclCameraValue, lambda r: (float(r.camera_id), r.value)),
-    PpclCommand.SHUTTER: (PpclCameraValue, lambda r: (float(r.camera_id), r.value)),
-    PpclCommand.LASER_ANGULAR_RESOLUTION: (PpclLaserValue, lambda r: (r.value,)),
-    PpclCommand.LASER_DISTANCE_RESOLUTION: (PpclLaserValue, lambda r: (r.value,)),
-    PpclCommand.LASER_ROTATION_SPEED: (PpclLaserValue, lambda r: (r.value,)),
-    PpclCommand.LASER_ROTATION_ANGLE: (PpclLaserValue, lambda r: (r.value,)),
-    PpclCommand.LASER_START_DATA_COLLECTION: (PpclTrigger, lambda r: ()),
-    PpclCommand.LASER_STOP_DATA_COLLECTION: (PpclTrigger, lambda r: ()),
-}
 
 
 def _seconds(stamp: Any) -> float:
@@ -176,10 +103,12 @@ class PlatformServerNode(Node):
         self.create_subscription(PfcState, "pfc/state", self._on_pfc, STATE_QOS)
         self.create_subscription(CameraState, "ppc/camera_state", self._on_camera, STATE_QOS)
         self.create_subscription(PowerStatus, "sensors/power", self._on_power, STATE_QOS)
-        for command, (srv, args) in FCL_SERVICES.items():
-            self.create_service(srv, f"fcl/{command.value}", self._fcl_handler(command, args))
-        for pcommand, (srv, args) in PPCL_SERVICES.items():
-            self.create_service(srv, f"ppcl/{pcommand.value}", self._ppcl_handler(pcommand, args))
+        for spec in FCL.values():
+            name = f"fcl/{spec.command.value}"
+            self.create_service(spec.service_type(), name, self._fcl_handler(spec))
+        for pspec in PPCL.values():
+            name = f"ppcl/{pspec.command.value}"
+            self.create_service(pspec.service_type(), name, self._ppcl_handler(pspec))
         self.create_service(PpclControl, "ppcl/control", self._on_control)
         self.create_service(PpclPtuActivityInfo, "ppcl/ptu_activity_info", self._on_activity)
         self.create_service(PpclGetCameraInfo, "ppcl/get_camera_info", self._on_camera_info)
@@ -286,12 +215,10 @@ class PlatformServerNode(Node):
             self.get_logger().error(f"internal error: {exc}\n{traceback.format_exc()}")
             fail(f"internal error: {exc}")
 
-    def _fcl_handler(
-        self, command: FclCommand, args: Callable[[Any], tuple[float, ...]]
-    ) -> Callable[[Any, Any], Any]:
+    def _fcl_handler(self, spec: FclSpec) -> Callable[[Any, Any], Any]:
         def handle(request: Any, response: Any) -> Any:
             def fill() -> None:
-                answer = self.core.fcl.submit(command, args(request), self._now())
+                answer = self.core.fcl.submit(spec.command, spec.values(request), self._now())
                 response.result.code = int(answer.code)
                 response.result.reason = answer.reason
                 response.result.command_id = answer.command_id
@@ -312,12 +239,10 @@ class PlatformServerNode(Node):
 
         return fail
 
-    def _ppcl_handler(
-        self, command: PpclCommand, args: Callable[[Any], tuple[float, ...]]
-    ) -> Callable[[Any, Any], Any]:
+    def _ppcl_handler(self, spec: PpclSpec) -> Callable[[Any, Any], Any]:
         def handle(request: Any, response: Any) -> Any:
             def fill() -> None:
-                answer = self.core.ppcl.submit(command, args(request), self._now())
+                answer = self.core.ppcl.submit(spec.command, spec.values(request), self._now())
                 response.result.code = int(answer.code)
                 response.result.reason = answer.reason
                 response.result.command_id = answer.command_id

@@ -16,69 +16,17 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from hdrc3_control.event_codec import decode, encode
 from hdrc3_control.ppc_hardware import CAMERAS, PtuLimits
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_platform_server import limits as check
 from hdrc3_platform_server.codes import EventKind, PpclCode, PpclCommand, PtuActivity, Resource
+from hdrc3_platform_server.commands import PPCL
 from hdrc3_platform_server.completion import CompletionEvent, EventSink
 from hdrc3_platform_server.drc import DrcKernel
 from hdrc3_platform_server.fcl_api import IdSource
 from hdrc3_platform_server.geo_frame import WorldFrame
-from hdrc3_platform_server.payload import PayloadError, decode, encode
 
-RESOURCE_OF: dict[PpclCommand, Resource] = {
-    PpclCommand.LOOK_AT: Resource.PTU,
-    PpclCommand.TURN_TO: Resource.PTU,
-    PpclCommand.PTU_ABORT: Resource.PTU,
-    PpclCommand.IP_COLOR_TRACKER: Resource.IMAGE_PROCESSING,
-    PpclCommand.IP_STATE_ESTIMATION: Resource.IMAGE_PROCESSING,
-    PpclCommand.IP_ABORT: Resource.IMAGE_PROCESSING,
-    PpclCommand.ZOOM: Resource.CAMERA,
-    PpclCommand.EXPOSURE: Resource.CAMERA,
-    PpclCommand.IRIS: Resource.CAMERA,
-    PpclCommand.SHUTTER: Resource.CAMERA,
-    PpclCommand.LASER_ANGULAR_RESOLUTION: Resource.LASER,
-    PpclCommand.LASER_DISTANCE_RESOLUTION: Resource.LASER,
-    PpclCommand.LASER_ROTATION_SPEED: Resource.LASER,
-    PpclCommand.LASER_ROTATION_ANGLE: Resource.LASER,
-    PpclCommand.LASER_START_DATA_COLLECTION: Resource.LASER,
-    PpclCommand.LASER_STOP_DATA_COLLECTION: Resource.LASER,
-}
-WIRE_EVENT: dict[PpclCommand, str] = {
-    PpclCommand.TURN_TO: "PPCL-Turn-To-EV",
-    PpclCommand.LOOK_AT: "PPCL-Look-At-EV",
-    PpclCommand.PTU_ABORT: "PPCL-Ptu-Abort-EV",
-    PpclCommand.ZOOM: "PPCL-Zoom-EV",
-    PpclCommand.EXPOSURE: "PPCL-Exposure-EV",
-    PpclCommand.IRIS: "PPCL-Iris-EV",
-    PpclCommand.SHUTTER: "PPCL-Shutter-EV",
-    PpclCommand.LASER_ANGULAR_RESOLUTION: "PPCL-Laser-Angular-EV",
-    PpclCommand.LASER_DISTANCE_RESOLUTION: "PPCL-Laser-Distance-EV",
-    PpclCommand.LASER_ROTATION_SPEED: "PPCL-Laser-Speed-EV",
-    PpclCommand.LASER_ROTATION_ANGLE: "PPCL-Laser-Angle-EV",
-    PpclCommand.LASER_START_DATA_COLLECTION: "PPCL-Laser-Start-EV",
-    PpclCommand.LASER_STOP_DATA_COLLECTION: "PPCL-Laser-Stop-EV",
-    PpclCommand.IP_COLOR_TRACKER: "PPCL-IP-Tracker-EV",
-    PpclCommand.IP_STATE_ESTIMATION: "PPCL-IP-State-Est-EV",
-    PpclCommand.IP_ABORT: "PPCL-IP-Abort-EV",
-}
-PARAMETERS: dict[PpclCommand, tuple[str, ...]] = {
-    PpclCommand.TURN_TO: ("pan", "tilt"),
-    PpclCommand.LOOK_AT: ("longitude", "latitude", "has_altitude", "altitude"),
-    PpclCommand.ZOOM: ("camera_id", "zoom"),
-    PpclCommand.EXPOSURE: ("camera_id", "auto_exposure"),
-    PpclCommand.IRIS: ("camera_id", "iris"),
-    PpclCommand.SHUTTER: ("camera_id", "shutter"),
-    PpclCommand.IP_COLOR_TRACKER: ("x", "y"),
-    PpclCommand.LASER_ANGULAR_RESOLUTION: ("angular_resolution",),
-    PpclCommand.LASER_DISTANCE_RESOLUTION: ("distance_resolution",),
-    PpclCommand.LASER_ROTATION_SPEED: ("rotation_speed",),
-    PpclCommand.LASER_ROTATION_ANGLE: ("rotation_angle",),
-}
-"""Argument names per command, in the order ``submit`` takes them (the others take none).
-
-Booleans (``has_altitude``, ``auto_exposure``) are 0 or 1, camera ids integral numbers.
-"""
 LANDING_CONTROLLED = frozenset({Resource.PTU, Resource.CAMERA, Resource.IMAGE_PROCESSING})
 IP_NOT_AVAILABLE = "image processing functions are not available in this version of the PPC"
 
@@ -189,12 +137,14 @@ class PayloadCommandLayer:
     # --- mode and parameter commands ------------------------------------------------------
     def submit(self, command: PpclCommand, args: Sequence[float], now: float) -> PpclAnswer:
         """Answer one PPCL mode/parameter call at DRC time ``now``."""
-        values, reason = check.arguments(command.label, PARAMETERS.get(command, ()), args)
+        spec = PPCL[command]
+        values, reason = check.arguments(command.label, spec.names, args)
         if reason is None:
-            numbers, key, reason = self._arguments(command, values)
+            numbers, reason = self._arguments(command, values)
         if reason is not None:
             return PpclAnswer(PpclCode.NOT_ACCEPTED, reason)
-        res = RESOURCE_OF[command]
+        key = spec.mode_key(values)
+        res = spec.resource
         name = res.name.lower()
         if res in LANDING_CONTROLLED and self.landing():
             return PpclAnswer(
@@ -226,24 +176,20 @@ class PayloadCommandLayer:
                     f"replaced by {command.label} (command {cid})",
                 )
         self.pending[cid] = (command, key)
-        if command is PpclCommand.TURN_TO:
-            self.activity = PtuActivity.TURNTO
-        elif command is PpclCommand.LOOK_AT:
-            self.activity = PtuActivity.LOOK_AT_POINT
-        elif command is PpclCommand.PTU_ABORT:
-            self.activity = PtuActivity.IDLE
-        self.kernel.post(WIRE_EVENT[command].replace("PPCL-", "Api-Pl-"), encode(cid, numbers))
+        if spec.activity is not None:
+            self.activity = spec.activity
+        self.kernel.post(spec.api_event, encode(cid, numbers))
         self.kernel.step(now)
         return PpclAnswer(PpclCode.OK, "", cid)
 
     def _arguments(
         self, command: PpclCommand, a: tuple[float, ...]
-    ) -> tuple[tuple[float, ...], str, str | None]:
-        """Command-specific checks of finite arguments; numbers for the PPC and the mode key."""
+    ) -> tuple[tuple[float, ...], str | None]:
+        """Command-specific checks of finite arguments; the numbers for the PPC."""
         c = PpclCommand
         if command is c.TURN_TO:
             pan, tilt = a
-            return (pan, tilt), "ptu", check.pan_tilt(self.ptu, pan, tilt)
+            return (pan, tilt), check.pan_tilt(self.ptu, pan, tilt)
         if command is c.LOOK_AT:
             lon, lat, has_alt, alt = a
             bad = (
@@ -252,62 +198,49 @@ class PayloadCommandLayer:
                 or check.altitude(self.frame, alt, "look-at altitude")
             )
             if bad:
-                return (), "ptu", bad
+                return (), bad
             e, n, _ = self.frame.to_enu(lon, lat, self.frame.altitude)
             if not self.frame.inside(e, n):
                 return (
                     (),
-                    "ptu",
                     f"look-at point ({e:.0f} m east, {n:.0f} m north) is far outside the world",
                 )
             u = (alt - self.frame.altitude) if has_alt else self.frame.ground_up(e, n)
-            return (e, n, u), "ptu", None
+            return (e, n, u), None
         if command is c.ZOOM:
             camera, value = a
-            bad = check.camera(camera) or check.unit_interval("zoom", value)
-            return (camera, value), "zoom", bad
+            return (camera, value), check.camera(camera) or check.unit_interval("zoom", value)
         if command is c.EXPOSURE:
             camera, auto = a
-            bad = check.camera(camera) or check.flag("auto_exposure", auto)
-            return (camera, auto), f"exposure{camera:g}", bad
+            return (camera, auto), check.camera(camera) or check.flag("auto_exposure", auto)
         if command in (c.IRIS, c.SHUTTER):
             camera, value = a
             bad = check.camera(camera) or (
                 check.unit_interval("iris", value) if command is c.IRIS else check.shutter(value)
             )
-            return (camera, value), f"{command.value}{camera:g}", bad
+            return (camera, value), bad
         if command is c.LASER_ANGULAR_RESOLUTION:
-            (value,) = a
-            return (value,), command.value, check.laser_angular(value)
+            return a, check.laser_angular(a[0])
         if command is c.LASER_DISTANCE_RESOLUTION:
-            (value,) = a
-            return (value,), command.value, check.laser_distance(value)
+            return a, check.laser_distance(a[0])
         if command is c.LASER_ROTATION_SPEED:
-            (value,) = a
-            return (value,), "laser_rotation", check.laser_speed(value)
+            return a, check.laser_speed(a[0])
         if command is c.LASER_ROTATION_ANGLE:
-            (value,) = a
-            bad = check.angle("rotation_angle", value)
-            return ((value % math.tau,) if not bad else ()), "laser_rotation", bad
+            bad = check.angle("rotation_angle", a[0])
+            return ((a[0] % math.tau,) if not bad else ()), bad
         if command is c.IP_COLOR_TRACKER:
             x, y = a
-            return (x, y), "ip", check.pixel(x, y)
-        key = {c.PTU_ABORT: "ptu", c.LASER_START_DATA_COLLECTION: "laser_collect"}.get(
-            command, "ip"
-        )
-        if command is c.LASER_STOP_DATA_COLLECTION:
-            key = "laser_collect"
-        return (), key, None
+            return (x, y), check.pixel(x, y)
+        return (), None
 
     # --- replies from the PPC -------------------------------------------------------------
     def on_wire(self, event: WireEvent, now: float) -> None:
         """Finish or fail the pending command the PPC reports on."""
         if event.name not in ("PPCL-Finished-EV", "PPCL-Failed-EV"):
             return
-        try:
-            p = decode(event.data)
-        except PayloadError:
-            return
+        # a short payload decodes to id 0, which is never pending; an invalid UTF-8 reason is
+        # still shown (replaced bytes)
+        p = decode(event.data, 0, with_reason=True)
         entry = self.pending.pop(p.command_id, None)
         if entry is None:
             return

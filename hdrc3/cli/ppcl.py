@@ -14,27 +14,11 @@ import math
 from typing import Any
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_platform_server.codes import EventKind, PpclCode, PpclCommand, PtuActivity
+from hdrc3_platform_server.commands import PPCL, CliInput, PpclSpec
 
 RESOURCES = {"ptu": 0, "camera": 1, "ip": 2, "laser": 3}
 CAMERAS = {"color": 0, "thermal": 1}
-MODE_ARGS: dict[str, tuple[str, ...]] = {
-    "look_at": ("LON", "LAT", "[ALT_M]"),
-    "turn_to": ("PAN_DEG", "TILT_DEG"),
-    "ptu_abort": (),
-    "ip_color_tracker": ("X_PX", "Y_PX"),
-    "ip_state_estimation": (),
-    "ip_abort": (),
-    "zoom": ("VALUE_0_1",),
-    "exposure": ("auto|manual",),
-    "iris": ("VALUE_0_1",),
-    "shutter": ("SECONDS",),
-    "laser_angular_resolution": ("DEG",),
-    "laser_distance_resolution": ("METRES",),
-    "laser_rotation_speed": ("RAD_PER_S",),
-    "laser_rotation_angle": ("DEG",),
-    "laser_start_data_collection": (),
-    "laser_stop_data_collection": (),
-}
 QUERIES = (
     "ptu_activity_info",
     "get_camera_info",
@@ -43,15 +27,12 @@ QUERIES = (
     "min_tilt_value",
     "max_tilt_value",
 )
-CODE_NAMES = {0: "PPCL_OK", 1: "PPCL_CONTROL_DENIED", 2: "PPCL_NOT_ACCEPTED", 3: "PPCL_BUSY"}
-KIND_NAMES = {0: "FINISHED", 1: "FAILED", 2: "CANCELLED", 3: "SEGMENT_REQUEST", 4: "INFO"}
-ACTIVITY_NAMES = {0: "PPCL_LOOK_AT_POINT", 1: "PPCL_TURNTO", 2: "PPCL_IDLE"}
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``ppcl`` command."""
     words = ["request RESOURCE", "release RESOURCE"]
-    words += [f"{c} {' '.join(a)}".strip() for c, a in MODE_ARGS.items()]
+    words += [f"{c.value} {' '.join(_words(s))}".strip() for c, s in PPCL.items()]
     words += list(QUERIES)
     parser = subparsers.add_parser(
         "ppcl",
@@ -60,7 +41,9 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     )
     parser.add_argument("agent", help="agent name (ROS namespace), e.g. uav0")
     parser.add_argument(
-        "ppcl_command", metavar="COMMAND", choices=["request", "release", *MODE_ARGS, *QUERIES]
+        "ppcl_command",
+        metavar="COMMAND",
+        choices=["request", "release", *(c.value for c in PPCL), *QUERIES],
     )
     parser.add_argument("args", nargs="*", metavar="ARG")
     parser.add_argument("--owner", default="cli", help="owner name for request/release")
@@ -68,6 +51,13 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("--no-wait", action="store_true", help="return after the immediate answer")
     parser.add_argument("--timeout", type=float, default=60.0, help="wall-clock seconds to wait")
     parser.set_defaults(handler=run)
+
+
+def _words(spec: PpclSpec) -> list[str]:
+    """The positional words of a command, optional ones in brackets."""
+    return [
+        f"[{a.cli}]" if a.source is CliInput.OPTIONAL else a.cli for a in spec.arguments if a.cli
+    ]
 
 
 def _numbers(command: str, texts: list[str], count: int, optional: int = 0) -> list[float]:
@@ -89,8 +79,6 @@ def build_request(args: argparse.Namespace) -> tuple[Any, str, Any]:
         PpclPtuActivityInfo,
         PpclPtuLimits,
     )
-    from hdrc3_platform_server.codes import PpclCommand
-    from hdrc3_platform_server.node import PPCL_SERVICES
 
     cmd, texts, camera = args.ppcl_command, list(args.args), CAMERAS[args.camera]
     if cmd in ("request", "release"):
@@ -108,36 +96,34 @@ def build_request(args: argparse.Namespace) -> tuple[Any, str, Any]:
             info.camera_id = camera
             return PpclGetCameraInfo, "ppcl/get_camera_info", info
         return PpclPtuLimits, "ppcl/ptu_limits", PpclPtuLimits.Request()
-    srv, _ = PPCL_SERVICES[PpclCommand(cmd)]
+    spec = PPCL[PpclCommand(cmd)]
+    srv = spec.service_type()
     req = srv.Request()
-    if cmd == "exposure":
-        if len(texts) != 1 or texts[0] not in ("auto", "manual"):
-            raise ConfigError("exposure takes 'auto' or 'manual'")
-        req.camera_id, req.auto_exposure = camera, texts[0] == "auto"
-        return srv, f"ppcl/{cmd}", req
-    count = len([a for a in MODE_ARGS[cmd]])
-    optional = sum(a.startswith("[") for a in MODE_ARGS[cmd])
-    v = _numbers(cmd, texts, count, optional)
-    if cmd == "look_at":
-        req.longitude, req.latitude = v[0], v[1]
-        req.has_altitude = len(v) == 3
-        req.altitude = v[2] if len(v) == 3 else 0.0
-    elif cmd == "turn_to":
-        req.pan, req.tilt = math.radians(v[0]), math.radians(v[1])
-    elif cmd == "ip_color_tracker":
-        req.x, req.y = v
-    elif cmd in ("zoom", "iris", "shutter"):
-        req.camera_id, req.value = camera, v[0]
-    elif cmd == "laser_rotation_angle":
-        req.value = math.radians(v[0])
-    elif v:
-        req.value = v[0]
+    numeric = [a for a in spec.arguments if a.source in (CliInput.NUMBER, CliInput.OPTIONAL)]
+    words = [a for a in spec.arguments if a.source is CliInput.AUTO_MANUAL]
+    if words and (len(texts) != 1 or texts[0] not in ("auto", "manual")):
+        raise ConfigError(f"{cmd} takes 'auto' or 'manual'")
+    optional = sum(a.source is CliInput.OPTIONAL for a in numeric)
+    v = [] if words else _numbers(cmd, texts, len(numeric), optional)
+    given = dict(zip(numeric, v, strict=False))
+    for a in spec.arguments:
+        if a in given:
+            a.write(req, a.from_cli(given[a]))
+        elif a.source is CliInput.GIVEN:
+            a.write(req, float(len(v) == len(numeric)))
+        elif a.source is CliInput.CAMERA:
+            a.write(req, float(camera))
+        elif a.source is CliInput.AUTO_MANUAL:
+            a.write(req, float(texts[0] == "auto"))
     return srv, f"ppcl/{cmd}", req
 
 
 def _print_query(cmd: str, response: Any) -> None:
     if cmd == "ptu_activity_info":
-        print(ACTIVITY_NAMES.get(int(response.activity), str(response.activity)))
+        try:
+            print(f"PPCL_{PtuActivity(int(response.activity)).name}")
+        except ValueError:  # an activity of a newer server: shown as its number
+            print(str(response.activity))
     elif cmd == "get_camera_info":
         r = response
         print(
@@ -156,6 +142,7 @@ def _print_query(cmd: str, response: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``hdrc3 ppcl``."""
+    from hdrc3.cli.platform_call import call, wait
     from hdrc3_base.ros_runtime import RosProcess
     from hdrc3_platform_server.client import PlatformClient, check_agent
 
@@ -167,30 +154,16 @@ def run(args: argparse.Namespace) -> int:
     label = f"ppcl_{cmd}"
     with RosProcess(args=[]) as process:
         client = PlatformClient(process, args.agent)
-        response = client.call(srv, name, req, min(args.timeout, 10.0))
-        if response is None:
-            print(f"{label}: no answer from the platform server", flush=True)
-            return 1
-        result = response.result
-        code = CODE_NAMES.get(int(result.code), str(result.code))
-        reason = f": {result.reason}" if result.reason else ""
-        print(f"{label}: {code} (command {result.command_id}){reason}", flush=True)
-        if int(result.code) != 0:
+        response = call(client, label, (srv, name, req), PpclCode, "PPCL_", args.timeout)
+        if response is None or int(response.result.code) != PpclCode.OK:
             return 1
         if cmd in QUERIES:
             _print_query(cmd, response)
             return 0
-        if args.no_wait or int(result.command_id) == 0:
+        if args.no_wait or int(response.result.command_id) == 0:
             return 0
+        return wait(client, label, int(response.result.command_id), args.timeout, _kind_name)
 
-        def show(event: Any) -> None:
-            kind = KIND_NAMES.get(int(event.kind), "?")
-            text = f": {event.reason}" if event.reason else ""
-            print(f"{label}: {kind} (command {result.command_id}){text}", flush=True)
 
-        final = client.wait_final(int(result.command_id), args.timeout, show)
-        if final is None:
-            print(f"{label}: no completion event within {args.timeout:g} s", flush=True)
-            return 1
-        show(final)
-        return 0 if int(final.kind) == 0 else 1
+def _kind_name(kind: EventKind) -> str:
+    return kind.name

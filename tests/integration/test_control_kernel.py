@@ -15,7 +15,7 @@ from typing import Any
 import pytest
 
 from hdrc3_control.event_codec import command_id_of, decode, encode
-from hdrc3_control.kernel_harness import COMMAND_IDS, segment_payload
+from hdrc3_control.kernel_harness import event_id, segment_payload
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.trace import TraceRecord
@@ -95,7 +95,7 @@ class Drc:
     def send(self, name: str, values: tuple[float, ...] = (), data: bytes | None = None) -> int:
         cid = next(self._ids)
         payload = encode(cid, values) if data is None else data
-        self.transport.send(WireEvent(COMMAND_IDS[name], name, payload, "DRC", "PFC"))
+        self.transport.send(WireEvent(event_id(name), name, payload, "DRC", "PFC"))
         return command_id_of(payload)
 
     def send_segment(self, seg: PathSegment) -> int:

@@ -2,8 +2,11 @@ from __future__ import annotations
 
 from hdrc3_control.event_codec import decode, encode
 from hdrc3_control.event_protocol import EventProtocol, SendLog, SendRecord, Unanswered
+from hdrc3_control.kernel import load_model
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.trace import FiredTransition, TraceRecord
+
+REJECTED_ID = load_model().events.id_of("Cmd-Rejected-EV")
 
 
 def ev(name: str, data: bytes, event_id: int = 1) -> WireEvent:
@@ -15,7 +18,7 @@ def rec(event: str, tid: str, trigger: str = "pulse") -> SendRecord:
 
 
 def test_id_only_replies_are_trimmed_and_finals_sent_once() -> None:
-    p = EventProtocol(lambda: "")
+    p = EventProtocol(lambda: "", REJECTED_ID)
     payload = encode(4, (1.0, 2.0))  # the command's payload with its arguments
     out = p.outgoing(
         [ev("Cmd-Accepted-EV", payload), ev("Cmd-Finished-EV", payload)],
@@ -31,7 +34,7 @@ def test_id_only_replies_are_trimmed_and_finals_sent_once() -> None:
 
 
 def test_reasons_come_from_table_function_failure_or_function_event() -> None:
-    p = EventProtocol(lambda: "rotor at 0 rpm")
+    p = EventProtocol(lambda: "rotor at 0 rpm", REJECTED_ID)
     p.active = {1, 2, 3}
     out = p.outgoing(
         [
@@ -53,19 +56,22 @@ def test_reasons_come_from_table_function_failure_or_function_event() -> None:
 
 
 def test_ui_commands_get_no_replies_and_unanswered_commands_are_rejected() -> None:
-    p = EventProtocol(lambda: "")
+    p = EventProtocol(lambda: "", REJECTED_ID)
     out = p.outgoing(
         [ev("Cmd-Accepted-EV", encode(0)), ev("Hover-Stable-EV", b"", 1021)],
         [rec("Cmd-Accepted-EV", "A.40"), rec("Hover-Stable-EV", "A.5")],
         [Unanswered("FCL-Land-EV", encode(9, (0.0,)), "Braking-ST"), Unanswered("X", b"", "")],
     )
-    assert [e.name for e in out] == ["Hover-Stable-EV", "Cmd-Rejected-EV"]
+    assert [(e.name, e.event_id) for e in out] == [
+        ("Hover-Stable-EV", 1021),
+        ("Cmd-Rejected-EV", REJECTED_ID),
+    ]
     rejected = decode(out[1].data, 0, with_reason=True)
     assert rejected.command_id == 9 and "Braking-ST" in rejected.reason
 
 
 def test_send_log_pairs_external_events_with_their_records() -> None:
-    log = SendLog()
+    log = SendLog(frozenset({"FCL-Land-EV"}))
     log.posted("FCL-Land-EV", encode(3, (1.0,)))
     config = (
         "Root:Run-ST",

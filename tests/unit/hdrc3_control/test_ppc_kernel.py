@@ -6,27 +6,15 @@ import math
 
 import pytest
 
-from hdrc3_control.ppc_kernel import PpcKernel
+from hdrc3_control.event_codec import decode, encode
+from hdrc3_control.ppc_kernel import PpcKernel, model_path
 from hdrc3_control.ppc_modes import Pose, PtuMode
 from hdrc3_hcsm.event import WireEvent
+from hdrc3_hcsm.loader import load_file
+from hdrc3_hcsm.tables import compile_model
 from hdrc3_hcsm.transport import LoopbackNetwork, LoopbackTransport
-from hdrc3_platform_server.payload import decode, encode
 
-IDS = {
-    "PPCL-Turn-To-EV": 3001,
-    "PPCL-Look-At-EV": 3002,
-    "PPCL-Ptu-Abort-EV": 3003,
-    "PPCL-Zoom-EV": 3004,
-    "PPCL-Exposure-EV": 3005,
-    "PPCL-Iris-EV": 3006,
-    "PPCL-Shutter-EV": 3007,
-    "PPCL-Laser-Angular-EV": 3008,
-    "PPCL-Laser-Distance-EV": 3009,
-    "PPCL-Laser-Speed-EV": 3010,
-    "PPCL-Laser-Angle-EV": 3011,
-    "PPCL-Laser-Start-EV": 3012,
-    "PPCL-Laser-Stop-EV": 3013,
-}
+EVENTS = compile_model(load_file(model_path())).events
 POSE = Pose((0.0, 0.0, 20.0), 0.0, 0.0, 0.0)
 
 
@@ -43,7 +31,7 @@ class Bench:
         self.replies: list[tuple[str, int, str]] = []
 
     def send(self, name: str, cid: int, *numbers: float) -> None:
-        self.drc.send(WireEvent(IDS[name], name, encode(cid, numbers), "DRC", "PPC"))
+        self.drc.send(WireEvent(EVENTS.id_of(name), name, encode(cid, numbers), "DRC", "PPC"))
 
     def run(self, seconds: float) -> None:
         for _ in range(round(seconds / 0.04)):
@@ -57,7 +45,7 @@ class Bench:
                 if cam.camera_id == 0:
                     self.zoom = cam.zoom
             for event in self.drc.receive():
-                p = decode(event.data)
+                p = decode(event.data, 0, with_reason=True)
                 self.replies.append((event.name, p.command_id, p.reason))
 
     def outcome(self, cid: int) -> str | None:

@@ -14,6 +14,7 @@ def test_compiled_tables_are_dict_lookups_by_state_and_event() -> None:
     events = compiled.events
     assert events.names[:2] == ("pulse", "exit") and (PULSE_INDEX, EXIT_INDEX) == (0, 1)
     assert events.by_id[1022] == events.index["Traj3D-EV"]
+    assert events.id_of("Traj3D-EV") == 1022
     ms = compiled.automata["Mode-Switch"]
     hovering = ms.states.index("Hovering-ST")
     [a6] = ms.table[hovering][events.index["Traj3D-EV"]]

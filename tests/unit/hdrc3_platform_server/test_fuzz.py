@@ -8,11 +8,10 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 from hdrc3_platform_server.codes import FclCode, FclCommand, PpclCode, PpclCommand, Resource
+from hdrc3_platform_server.commands import FCL, PPCL
 from hdrc3_platform_server.completion import TERMINAL
 from hdrc3_platform_server.fakes import FakeRig
-from hdrc3_platform_server.fcl_api import PARAMETERS as FCL_PARAMETERS
 from hdrc3_platform_server.geo_frame import WorldFrame
-from hdrc3_platform_server.ppcl_api import PARAMETERS as PPCL_PARAMETERS
 
 FRAME = WorldFrame(55.70, 13.47, 95.0)
 numbers = st.one_of(
@@ -49,7 +48,7 @@ def test_random_requests(sequence: list[tuple[object, ...]], on_ground: bool) ->
         elif kind == "fcl":
             command: FclCommand = step[1]  # type: ignore[assignment]
             raw: list[float] = list(step[2])  # type: ignore[call-overload]
-            n = len(FCL_PARAMETERS.get(command, ()))
+            n = len(FCL[command].names)
             exact = (raw + [1.0] * n)[:n]
             a = rig.core.fcl.submit(command, exact if step[3] else raw, rig.t)
             assert a.code in FclCode and (a.command_id > 0) is (a.code is FclCode.OK)
@@ -58,7 +57,7 @@ def test_random_requests(sequence: list[tuple[object, ...]], on_ground: bool) ->
                 accepted.append(a.command_id)
         else:
             pcommand: PpclCommand = step[1]  # type: ignore[assignment]
-            n = len(PPCL_PARAMETERS.get(pcommand, ()))
+            n = len(PPCL[pcommand].names)
             pargs = (list(step[2]) + [0.0] * n)[:n]  # type: ignore[call-overload]
             p = rig.core.ppcl.submit(pcommand, pargs, rig.t)
             assert p.code in PpclCode and (p.code is PpclCode.OK or p.reason)
