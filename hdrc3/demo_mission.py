@@ -62,7 +62,12 @@ def segment_msg(segment: PathSegment) -> PathSegmentMsg:
 
 
 class SurveyMission:
-    """Runs take-off, fly-to, streamed survey segments and landing for one agent."""
+    """Runs take-off, fly-to, streamed survey segments and landing for one agent.
+
+    :meth:`run` flies the whole mission; its steps (:meth:`takeoff`, :meth:`fly_to`,
+    :meth:`stream`, :meth:`land`) are public so that a test can fly them between checks of its
+    own. Each step raises MissionError unless its command finished.
+    """
 
     def __init__(
         self,
@@ -79,6 +84,8 @@ class SurveyMission:
         self._survey = list(survey)
         self._log = log
         self.steps: list[MissionStep] = []
+        self.segment_ids: list[int] = []
+        """Command ids of the segments of the latest :meth:`stream`, in flight order."""
 
     def _call(self, srv: Any, name: str, request: Any) -> FclReturn:
         response = self._client.call(srv, f"fcl/{name}", request, CALL_TIMEOUT_S)
@@ -116,10 +123,30 @@ class SurveyMission:
     def _events_of(self, command_id: int) -> list[CompletionEvent]:
         return [e for e in self._client.events if e.command_id == command_id]
 
-    def _stream_survey(self) -> None:
-        """Send the first segment, then each next one when the kernel asks for it (§7.2)."""
+    def takeoff(self) -> MissionStep:
+        """Take off from the pad; returns the finished step."""
+        return self._command(FclTakeoff, "takeoff", FclTakeoff.Request())
+
+    def fly_to(self, point: tuple[float, float, float], velocity: float) -> MissionStep:
+        """Fly straight to ``point`` (local ENU, m) at ``velocity`` m/s and hover there."""
+        lon, lat, alt = self._frame.to_wgs84(*point)
+        return self._command(
+            FclTraj3dFlyto,
+            "traj3d_flyto",
+            FclTraj3dFlyto.Request(longitude=lon, latitude=lat, altitude=alt, velocity=velocity),
+        )
+
+    def stream(self, path: Sequence[PathSegment]) -> MissionStep:
+        """Fly ``path``: send its first segment, then each next one when the kernel asks (§7.2).
+
+        Returns:
+            The step of the last segment; every segment's command id is in :attr:`segment_ids`.
+        """
+        if not path:
+            raise MissionError("the path has no segments")
         ids: list[int] = []
-        for index, segment in enumerate(self._survey):
+        self.segment_ids = ids
+        for index, segment in enumerate(path):
             request = FclTraj3d.Request(
                 segment=segment_msg(segment),
                 velocity=segment.target_velocity,
@@ -151,19 +178,16 @@ class SurveyMission:
             if result.code != FclReturn.FCL_OK:
                 raise MissionError(f"segment {index} refused: {result.reason}")
             ids.append(int(result.command_id))
-        self._finish("traj3d", ids[-1])
+        return self._finish("traj3d", ids[-1])
+
+    def land(self, heading: float = 0.0) -> MissionStep:
+        """Land with ``heading`` (rad) and shut the engine down."""
+        return self._command(FclLand, "land", FclLand.Request(heading=heading))
 
     def run(self) -> list[MissionStep]:
         """Fly the whole mission; raises MissionError at the first step that fails."""
-        self._command(FclTakeoff, "takeoff", FclTakeoff.Request())
-        start = self._survey[0].start
-        lon, lat, alt = self._frame.to_wgs84(*start)
-        velocity = self._survey[0].target_velocity
-        self._command(
-            FclTraj3dFlyto,
-            "traj3d_flyto",
-            FclTraj3dFlyto.Request(longitude=lon, latitude=lat, altitude=alt, velocity=velocity),
-        )
-        self._stream_survey()
-        self._command(FclLand, "land", FclLand.Request(heading=0.0))
+        self.takeoff()
+        self.fly_to(self._survey[0].start, self._survey[0].target_velocity)
+        self.stream(self._survey)
+        self.land()
         return self.steps

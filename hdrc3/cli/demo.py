@@ -2,7 +2,9 @@
 
 Launches the agent's nodes with recording, flies take-off, a fly-to, a lawn-mower survey
 streamed as traj3d segments and a landing through the Platform Server, stops the system, and
-writes a PNG of track, speed profile and command timeline beside the recording.
+writes a PNG of track, speed profile and command timeline beside the recording. ``--short``
+flies the same mission over a smaller survey next to the pad (two short legs and one turn: three
+streamed segments), which the test suite runs.
 """
 
 from __future__ import annotations
@@ -39,6 +41,17 @@ SURVEY = SurveyArea(
     altitude=30.0,
     heading=math.pi,
 )
+# Two 100 m legs in the field beside pad H1, lower: still a streamed path (three segments, two
+# segment requests), with a short fly-to and a short descent. Legs run north, the turn west.
+SHORT_SURVEY = SurveyArea(
+    corner_east=-250.0,
+    corner_north=-100.0,
+    leg_length=100.0,
+    spacing=40.0,
+    legs=2,
+    altitude=20.0,
+    heading=0.0,
+)
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -47,6 +60,11 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("--out", default="out/demo", help="output directory (default out/demo)")
     parser.add_argument("--domain-id", type=int, default=42, help="ROS domain (default 42)")
     parser.add_argument("--speed", default="max", help="real-time factor or 'max' (default)")
+    parser.add_argument(
+        "--short",
+        action="store_true",
+        help="a smaller survey next to the pad: 2 legs of 100 m, not 3 of 220 m",
+    )
     parser.set_defaults(handler=run)
 
 
@@ -89,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
     recording = out / "run.mcap"
     plot = out / "flight.png"
     frame = frame_from_world(WORLD)
-    survey = lawn_mower(SURVEY, leg_speed=8.0, turn_speed=3.0)
+    survey = lawn_mower(SHORT_SURVEY if args.short else SURVEY, leg_speed=8.0, turn_speed=3.0)
     os.environ["ROS_DOMAIN_ID"] = str(args.domain_id)
     hdrc3 = str(Path(sys.executable).parent / "hdrc3")
     command = [hdrc3, "launch", "--agents", AGENT, "--world", WORLD, "--speed", args.speed]
