@@ -92,22 +92,15 @@ def _sent_on(api_event: str) -> str:
     return name
 
 
-@dataclass(frozen=True, slots=True)
-class FclSpec:
-    """One FCL command."""
+class _Service:
+    """What FCL and PPCL specs share: the service, the DRC input event, the arguments."""
 
-    command: FclCommand
+    __slots__ = ()
     service: str
     """Service type name in ``hdrc3_interfaces.srv``."""
     api_event: str
-    """Input event of the DRC automaton (posted by fcl_api with the command's payload)."""
-    wire_arity: int
-    """Numbers after the id in the wire event's payload."""
-    requires: PlatformState | None
-    """Platform state the command needs; None: answered FCL_OK in every state."""
-    not_accepted: str = "{label} needs the aircraft hovering; it is on the ground"
-    """Reason of FCL_NOT_ACCEPTED when the platform is not in ``requires`` (chapter 6.2.2)."""
-    arguments: tuple[Argument, ...] = ()
+    """Input event of the DRC automaton (posted by the command layer with the payload)."""
+    arguments: tuple[Argument, ...]
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -115,13 +108,8 @@ class FclSpec:
         return tuple(a.name for a in self.arguments)
 
     @property
-    def returns_ok(self) -> bool:
-        """Its return is FCL_OK (cancel, emergency brake: chapter 6.2.2): nothing to wait for."""
-        return self.requires is None
-
-    @property
     def wire_event(self) -> str:
-        """The event the DRC automaton sends the PFC."""
+        """The event the DRC automaton sends the PFC or PPC."""
         return _sent_on(self.api_event)
 
     def service_type(self) -> Any:
@@ -136,7 +124,28 @@ class FclSpec:
 
 
 @dataclass(frozen=True, slots=True)
-class PpclSpec:
+class FclSpec(_Service):
+    """One FCL command."""
+
+    command: FclCommand
+    service: str
+    api_event: str
+    wire_arity: int
+    """Numbers after the id in the wire event's payload."""
+    requires: PlatformState | None
+    """Platform state the command needs; None: answered FCL_OK in every state."""
+    not_accepted: str = "{label} needs the aircraft hovering; it is on the ground"
+    """Reason of FCL_NOT_ACCEPTED when the platform is not in ``requires`` (chapter 6.2.2)."""
+    arguments: tuple[Argument, ...] = ()
+
+    @property
+    def returns_ok(self) -> bool:
+        """Its return is FCL_OK (cancel, emergency brake: chapter 6.2.2): nothing to wait for."""
+        return self.requires is None
+
+
+@dataclass(frozen=True, slots=True)
+class PpclSpec(_Service):
     """One PPCL mode or parameter command (forwarded to the PPC)."""
 
     command: PpclCommand
@@ -151,26 +160,6 @@ class PpclSpec:
     activity: PtuActivity | None = None
     """What ppcl_ptu_activity_info answers once the command is accepted."""
     arguments: tuple[Argument, ...] = ()
-
-    @property
-    def names(self) -> tuple[str, ...]:
-        """Argument names in the order ``submit`` takes them."""
-        return tuple(a.name for a in self.arguments)
-
-    @property
-    def wire_event(self) -> str:
-        """The event the DRC automaton sends the PPC."""
-        return _sent_on(self.api_event)
-
-    def service_type(self) -> Any:
-        """The generated service class."""
-        import hdrc3_interfaces.srv
-
-        return getattr(hdrc3_interfaces.srv, self.service)
-
-    def values(self, request: Any) -> tuple[float, ...]:
-        """The arguments of a service request, in order."""
-        return tuple(a.read(request) for a in self.arguments)
 
     def mode_key(self, values: tuple[float, ...]) -> str:
         """The mode this call occupies (per camera: with the camera id)."""
