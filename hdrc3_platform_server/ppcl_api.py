@@ -143,7 +143,6 @@ class PayloadCommandLayer:
             numbers, reason = self._arguments(command, values)
         if reason is not None:
             return PpclAnswer(PpclCode.NOT_ACCEPTED, reason)
-        key = spec.mode_key(values)
         res = spec.resource
         name = res.name.lower()
         if res in LANDING_CONTROLLED and self.landing():
@@ -166,6 +165,7 @@ class PayloadCommandLayer:
                 PpclCode.NOT_ACCEPTED,
                 "no data from the perception kernel (PPC): is perception_kernel running?",
             )
+        key = spec.mode_key(values)
         for old, (old_command, old_key) in list(self.pending.items()):
             if old_key == key:
                 del self.pending[old]

@@ -10,9 +10,9 @@ and units come from the registry (``hdrc3_platform_server.commands``).
 from __future__ import annotations
 
 import argparse
-import math
 from typing import Any
 
+from hdrc3.cli.platform_call import call, check_timeout, numbers, wait
 from hdrc3_base.errors import ConfigError
 from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
 from hdrc3_platform_server.commands import FCL
@@ -51,10 +51,7 @@ def parse_numbers(command: str, texts: list[str]) -> tuple[float, ...]:
         raise ConfigError(
             f"{command} takes {len(names)} argument(s) ({' '.join(names) or '-'}), got {len(texts)}"
         )
-    try:
-        return tuple(float(t) for t in texts)
-    except ValueError:
-        raise ConfigError(f"{command}: arguments must be numbers, got {texts}") from None
+    return numbers(command, texts)
 
 
 def build_request(command: str, values: tuple[float, ...]) -> tuple[Any, Any]:
@@ -74,16 +71,14 @@ def _kind_name(kind: EventKind) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``hdrc3 fcl``."""
-    from hdrc3.cli.platform_call import call, wait
     from hdrc3_base.ros_runtime import RosProcess
     from hdrc3_platform_server.client import PlatformClient, check_agent
 
     check_agent(args.agent)
     values = parse_numbers(args.fcl_command, args.args)
-    if not (math.isfinite(args.timeout) and args.timeout > 0):
-        raise ConfigError(f"--timeout must be > 0, got {args.timeout}")
+    check_timeout(args.timeout)
     srv, req = build_request(args.fcl_command, values)
-    label = f"fcl_{args.fcl_command}"
+    label = FclCommand(args.fcl_command).label
     with RosProcess(args=[]) as process:
         client = PlatformClient(process, args.agent)
         service = (srv, f"fcl/{args.fcl_command}", req)

@@ -7,15 +7,33 @@ event and for the terminal event.
 from __future__ import annotations
 
 import enum
-from collections.abc import Callable
-from typing import Any
+import math
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
 
-from hdrc3_platform_server.client import PlatformClient
+from hdrc3_base.errors import ConfigError
 from hdrc3_platform_server.codes import EventKind
 from hdrc3_platform_server.completion import CompletionEvent
 
+if TYPE_CHECKING:  # the client pulls in rclpy: not at import time of the CLI's argument parsing
+    from hdrc3_platform_server.client import PlatformClient
+
 ANSWER_WAIT_S = 10.0
 """Longest wall-clock wait for the immediate answer (the --timeout is for the completion)."""
+
+
+def numbers(command: str, texts: Sequence[str]) -> tuple[float, ...]:
+    """The command's words as numbers (ConfigError naming the command otherwise)."""
+    try:
+        return tuple(float(t) for t in texts)
+    except ValueError:
+        raise ConfigError(f"{command}: arguments must be numbers, got {list(texts)}") from None
+
+
+def check_timeout(seconds: float) -> None:
+    """ConfigError unless ``--timeout`` is a positive finite number of seconds."""
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise ConfigError(f"--timeout must be > 0, got {seconds}")
 
 
 def _line(label: str, name: str, command_id: int, reason: str) -> None:

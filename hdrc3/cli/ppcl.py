@@ -13,6 +13,7 @@ import argparse
 import math
 from typing import Any
 
+from hdrc3.cli.platform_call import call, check_timeout, numbers, wait
 from hdrc3_base.errors import ConfigError
 from hdrc3_platform_server.codes import EventKind, PpclCode, PpclCommand, PtuActivity
 from hdrc3_platform_server.commands import PPCL, CliInput, PpclSpec
@@ -65,10 +66,7 @@ def _numbers(command: str, texts: list[str], count: int, optional: int = 0) -> l
         raise ConfigError(
             f"{command} takes {count - optional}..{count} argument(s), got {len(texts)}"
         )
-    try:
-        return [float(t) for t in texts]
-    except ValueError:
-        raise ConfigError(f"{command}: arguments must be numbers, got {texts}") from None
+    return list(numbers(command, texts))
 
 
 def build_request(args: argparse.Namespace) -> tuple[Any, str, Any]:
@@ -142,13 +140,11 @@ def _print_query(cmd: str, response: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``hdrc3 ppcl``."""
-    from hdrc3.cli.platform_call import call, wait
     from hdrc3_base.ros_runtime import RosProcess
     from hdrc3_platform_server.client import PlatformClient, check_agent
 
     check_agent(args.agent)
-    if not (math.isfinite(args.timeout) and args.timeout > 0):
-        raise ConfigError(f"--timeout must be > 0, got {args.timeout}")
+    check_timeout(args.timeout)
     srv, name, req = build_request(args)
     cmd = args.ppcl_command
     label = f"ppcl_{cmd}"
