@@ -7,9 +7,10 @@ them into the zero-argument callables the interpreter binds its guards to.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 
 from hdrc3_hcsm.errors import BindingError
+from hdrc3_hcsm.model import And, CondRef, Guard, Not
 
 
 class ConditionTable:
@@ -30,3 +31,35 @@ class ConditionTable:
 
     def _reader(self, name: str) -> Callable[[], bool]:
         return lambda: self.values[name]
+
+
+def blocking_condition(guard: Guard, conditions: Mapping[str, Callable[[], bool]]) -> str:
+    """Name the condition that makes ``guard`` false (the guard must be false).
+
+    Conjunctions are read left to right, so a guard written most-general-first explains itself
+    by its first failing conjunct; a disjunction is explained by its first operand; a negated
+    condition by the condition that holds.
+    """
+    if isinstance(guard, CondRef):
+        return guard.name
+    if isinstance(guard, Not):
+        return blocking_condition(guard.operand, {k: _negated(v) for k, v in conditions.items()})
+    if isinstance(guard, And):
+        failing = next(g for g in guard.operands if not evaluate(g, conditions))
+        return blocking_condition(failing, conditions)
+    return blocking_condition(guard.operands[0], conditions)
+
+
+def evaluate(guard: Guard, conditions: Mapping[str, Callable[[], bool]]) -> bool:
+    """The value of ``guard`` under ``conditions`` (by name)."""
+    if isinstance(guard, CondRef):
+        return conditions[guard.name]()
+    if isinstance(guard, Not):
+        return not evaluate(guard.operand, conditions)
+    if isinstance(guard, And):
+        return all(evaluate(g, conditions) for g in guard.operands)
+    return any(evaluate(g, conditions) for g in guard.operands)
+
+
+def _negated(condition: Callable[[], bool]) -> Callable[[], bool]:
+    return lambda: not condition()

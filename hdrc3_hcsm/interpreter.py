@@ -75,6 +75,9 @@ class StepResult:
     transitions: int
     external_events: int
     faults: tuple[Fault, ...]
+    unconsumed: tuple[str, ...] = ()
+    """External events, in order, that made no transition in any machine (no transition on
+    them from an active state, every guard false, or the selected one's actions failed)."""
 
 
 @dataclass(frozen=True)
@@ -360,6 +363,7 @@ class Interpreter:
         transitions = stats.transitions
         status = StepStatus.OK
         tracing = self._trace is not None
+        unconsumed: list[str] = []
         with self.memory.lock:
             while True:
                 if pending:
@@ -376,6 +380,8 @@ class Interpreter:
                         self.memory.commit(data, None)
                     if exit_target is None:
                         self._make_transitions(self._root, index)
+                        if origin is EventOrigin.EXTERNAL and not self._fired:
+                            unconsumed.append(self._event_names[index])
                     else:
                         self._deliver_exit(exit_target)
                     if tracing:
@@ -393,7 +399,12 @@ class Interpreter:
         stats.micro_steps += micro
         stats.faults += len(self._faults)
         return StepResult(
-            status, micro, stats.transitions - transitions, taken - pending, tuple(self._faults)
+            status,
+            micro,
+            stats.transitions - transitions,
+            taken - pending,
+            tuple(self._faults),
+            tuple(unconsumed),
         )
 
     def _make_transitions(self, machines: list[_Machine], event: int) -> None:

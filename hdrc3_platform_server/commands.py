@@ -3,10 +3,11 @@
 Everything the code needs to know about a command that is not behaviour is here, once: its
 service type, the request fields that become its arguments (in order, with names and units),
 the CLI's words, units and conversions, the DRC automaton's input event, the number of values
-its wire event carries, and what it needs (a flight state, a payload resource). The node's
-services, ``fcl_api``/``ppcl_api``, the fakes and ``hdrc3 fcl|ppcl`` are derived from it. The
-wire event itself and every event id come from the DRC automaton (``automata/drc.hcsm``): the
-event its transition on the input event SENDs.
+its wire event carries, and the payload resource it needs. The node's services,
+``fcl_api``/``ppcl_api``, the fakes and ``hdrc3 fcl|ppcl`` are derived from it. The wire event,
+every event id and the flight state a command needs come from the DRC automaton
+(``automata/drc.hcsm``): the event its transition on the input event SENDs, and that
+transition's guard.
 
 Adding a command: a member of ``FclCommand``/``PpclCommand`` (codes.py) and its entry here, its
 transitions in ``drc.hcsm`` and the kernel's model, and its ``.srv`` in hdrc3_interfaces.
@@ -25,7 +26,7 @@ from typing import Any
 
 from hdrc3_hcsm.tables import OpCode
 from hdrc3_platform_server.codes import FclCommand, PpclCommand, PtuActivity, Resource
-from hdrc3_platform_server.drc import PlatformState, load_model
+from hdrc3_platform_server.drc import load_model
 
 
 class CliInput(enum.Enum):
@@ -73,6 +74,15 @@ class Argument:
     def from_cli(self, value: float) -> float:
         """A CLI number in the service's unit."""
         return math.radians(value) if self.degrees else value
+
+
+@functools.cache
+def _always_taken(api_event: str) -> bool:
+    """The Flight automaton takes ``api_event`` in every state, unguarded (cancel, brake)."""
+    model = load_model()
+    flight = model.automata["Flight"]
+    index = model.events.index[api_event]
+    return all(any(spec.guard is None for spec in row.get(index, ())) for row in flight.table)
 
 
 @functools.cache
@@ -132,16 +142,15 @@ class FclSpec(_Service):
     api_event: str
     wire_arity: int
     """Numbers after the id in the wire event's payload."""
-    requires: PlatformState | None
-    """Platform state the command needs; None: answered FCL_OK in every state."""
-    not_accepted: str = "{label} needs the aircraft hovering; it is on the ground"
-    """Reason of FCL_NOT_ACCEPTED when the platform is not in ``requires`` (chapter 6.2.2)."""
     arguments: tuple[Argument, ...] = ()
 
     @property
     def returns_ok(self) -> bool:
-        """Its return is FCL_OK (cancel, emergency brake: chapter 6.2.2): nothing to wait for."""
-        return self.requires is None
+        """Its return is FCL_OK (cancel, emergency brake: chapter 6.2.2): nothing to wait for.
+
+        True when the DRC automaton takes its input event in every Flight state, unguarded.
+        """
+        return _always_taken(self.api_event)
 
 
 @dataclass(frozen=True, slots=True)
@@ -177,26 +186,17 @@ def _xyz(name: str, field: str, cli: str) -> tuple[Argument, ...]:
     )
 
 
-_AIR = PlatformState.AIR
 FCL: dict[FclCommand, FclSpec] = {
     s.command: s
     for s in (
-        FclSpec(
-            FclCommand.TAKEOFF,
-            "FclTakeoff",
-            "Api-Takeoff-EV",
-            0,
-            PlatformState.GROUND,
-            "take-off can only be commanded when the aircraft is on the ground",
-        ),
-        FclSpec(FclCommand.LAND, "FclLand", "Api-Land-EV", 1, _AIR, arguments=_heading()),
-        FclSpec(FclCommand.YAW, "FclYaw", "Api-Yaw-EV", 1, _AIR, arguments=_heading()),
+        FclSpec(FclCommand.TAKEOFF, "FclTakeoff", "Api-Takeoff-EV", 0),
+        FclSpec(FclCommand.LAND, "FclLand", "Api-Land-EV", 1, arguments=_heading()),
+        FclSpec(FclCommand.YAW, "FclYaw", "Api-Yaw-EV", 1, arguments=_heading()),
         FclSpec(
             FclCommand.CLIMB,
             "FclClimb",
             "Api-Climb-EV",
             1,
-            _AIR,
             arguments=(Argument("altitude", "altitude", "m (WGS84 ellipsoid)", "ALTITUDE_M"),),
         ),
         FclSpec(
@@ -204,7 +204,6 @@ FCL: dict[FclCommand, FclSpec] = {
             "FclTraj3dFlyto",
             "Api-Flyto-EV",
             4,
-            _AIR,
             arguments=(
                 Argument("longitude", "longitude", "deg", "LON"),
                 Argument("latitude", "latitude", "deg", "LAT"),
@@ -217,7 +216,6 @@ FCL: dict[FclCommand, FclSpec] = {
             "FclTraj3d",
             "Api-Traj3D-EV",
             14,
-            _AIR,
             arguments=(
                 *_xyz("start", "start_point", "S"),
                 *_xyz("end", "end_point", "E"),
@@ -235,9 +233,9 @@ FCL: dict[FclCommand, FclSpec] = {
                 ),
             ),
         ),
-        FclSpec(FclCommand.TRACK, "FclTrack", "Api-Track-EV", 0, _AIR),
-        FclSpec(FclCommand.EMERGENCY_BRAKE, "FclEmergencyBrake", "Api-Brake-EV", 0, None),
-        FclSpec(FclCommand.CANCEL, "FclCancel", "Api-Cancel-EV", 0, None),
+        FclSpec(FclCommand.TRACK, "FclTrack", "Api-Track-EV", 0),
+        FclSpec(FclCommand.EMERGENCY_BRAKE, "FclEmergencyBrake", "Api-Brake-EV", 0),
+        FclSpec(FclCommand.CANCEL, "FclCancel", "Api-Cancel-EV", 0),
     )
 }
 """Every FCL command, in the order of chapter 6.2.2."""

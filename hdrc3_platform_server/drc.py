@@ -1,23 +1,27 @@
 """The DRC's HCSM side: the DRC automaton, its conditions and its main loop (chapter 6.2.1).
 
 One :class:`DrcKernel` runs ``automata/drc.hcsm`` on an HCSM interpreter.
-The command layers post ``Api-*-EV`` events (the "shared memory" path of Figure 11) and read the
-active states to answer at once; :meth:`DrcKernel.step` is one Communicate + ExecuteStateMachine
-+ Communicate pass, so a command reaches the PFC/PPC in the same call that accepted it.
+The command layers post ``Api-*-EV`` events (the "shared memory" path of Figure 11);
+:meth:`DrcKernel.step` is one Communicate + ExecuteStateMachine + Communicate pass, so a command
+reaches the PFC/PPC in the same call that accepted it. Whether the automaton took the command is
+in the step's result; :meth:`DrcKernel.refusal` says why it did not, from the same model.
 """
 
 from __future__ import annotations
 
 import enum
 import functools
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from types import MappingProxyType
 from typing import Protocol
 
 from hdrc3_control.event_codec import command_id_of
+from hdrc3_hcsm.conditions import blocking_condition
 from hdrc3_hcsm.event import PostStatus, WireEvent
-from hdrc3_hcsm.interpreter import Interpreter
+from hdrc3_hcsm.interpreter import Interpreter, StepResult
 from hdrc3_hcsm.loader import load_file
 from hdrc3_hcsm.tables import CompiledModel, compile_model
 from hdrc3_hcsm.transport import SendStatus, Transport
@@ -41,6 +45,35 @@ class PlatformState(enum.Enum):
     GROUND = "Pl-Ground-ST"
     AIR = "Pl-Air-ST"
     MANUAL = "Pl-Manual-ST"
+
+
+class RefusalKind(enum.Enum):
+    """Why the Flight automaton made no transition on a command's input event."""
+
+    BUSY = "busy"
+    """No transition on it from the active state: another command is in progress."""
+    NOT_ACCEPTED = "not_accepted"
+    """A transition on it exists, but its guard is false in the aircraft's state."""
+
+
+@dataclass(frozen=True, slots=True)
+class Refusal:
+    """The automaton's refusal of one command, with a reason for the caller."""
+
+    kind: RefusalKind
+    reason: str
+
+
+REFUSALS: Mapping[str, str] = MappingProxyType(
+    {
+        "Data-Fresh-CO": "no state data from the control kernel (PFC): is control_kernel running?",
+        "On-Ground-CO": "{label} can only be commanded when the aircraft is on the ground",
+        "Airborne-CO": "{label} needs the aircraft hovering; it is on the ground",
+        "Auto-CO": "the RC switch is in manual mode: the safety pilot must select autonomous",
+    }
+)
+"""FCL_NOT_ACCEPTED reason per condition of a start transition's guard, when it is the one that
+fails (``{label}``: the command); other conditions are named as they are."""
 
 
 class WireListener(Protocol):
@@ -84,7 +117,7 @@ class DrcKernel:
         """DRC time when Settling/Braking was entered (Settle-Timeout-CO)."""
         self.listeners: list[WireListener] = []
         self.undeliverable = 0
-        conditions: dict[str, Callable[[], bool]] = {
+        self.conditions: dict[str, Callable[[], bool]] = {
             "Current-Cmd-CO": self._current_cmd,
             "On-Ground-CO": status.on_ground,
             "Airborne-CO": status.airborne,
@@ -93,7 +126,8 @@ class DrcKernel:
             "Hover-Stable-CO": status.hover_stable,
             "Settle-Timeout-CO": self._settle_timeout,
         }
-        self.interpreter = Interpreter(model or load_model(), conditions)
+        self.model = model or load_model()
+        self.interpreter = Interpreter(self.model, self.conditions)
 
     # --- conditions -----------------------------------------------------------------------
     def _current_cmd(self) -> bool:
@@ -119,6 +153,19 @@ class DrcKernel:
         """Active state of the Platform automaton."""
         return PlatformState(self._state_of("Platform"))
 
+    def refusal(self, event: str, label: str) -> Refusal:
+        """Why Flight makes no transition on ``event`` now (``label`` names the command)."""
+        flight = self.model.automata["Flight"]
+        state = self.flight().value
+        specs = flight.table[flight.states.index(state)].get(self.model.events.index[event], ())
+        if not specs:
+            return Refusal(RefusalKind.BUSY, f"the DRC is in {state}")
+        guard = specs[0].guard
+        if guard is None:  # pragma: no cover - an unguarded transition is always taken
+            return Refusal(RefusalKind.NOT_ACCEPTED, "the DRC automaton did not take it")
+        name = blocking_condition(guard, self.conditions)
+        return Refusal(RefusalKind.NOT_ACCEPTED, REFUSALS.get(name, name).format(label=label))
+
     # --- loop -----------------------------------------------------------------------------
     def post(self, name: str, data: bytes) -> PostStatus:
         """Queue an ``Api-*-EV`` event from a command layer."""
@@ -133,7 +180,7 @@ class DrcKernel:
             if self.transport.send(event) is not SendStatus.SENT:
                 self.undeliverable += 1
 
-    def step(self, now: float) -> None:
+    def step(self, now: float) -> StepResult:
         """Communicate, execute one macro step at DRC time ``now``, communicate again."""
         self.status.now = max(self.status.now, now)
         self._flush()
@@ -143,7 +190,7 @@ class DrcKernel:
                     listener.on_wire(event, self.status.now)
                 self.interpreter.post_wire(event)
         before = self.flight()
-        self.interpreter.execute(self.status.now)
+        result = self.interpreter.execute(self.status.now)
         after = self.flight()
         if after is not before:
             waiting = after in (FlightState.SETTLING, FlightState.BRAKING)
@@ -151,3 +198,4 @@ class DrcKernel:
         for listener in self.listeners:
             listener.after_step(self.status.now)
         self._flush()
+        return result

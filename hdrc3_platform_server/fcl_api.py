@@ -24,7 +24,7 @@ from hdrc3_platform_server import limits as check
 from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
 from hdrc3_platform_server.commands import FCL
 from hdrc3_platform_server.completion import CompletionEvent, EventSink
-from hdrc3_platform_server.drc import DrcKernel, FlightState, PlatformState
+from hdrc3_platform_server.drc import DrcKernel, FlightState, PlatformState, RefusalKind
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.limits import FlightLimits
 
@@ -167,21 +167,16 @@ class FlightCommandLayer:
             return None
         return f"{cur.command.label} (command {cur.command_id}) is being executed"
 
-    def _state_reason(self, command: FclCommand) -> str | None:
-        spec = FCL[command]
-        platform = self.kernel.platform()
-        if platform is PlatformState.UNKNOWN:
-            return "no state data from the control kernel (PFC): is control_kernel running?"
-        if platform is PlatformState.MANUAL:
-            return "the aircraft is in manual flight mode (RC switch)"
-        if spec.requires is not None and platform is not spec.requires:
-            return spec.not_accepted.format(label=command.label)
-        if spec.requires is PlatformState.GROUND and not self.kernel.status.auto():
-            return "the RC switch is in manual mode: the safety pilot must select autonomous"
-        return None
-
     def _start(self, command: FclCommand, numbers: Sequence[float], now: float) -> FclAnswer:
+        """Offer the command to the DRC automaton: its transitions decide the answer."""
+        spec = FCL[command]
         cid = self.ids.next()
+        self.kernel.post(spec.api_event, encode(cid, numbers))
+        if spec.api_event in self.kernel.step(now).unconsumed:
+            refusal = self.kernel.refusal(spec.api_event, command.label)
+            if refusal.kind is RefusalKind.BUSY:
+                return FclAnswer(FclCode.BUSY, self.busy_with() or refusal.reason)
+            return FclAnswer(FclCode.NOT_ACCEPTED, refusal.reason)
         active = _Active(command, cid)
         if command is FclCommand.TRAJ3D:
             active.segments.append(cid)
@@ -189,8 +184,6 @@ class FlightCommandLayer:
             active.progress[cid] = _Seg.SENT
         self.current = active
         self._sync_ids()
-        self.kernel.post(FCL[command].api_event, encode(cid, numbers))
-        self.kernel.step(now)
         return FclAnswer(FclCode.OK, "", cid)
 
     # --- the commands ---------------------------------------------------------------------
@@ -205,19 +198,9 @@ class FlightCommandLayer:
             return self._cancel(now)
         if command is FclCommand.EMERGENCY_BRAKE:
             return self._brake(now)
-        if command is FclCommand.TRAJ3D and self.current is not None:
-            return self._next_segment(numbers, now)
-        # Python decides BUSY / NOT_ACCEPTED here, beside the DRC automaton, because the answer
-        # is due in this call with a reason naming the running command or the state: an Api
-        # event that fires no transition is only dropped by the interpreter, which neither
-        # answers nor says why. The inputs are the automaton's (Platform state, Flight idle via
-        # the command it runs) and the registry's required state per command.
-        busy = self.busy_with()
-        if busy is not None:
-            return FclAnswer(FclCode.BUSY, busy)
-        reason = self._state_reason(command)
-        if reason is not None:
-            return FclAnswer(FclCode.NOT_ACCEPTED, reason)
+        cur = self.current
+        if command is FclCommand.TRAJ3D and cur is not None and cur.command is command:
+            return self._next_segment(cur, numbers, now)
         return self._start(command, numbers, now)
 
     def _cancel(self, now: float) -> FclAnswer:
@@ -248,12 +231,8 @@ class FlightCommandLayer:
         self.kernel.step(now)
         return FclAnswer(FclCode.OK, "", cid)
 
-    def _next_segment(self, numbers: Sequence[float], now: float) -> FclAnswer:
-        cur = self.current
-        assert cur is not None
-        if cur.command is not FclCommand.TRAJ3D or self.kernel.flight() is not FlightState.PATH:
-            busy = self.busy_with()
-            return FclAnswer(FclCode.BUSY, busy or "a command is being executed")
+    def _next_segment(self, cur: _Active, numbers: Sequence[float], now: float) -> FclAnswer:
+        """A further segment of the path in progress (Figures 17-18)."""
         last = cur.segments[-1]
         replace = len(cur.segments) > 1 and cur.progress[last] is _Seg.SENT
         if not replace and cur.end_velocity[last] == 0.0:
@@ -262,14 +241,16 @@ class FlightCommandLayer:
                 f"the path ends with segment {last} (end velocity 0); wait for it to finish",
             )
         cid = self.ids.next()
+        event = FCL[FclCommand.TRAJ3D].api_event
+        self.kernel.post(event, encode(cid, numbers))
+        if event in self.kernel.step(now).unconsumed:  # the path is over: Flight left Path
+            return FclAnswer(FclCode.BUSY, self.busy_with() or "the path has ended")
         # A replaced segment is cancelled once the PFC takes the new one (Cmd-Accepted-EV or
         # Request-Segment-EV); if the PFC refuses the replacement, the old one stays queued.
         cur.segments.append(cid)
         cur.end_velocity[cid] = numbers[-1]
         cur.progress[cid] = _Seg.SENT
         self._sync_ids()
-        self.kernel.post(FCL[FclCommand.TRAJ3D].api_event, encode(cid, numbers))
-        self.kernel.step(now)
         return FclAnswer(FclCode.OK, "replaces the next segment" if replace else "", cid)
 
     # --- arguments ------------------------------------------------------------------------

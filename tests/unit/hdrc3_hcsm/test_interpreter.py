@@ -426,3 +426,32 @@ def test_random_event_storms_keep_the_pfc_model_consistent(
         assert in_traj3d == any(c.startswith("Mode-Switch/Traj3D-ST/Traj3D:") for c in config)
         assert len(config) == 2 + in_traj3d
         interp.flags.clear()
+
+
+UNCONSUMED = """
+event Go-EV = 1; event Stop-EV = 2;
+condition Ready-CO;
+automaton A Run { init Idle-ST; state Busy-ST;
+    A.1: Idle-ST -> Busy-ST on Go-EV [Ready-CO];
+    A.2: Busy-ST -> Idle-ST on Stop-EV; }
+root Run;
+"""
+
+
+@pytest.mark.parametrize(
+    ("ready", "posts", "unconsumed"),
+    [
+        (True, ("Go-EV",), ()),  # taken
+        (False, ("Go-EV",), ("Go-EV",)),  # a transition on it, guard false
+        (True, ("Stop-EV",), ("Stop-EV",)),  # no transition on it from Idle-ST
+        (True, ("Go-EV", "Go-EV", "Stop-EV"), ("Go-EV",)),  # in order, per occurrence
+    ],
+)
+def test_step_reports_external_events_that_made_no_transition(
+    ready: bool, posts: tuple[str, ...], unconsumed: tuple[str, ...]
+) -> None:
+    interp, conds, _ = make(UNCONSUMED)
+    conds.set("Ready-CO", ready)
+    for name in posts:
+        assert interp.post_external(name) is PostStatus.ACCEPTED
+    assert interp.execute(0.0).unconsumed == unconsumed

@@ -6,8 +6,11 @@ import math
 
 import pytest
 
+from hdrc3_hcsm.loader import load_text
+from hdrc3_hcsm.tables import compile_model
+from hdrc3_platform_server import drc
 from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
-from hdrc3_platform_server.drc import FlightState, PlatformState
+from hdrc3_platform_server.drc import FlightState, PlatformState, model_path
 from hdrc3_platform_server.fakes import FakeRig
 from hdrc3_platform_server.geo_frame import WorldFrame
 
@@ -85,6 +88,17 @@ ROWS = [
 ]
 
 
+def refusal_words(command: FclCommand, state: str) -> str:
+    """Words of the reason the DRC automaton gives (its first failing guard condition)."""
+    if state == "busy":
+        return "fcl_traj3d_flyto (command"
+    if state == "unknown":
+        return "no state data from the control kernel"
+    if command is C.TAKEOFF:
+        return "manual mode" if state == "ground_manual" else "only be commanded when"
+    return "needs the aircraft hovering" if state == "ground" else "manual mode"
+
+
 @pytest.mark.parametrize(("command", "state", "code", "final"), ROWS)
 def test_semantics_row(
     command: FclCommand, state: str, code: FclCode, final: EventKind | None
@@ -94,7 +108,7 @@ def test_semantics_row(
     answer = rig.core.fcl.submit(command, args(command), rig.t)
     assert answer.code is code, answer.reason
     if code is not FclCode.OK:
-        assert answer.reason and answer.command_id == 0
+        assert refusal_words(command, state) in answer.reason and answer.command_id == 0
         rig.run(0.5)
         # a refused command produces no event of its own
         assert all(e.command_id != 0 for e in rig.log.events[before:])
@@ -208,3 +222,20 @@ def test_pfc_fault_is_reported_as_info(state: str, command_id_is_zero: bool) -> 
     info = [e for e in rig.log.events if e.reason == "PFC fault: GPS lost"]
     assert len(info) == 1 and info[0].kind is EventKind.INFO
     assert (info[0].command_id == 0) is command_id_is_zero
+
+
+def test_the_drc_model_decides_the_answer(monkeypatch: pytest.MonkeyPatch) -> None:
+    # A DRC model whose land transition wants the ground: landing on the ground is then taken
+    # and sent to the PFC, and landing in the air refused, with no change to the Python side.
+    text = model_path().read_text(encoding="utf-8")
+    land = "on Api-Land-EV [Data-Fresh-CO AND Airborne-CO AND Auto-CO]"
+    assert land in text
+    variant = compile_model(load_text(text.replace(land, land.replace("Airborne", "On-Ground"))))
+    monkeypatch.setattr(drc, "load_model", lambda: variant)
+    on_ground = rig_in("ground")
+    assert on_ground.core.fcl.submit(C.LAND, (0.5,), on_ground.t).code is FclCode.OK
+    assert on_ground.core.kernel.flight() is FlightState.RUNNING
+    hovering = rig_in("hover")
+    refused = hovering.core.fcl.submit(C.LAND, (0.5,), hovering.t)
+    assert refused.code is FclCode.NOT_ACCEPTED
+    assert "fcl_land can only be commanded when the aircraft is on the ground" in refused.reason
