@@ -11,13 +11,14 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pymap3d
 from numpy.typing import NDArray
 from rclpy.serialization import deserialize_message
 
-from hdrc3.mcap_recording import RecordingReader
+from hdrc3.mcap_recording import RecordedMessage, RecordingReader
 from hdrc3.message_types import message_class
 from hdrc3_base.errors import DataError
 from hdrc3_control.path_segment import PathSegment
@@ -143,49 +144,59 @@ def _sample_plan(plan: Sequence[PathSegment], step: float = 0.5) -> NDArray[np.f
     return np.array(points)
 
 
-def build_report(recording: Path, agent: str, origin: tuple[float, float, float]) -> FlightReport:
-    """Read one agent's flight out of a recording.
+class FlightReportBuilder:
+    """Builds one agent's :class:`FlightReport` from its recorded messages, in file order.
 
-    Args:
-        recording: MCAP file written by `hdrc3 record` / `hdrc3 launch --record`.
-        agent: Agent namespace without slashes, e.g. ``uav0``.
-        origin: World origin (latitude, longitude, altitude) for the ENU frame.
+    ``origin`` (latitude, longitude, altitude) fixes the ENU frame; None takes the agent's first
+    Data Interface sample as the origin.
     """
-    state_topic = f"/{agent}/helicopter_state"
-    events_topic = f"/{agent}/platform_events"
-    pfc_topic = f"/{agent}/pfc/state"
-    reader = RecordingReader.open(recording)
-    topics = reader.topics()
-    if state_topic not in topics:
-        raise DataError(f"{recording} has no {state_topic}; topics: {', '.join(sorted(topics))}")
-    state_cls = message_class(topics[state_topic])
-    event_cls = message_class(topics[events_topic]) if events_topic in topics else None
-    pfc_cls = message_class(topics[pfc_topic]) if pfc_topic in topics else None
-    mode_names = {
-        getattr(pfc_cls, name): name.removeprefix("MODE_")
-        for name in dir(pfc_cls)
-        if name.startswith("MODE_")
-    }
-    report = FlightReport(agent)
-    t0: float | None = None
-    for message in reader.messages([state_topic, events_topic, pfc_topic]):
-        if message.topic == pfc_topic:
-            if t0 is None:
-                continue
-            msg = deserialize_message(message.data, pfc_cls)
-            mode = mode_names.get(msg.mode, str(msg.mode))
+
+    def __init__(self, agent: str, origin: tuple[float, float, float] | None) -> None:
+        self.report = FlightReport(agent)
+        self.origin = origin
+        self.state_topic = f"/{agent}/helicopter_state"
+        self.events_topic = f"/{agent}/platform_events"
+        self.pfc_topic = f"/{agent}/pfc/state"
+        self._classes: dict[str, Any] = {}
+        self._mode_names: dict[int, str] = {}
+        self._t0: float | None = None
+
+    @property
+    def topics(self) -> tuple[str, str, str]:
+        """The topics this builder reads."""
+        return (self.state_topic, self.events_topic, self.pfc_topic)
+
+    def _decode(self, message: RecordedMessage) -> Any:
+        cls = self._classes.get(message.topic)
+        if cls is None:
+            cls = self._classes[message.topic] = message_class(message.type_name)
+            if message.topic == self.pfc_topic:
+                self._mode_names = {
+                    getattr(cls, name): name.removeprefix("MODE_")
+                    for name in dir(cls)
+                    if name.startswith("MODE_")
+                }
+        return deserialize_message(message.data, cls)
+
+    def add(self, message: RecordedMessage) -> None:
+        """Take one message of one of :attr:`topics`."""
+        msg = self._decode(message)
+        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        report = self.report
+        if message.topic == self.pfc_topic:
+            if self._t0 is None:
+                return
+            mode = self._mode_names.get(msg.mode, str(msg.mode))
             if not report.modes or report.modes[-1][1] != mode:
-                stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
-                report.modes.append((stamp - t0, mode))
-            continue
-        if message.topic == state_topic:
-            msg = deserialize_message(message.data, state_cls)
-            stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
-            t0 = stamp if t0 is None else t0
-            e, n, u = _to_enu(origin, msg.latitude, msg.longitude, msg.altitude)
+                report.modes.append((stamp - self._t0, mode))
+        elif message.topic == self.state_topic:
+            self._t0 = stamp if self._t0 is None else self._t0
+            if self.origin is None:
+                self.origin = (msg.latitude, msg.longitude, msg.altitude)
+            e, n, u = _to_enu(self.origin, msg.latitude, msg.longitude, msg.altitude)
             report.track.append(
                 TrackPoint(
-                    stamp - t0,
+                    stamp - self._t0,
                     float(e),
                     float(n),
                     float(u),
@@ -194,18 +205,35 @@ def build_report(recording: Path, agent: str, origin: tuple[float, float, float]
                     bool(msg.auto_flag),
                 )
             )
-        elif event_cls is not None:
-            msg = deserialize_message(message.data, event_cls)
-            stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        else:
             report.events.append(
                 EventMark(
-                    stamp - (t0 if t0 is not None else stamp),
+                    stamp - (self._t0 if self._t0 is not None else stamp),
                     msg.command,
                     _EVENT_KINDS.get(msg.kind, str(msg.kind)),
                     msg.reason,
                 )
             )
-    return report
+
+
+def build_report(recording: Path, agent: str, origin: tuple[float, float, float]) -> FlightReport:
+    """Read one agent's flight out of a recording.
+
+    Args:
+        recording: MCAP file written by `hdrc3 record` / `hdrc3 launch --record`.
+        agent: Agent namespace without slashes, e.g. ``uav0``.
+        origin: World origin (latitude, longitude, altitude) for the ENU frame.
+    """
+    reader = RecordingReader.open(recording)
+    topics = reader.topics()
+    builder = FlightReportBuilder(agent, origin)
+    if builder.state_topic not in topics:
+        raise DataError(
+            f"{recording} has no {builder.state_topic}; topics: {', '.join(sorted(topics))}"
+        )
+    for message in reader.messages(builder.topics):
+        builder.add(message)
+    return builder.report
 
 
 def plot_report(report: FlightReport, out: Path, plan: Sequence[PathSegment] = ()) -> Path:

@@ -20,6 +20,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "hdrc3.cli.launch",
     "hdrc3.cli.record",
     "hdrc3.cli.replay",
+    "hdrc3.cli.report",
     "hdrc3.cli.doctor",
     "hdrc3.cli.demo",
     "hdrc3.cli.hcsm",
