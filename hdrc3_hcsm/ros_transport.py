@@ -121,7 +121,7 @@ class RosTransport:
 
     @property
     def incarnation(self) -> int:
-        """This transport's incarnation (stamped on every event it sends)."""
+        """The incarnation of this transport (stamped on every event it sends)."""
         return self._integrity.incarnation
 
     def send(self, event: WireEvent) -> SendStatus:

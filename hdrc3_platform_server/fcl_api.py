@@ -42,6 +42,10 @@ PFC_REPLIES = frozenset(
     }
 )
 
+FINAL_REPLIES = frozenset(
+    {"Cmd-Rejected-EV", "Cmd-Finished-EV", "Traj-Arrived-EV", "Cmd-Failed-EV", "Cmd-Cancelled-EV"}
+)
+
 
 @dataclass(frozen=True, slots=True)
 class FclAnswer:
@@ -383,6 +387,10 @@ class FlightCommandLayer:
             return
         cur = self.current
         cid = command_id_of(event.data)  # 0 for a short payload: never an open id
+        if event.name in FINAL_REPLIES:
+            # a command of the server's previous run ended while it was down: its final reply
+            # was held by the PFC's transport until this run subscribed
+            self._orphan(cid, "fcl")
         if cur is None or cid not in cur.open_ids():
             return
         cur.heard = True
@@ -460,6 +468,15 @@ class FlightCommandLayer:
         """Put the Flight automaton back in Idle; the PFC is told to cancel (it then hovers)."""
         self.kernel.post(FCL[FclCommand.CANCEL].api_event, encode(self.ids.next()))
 
+    def _orphan(self, command_id: int, label: str) -> bool:
+        """End a command of an earlier run of this server once; True if it was news."""
+        if not command_id or self.ids.issued(command_id) or command_id in self.orphans:
+            return False
+        self.orphans.add(command_id)
+        now = self.kernel.status.now
+        self.sink(CompletionEvent(command_id, label, EventKind.FAILED, RESTARTED_DRC, now))
+        return True
+
     def on_restart(self, computer: str, now: float) -> None:
         """A restarted PFC forgot the command it replied about: it ends FAILED, Flight is idle.
 
@@ -477,13 +494,8 @@ class FlightCommandLayer:
         it ends FAILED (once) and the PFC is told to cancel it. A PFC back in its boot mode
         while a command runs has restarted (also when none of its events arrived yet).
         """
-        cid = sample.command_id
-        if cid and not self.ids.issued(cid) and cid not in self.orphans:
-            self.orphans.add(cid)
-            command = _MODE_COMMANDS.get(sample.mode)
-            label = command.label if command is not None else "fcl"
-            now = self.kernel.status.now
-            self.sink(CompletionEvent(cid, label, EventKind.FAILED, RESTARTED_DRC, now))
+        command = _MODE_COMMANDS.get(sample.mode)
+        if self._orphan(sample.command_id, command.label if command is not None else "fcl"):
             self._stop_pfc()
         if sample.mode == FlightMode.BOOT and self.current is not None:
             self._end_current(EventKind.FAILED, RESTARTED_PFC)

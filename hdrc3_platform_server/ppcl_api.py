@@ -254,5 +254,8 @@ class PayloadCommandLayer:
         """Nothing to do: PPCL outcomes come with the events."""
 
     def on_restart(self, computer: str, now: float) -> None:
-        """Nothing yet: a PPC restart is heard with its first reply, which cannot tell the
-        commands the old PPC forgot from those the new one is running (README, "Restarts")."""
+        """Nothing yet (README, "Restarts").
+
+        A PPC restart is heard with its first reply, which cannot tell the commands the old PPC
+        forgot from those the new one runs.
+        """

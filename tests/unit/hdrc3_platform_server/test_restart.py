@@ -89,3 +89,16 @@ def test_server_restart_with_an_idle_pfc_changes_nothing() -> None:
     rig.run(0.5)
     assert rig.log.events[before:] == []
     next_command_works(rig)
+
+
+def test_a_final_reply_held_for_the_restarted_server_ends_the_command_once() -> None:
+    rig = FakeRig(FRAME, on_ground=False, timing=SLOW)
+    cid = start_flyto(rig)
+    rig.pfc.job = None  # it arrived while the server was down ...
+    rig.pfc.mode = FlightMode.HOVER
+    rig.restart_server(id_start=cid + 1_000_000)
+    rig.pfc._send("Traj-Arrived-EV", cid)  # ... and its transport held the reply meanwhile
+    rig.run(0.5)
+    assert terminal(rig, cid) == [EventKind.FAILED]
+    assert rig.log.final(cid).reason == RESTARTED_DRC  # type: ignore[union-attr]
+    next_command_works(rig)
