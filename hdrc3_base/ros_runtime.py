@@ -22,10 +22,25 @@ from rclpy.context import Context
 from rclpy.executors import Executor, SingleThreadedExecutor
 from rclpy.experimental.events_executor import EventsExecutor
 from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
 from hdrc3_base.errors import Hdrc3Error
 from hdrc3_base.ros_env import apply_localhost_default
+
+SERVICE_QOS = QoSProfile(
+    reliability=ReliabilityPolicy.RELIABLE,
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1000,
+    durability=DurabilityPolicy.VOLATILE,
+)
+"""QoS of every hdrc3 service and of its clients: a burst of requests is queued, not dropped.
+
+rclpy's default (``qos_profile_services_default``) keeps the last 10 requests in the server's
+request reader and the last 10 answers in a client's response reader: of 50 requests sent at once,
+those that arrive while the executor is busy overwrite each other (issue 21: 18-29 of 50 were
+never answered). 1,000 covers the bursts ``bench/service_burst.py`` measures.
+"""
 
 
 class RosProcess:

@@ -34,7 +34,7 @@ from sensor_msgs.msg import Imu, NavSatFix
 from std_msgs.msg import String
 
 from hdrc3_base.errors import ConfigError
-from hdrc3_base.ros_runtime import SteppedNode, run_stepped_node
+from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
 from hdrc3_control.commands import EstimatorHealth, VerticalMode
 from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult, UiCommand
 from hdrc3_control.measurements import (
@@ -133,7 +133,9 @@ class ControlKernelNode(SteppedNode):
         self.kernel = self._make_kernel()
         self.command_pub = self.create_publisher(YacsCommand, "yacs/command", COMMAND_QOS)
         self.state_pub = self.create_publisher(PfcState, "pfc/state", SENSOR_QOS)
-        self.power_client = self.create_client(SimSetPower, "/world_sim/set_power")
+        self.power_client = self.create_client(
+            SimSetPower, "/world_sim/set_power", qos_profile=SERVICE_QOS
+        )
         self._gps_fix: dict[int, tuple[float, float, float]] = {}
         self._gps_vel: dict[int, tuple[float, float, float]] = {}
         self._clock_ns: int | None = None

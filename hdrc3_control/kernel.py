@@ -458,7 +458,9 @@ class PfcKernel:
             if event.name == "Sync-EV":
                 self._last_sync = self.now
         mode = self._mode()
-        if mode is not self.mode:
+        if mode is not self.mode or self.ticks == 1:
+            # the first tick reports the mode too: a (re)started PFC announces itself, and the
+            # DRC hears its new incarnation (docs/realtime_events.md, "Restarts")
             self.mode = mode
             events.append(
                 WireEvent(

@@ -6,6 +6,13 @@ carries a per-channel sequence number and a CRC-32 checked by the same
 :class:`~hdrc3_hcsm.transport.ChannelIntegrity` the loopback transport uses. The subscription
 callback only appends to a queue; :meth:`RosTransport.receive` drains it in the main loop's
 Communicate, so the interpreter never runs inside an executor callback.
+
+Each transport draws a random incarnation when it is created (see :mod:`hdrc3_hcsm.transport`):
+a restarted node is heard again at once and its peers learn of the restart from
+:meth:`RosTransport.restarts`. Events for a computer whose topic has no matched subscription yet
+(a node that just started, or whose peer is restarting) are held, up to :data:`HELD_PER_TARGET`
+per target, and published as soon as the subscription is matched: a volatile reliable publisher
+would otherwise drop them, and the first events of a restarted node are its resynchronisation.
 """
 
 from __future__ import annotations
@@ -30,6 +37,8 @@ RMAX_COMPUTERS: Mapping[str, int] = {
     "DRC": Event.COMPUTER_DRC,
 }
 DEFAULT_PREFIX = "hcsm/events"
+HELD_PER_TARGET = 64
+"""Events kept for a target with no matched subscription (the oldest are dropped beyond)."""
 
 EVENT_QOS = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
@@ -49,6 +58,7 @@ def to_msg(event: WireEvent, codes: Mapping[str, int] = RMAX_COMPUTERS) -> Event
     msg.target_computer = codes[event.target]
     msg.sequence = event.sequence
     msg.crc32 = event.crc32
+    msg.incarnation = event.incarnation
     return msg
 
 
@@ -67,6 +77,7 @@ def from_msg(msg: Event, codes: Mapping[str, int] = RMAX_COMPUTERS) -> WireEvent
         target,
         int(msg.sequence),
         int(msg.crc32),
+        int(msg.incarnation),
     )
 
 
@@ -90,6 +101,9 @@ class RosTransport:
         self._prefix = prefix
         self._codes = dict(codes)
         self._integrity = ChannelIntegrity(self.stats)
+        self._held: dict[str, deque[Event]] = {
+            name: deque(maxlen=HELD_PER_TARGET) for name in self._codes if name != computer
+        }
         self._inbox: deque[Event] = deque()
         self._lock = threading.Lock()
         self._publishers = {
@@ -105,18 +119,44 @@ class RosTransport:
         with self._lock:
             self._inbox.append(msg)
 
+    @property
+    def incarnation(self) -> int:
+        """The incarnation of this transport (stamped on every event it sends)."""
+        return self._integrity.incarnation
+
     def send(self, event: WireEvent) -> SendStatus:
-        """Seal and publish one event on its target's topic."""
-        publisher = self._publishers.get(event.target)
-        if publisher is None:
+        """Seal and publish one event on its target's topic (held while nobody subscribes)."""
+        if event.target not in self._publishers:
             self.stats.no_route += 1
             return SendStatus.NO_ROUTE
-        publisher.publish(to_msg(self._integrity.seal(event), self._codes))
+        self._held[event.target].append(to_msg(self._integrity.seal(event), self._codes))
         self.stats.sent += 1
+        self._release(event.target)
         return SendStatus.SENT
 
+    def _release(self, target: str) -> None:
+        """Publish the events held for ``target`` once its subscription is matched."""
+        held = self._held[target]
+        publisher = self._publishers[target]
+        if held and publisher.get_subscription_count() > 0:
+            while held:
+                publisher.publish(held.popleft())
+
+    def held(self, target: str) -> int:
+        """Events waiting for ``target``'s subscription to match."""
+        return len(self._held.get(target, ()))
+
+    def restarts(self) -> list[str]:
+        """Computers heard with a new incarnation (restarted) since the last call."""
+        return self._integrity.restarts()
+
     def receive(self) -> list[WireEvent]:
-        """Events received since the last call that passed the integrity check, in order."""
+        """Events received since the last call that passed the integrity check, in order.
+
+        Also publishes the events held for targets whose subscription has matched meanwhile.
+        """
+        for target in self._held:
+            self._release(target)
         with self._lock:
             messages = list(self._inbox)
             self._inbox.clear()

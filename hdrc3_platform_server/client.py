@@ -16,7 +16,7 @@ from rclpy.node import Node
 
 from hdrc3_base.agents import parse_agents
 from hdrc3_base.errors import ConfigError
-from hdrc3_base.ros_runtime import RosProcess
+from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
 from hdrc3_interfaces.msg import PlatformEvent
 from hdrc3_platform_server.codes import EventKind
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
@@ -64,7 +64,7 @@ class PlatformClient:
 
     def call(self, srv_type: Any, name: str, request: Any, timeout: float) -> Any:
         """Call ``/<agent>/<name>``; ConfigError if no such service, None on timeout."""
-        client = self.node.create_client(srv_type, f"/{self.agent}/{name}")
+        client = self.node.create_client(srv_type, f"/{self.agent}/{name}", qos_profile=SERVICE_QOS)
         if not self.process.spin_until(client.service_is_ready, SERVICE_WAIT_S):
             raise ConfigError(
                 f"no service /{self.agent}/{name}: unknown agent {self.agent!r} or its "

@@ -85,6 +85,9 @@ class WireListener(Protocol):
     def after_step(self, now: float) -> None:
         """React to the automaton's new states."""
 
+    def on_restart(self, computer: str, now: float) -> None:
+        """``computer`` (PFC or PPC) was heard with a new incarnation: it restarted."""
+
 
 def model_path() -> Path:
     """Location of the DRC automaton file."""
@@ -185,7 +188,11 @@ class DrcKernel:
         self.status.now = max(self.status.now, now)
         self._flush()
         if self.transport is not None:
-            for event in self.transport.receive():
+            received = self.transport.receive()
+            for computer in self.transport.restarts():
+                for listener in self.listeners:
+                    listener.on_restart(computer, self.status.now)
+            for event in received:
                 for listener in self.listeners:
                     listener.on_wire(event, self.status.now)
                 self.interpreter.post_wire(event)

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field, replace
 
-from hdrc3_control.event_codec import decode, encode
+from hdrc3_control.event_codec import decode, encode, encode_values
 from hdrc3_control.pfc_state import FlightMode
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.transport import LoopbackNetwork, Transport
@@ -310,11 +310,12 @@ class FakeRig:
     ) -> None:
         from hdrc3_platform_server.server import PlatformServerCore
 
-        net = LoopbackNetwork()
+        self.net = LoopbackNetwork()
+        self.frame = frame
         self.log = EventLog()
-        self.core = PlatformServerCore(frame, net.endpoint("DRC"), self.log)
-        self.pfc = FakePfc(net.endpoint("PFC"), timing, on_ground=on_ground)
-        self.ppc = FakePpc(net.endpoint("PPC")) if with_ppc else None
+        self.core = PlatformServerCore(frame, self.net.endpoint("DRC"), self.log)
+        self.pfc = FakePfc(self.net.endpoint("PFC"), timing, on_ground=on_ground)
+        self.ppc = FakePpc(self.net.endpoint("PPC")) if with_ppc else None
         self.t = 0.0
         self.pfc_online = True
         """False: the PFC sends nothing (the DRC then only ticks on its own)."""
@@ -336,6 +337,32 @@ class FakeRig:
             data = self.core.on_pfc(sample)
             if data is not None:
                 self.published.append(data)
+
+    def restart_pfc(self) -> None:
+        """The PFC process dies and starts again: same aircraft, no command, new incarnation.
+
+        Like the real kernel, the new PFC reports its mode at once (Mode-Changed-EV).
+        """
+        old = self.pfc
+        self.pfc = FakePfc(self.net.endpoint("PFC"), old.timing, on_ground=old.on_ground)
+        self.pfc.position, self.pfc.heading = old.position, old.heading
+        self.pfc.transport.send(
+            WireEvent(
+                _event_id("Mode-Changed-EV"),
+                "Mode-Changed-EV",
+                encode_values((float(self.pfc.mode),)),
+                "PFC",
+                "DRC",
+            )
+        )
+
+    def restart_server(self, id_start: int) -> None:
+        """The Platform Server dies and starts again with empty state and ids from ``id_start``."""
+        from hdrc3_platform_server.server import PlatformServerCore
+
+        self.core = PlatformServerCore(
+            self.frame, self.net.endpoint("DRC"), self.log, id_start=id_start
+        )
 
     def run_until_final(self, command_id: int, limit: float = 30.0) -> CompletionEvent | None:
         """Advance until ``command_id`` has its terminal event (or ``limit`` seconds pass)."""

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from hdrc3_base.errors import ConfigError
 from hdrc3_control.event_codec import command_id_of, decode, encode
 from hdrc3_control.path_segment import PathSegment
+from hdrc3_control.pfc_state import FlightMode
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_platform_server import limits as check
 from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
@@ -27,6 +28,7 @@ from hdrc3_platform_server.completion import CompletionEvent, EventSink
 from hdrc3_platform_server.drc import DrcKernel, FlightState, PlatformState, RefusalKind
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.limits import FlightLimits
+from hdrc3_platform_server.platform_status import PfcSample
 
 PFC_REPLIES = frozenset(
     {
@@ -38,6 +40,10 @@ PFC_REPLIES = frozenset(
         "Cmd-Failed-EV",
         "Cmd-Cancelled-EV",
     }
+)
+
+FINAL_REPLIES = frozenset(
+    {"Cmd-Rejected-EV", "Cmd-Finished-EV", "Traj-Arrived-EV", "Cmd-Failed-EV", "Cmd-Cancelled-EV"}
 )
 
 
@@ -85,6 +91,8 @@ class _Active:
     command_id: int
     outcome: tuple[EventKind, str] | None = None
     left_idle: bool = False
+    heard: bool = False
+    """The PFC replied about this command (so the PFC run that replied knows it)."""
     # traj3d only: segment ids in order, their end velocities and progress
     segments: list[int] = field(default_factory=list)
     end_velocity: dict[int, float] = field(default_factory=dict)
@@ -113,11 +121,32 @@ class IdSource:
     """Command ids shared by FCL and PPCL: unique, never 0 (0 means "not accepted")."""
 
     def __init__(self, start: int = 1) -> None:
-        self._ids: Iterator[int] = itertools.count(max(1, start))
+        self.start = max(1, start)
+        self._next = self.start
+        self._ids: Iterator[int] = itertools.count(self.start)
 
     def next(self) -> int:
         """A fresh id."""
-        return next(self._ids)
+        self._next = next(self._ids) + 1
+        return self._next - 1
+
+    def issued(self, command_id: int) -> bool:
+        """True if this source (this run of the server) gave out ``command_id``."""
+        return self.start <= command_id < self._next
+
+
+RESTARTED_PFC = "control kernel (PFC) restarted: the command was lost; the aircraft hovers"
+"""Reason of the terminal event of a command the PFC forgot in a restart."""
+RESTARTED_DRC = "platform server restarted: the PFC stopped the command and hovers"
+"""Reason of the terminal event of a command accepted before the platform server restarted."""
+_MODE_COMMANDS: dict[int, FclCommand] = {
+    FlightMode.TAKEOFF: FclCommand.TAKEOFF,
+    FlightMode.TRAJ3D: FclCommand.TRAJ3D,
+    FlightMode.FLYTO: FclCommand.TRAJ3D_FLYTO,
+    FlightMode.LAND: FclCommand.LAND,
+    FlightMode.BRAKING: FclCommand.EMERGENCY_BRAKE,
+}
+"""The FCL command a PFC mode runs (the label of an orphan's terminal event; others "fcl")."""
 
 
 class FlightCommandLayer:
@@ -138,6 +167,8 @@ class FlightCommandLayer:
         self.limits = limits or FlightLimits()
         self.current: _Active | None = None
         self.last_mode: int | None = None
+        self.orphans: set[int] = set()
+        """Commands of an earlier run of this server that the PFC reported and that were ended."""
         kernel.listeners.append(self)
 
     # --- helpers --------------------------------------------------------------------------
@@ -337,8 +368,13 @@ class FlightCommandLayer:
             return
         cur = self.current
         cid = command_id_of(event.data)  # 0 for a short payload: never an open id
+        if event.name in FINAL_REPLIES:
+            # a command of the server's previous run ended while it was down: its final reply
+            # was held by the PFC's transport until this run subscribed
+            self._orphan(cid, "fcl")
         if cur is None or cid not in cur.open_ids():
             return
+        cur.heard = True
         name = event.name
         if name == "Request-Segment-EV":
             self._segment_started(cur, cid)
@@ -407,6 +443,44 @@ class FlightCommandLayer:
                     f"replaced by segment {segment_id}",
                 )
         self._sync_ids()
+
+    # --- restarts (docs/realtime_events.md, "Restarts") -----------------------------------------
+    def _stop_pfc(self) -> None:
+        """Put the Flight automaton back in Idle; the PFC is told to cancel (it then hovers)."""
+        self.kernel.post(FCL[FclCommand.CANCEL].api_event, encode(self.ids.next()))
+
+    def _orphan(self, command_id: int, label: str) -> bool:
+        """End a command of an earlier run of this server once; True if it was news."""
+        if not command_id or self.ids.issued(command_id) or command_id in self.orphans:
+            return False
+        self.orphans.add(command_id)
+        now = self.kernel.status.now
+        self.sink(CompletionEvent(command_id, label, EventKind.FAILED, RESTARTED_DRC, now))
+        return True
+
+    def on_restart(self, computer: str, now: float) -> None:
+        """A restarted PFC forgot the command it replied about: it ends FAILED, Flight is idle.
+
+        The notice comes with the new PFC's first events, before they are correlated: a
+        command it is about to reply to (sent after the restart) has not been heard yet.
+        """
+        if computer == "PFC" and self.current is not None and self.current.heard:
+            self._end_current(EventKind.FAILED, RESTARTED_PFC)
+            self._stop_pfc()
+
+    def resync(self, sample: PfcSample) -> None:
+        """Compare the PFC's report (mode, command id) with the command this server runs.
+
+        A command id this run of the server never gave out belongs to a run before a restart:
+        it ends FAILED (once) and the PFC is told to cancel it. A PFC back in its boot mode
+        while a command runs has restarted (also when none of its events arrived yet).
+        """
+        command = _MODE_COMMANDS.get(sample.mode)
+        if self._orphan(sample.command_id, command.label if command is not None else "fcl"):
+            self._stop_pfc()
+        if sample.mode == FlightMode.BOOT and self.current is not None:
+            self._end_current(EventKind.FAILED, RESTARTED_PFC)
+            self._stop_pfc()
 
     def after_step(self, now: float) -> None:
         """End the command once the Flight automaton is back in Idle."""

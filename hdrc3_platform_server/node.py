@@ -26,7 +26,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from hdrc3_base.errors import ConfigError
-from hdrc3_base.ros_runtime import RosProcess
+from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import (
     CameraState,
@@ -54,8 +54,11 @@ EVENT_QOS = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
     history=HistoryPolicy.KEEP_LAST,
     depth=1000,
-    durability=DurabilityPolicy.VOLATILE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
+"""Platform events: the last 1,000 are kept for late subscribers. A restarted server publishes
+the terminal events of the commands accepted before the restart before its clients have matched
+its new publisher: with a volatile publisher they would be lost (readers with this QoS get them)."""
 STATE_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 """Deep enough that a 50 Hz state stream at 10x real time survives a 200 ms stall of a reader."""
 TICK_PERIOD_S = 0.02
@@ -105,14 +108,14 @@ class PlatformServerNode(Node):
         self.create_subscription(PowerStatus, "sensors/power", self._on_power, STATE_QOS)
         for spec in FCL.values():
             name = f"fcl/{spec.command.value}"
-            self.create_service(spec.service_type(), name, self._fcl_handler(spec))
+            self._service(spec.service_type(), name, self._fcl_handler(spec))
         for pspec in PPCL.values():
             name = f"ppcl/{pspec.command.value}"
-            self.create_service(pspec.service_type(), name, self._ppcl_handler(pspec))
-        self.create_service(PpclControl, "ppcl/control", self._on_control)
-        self.create_service(PpclPtuActivityInfo, "ppcl/ptu_activity_info", self._on_activity)
-        self.create_service(PpclGetCameraInfo, "ppcl/get_camera_info", self._on_camera_info)
-        self.create_service(PpclPtuLimits, "ppcl/ptu_limits", self._on_limits)
+            self._service(pspec.service_type(), name, self._ppcl_handler(pspec))
+        self._service(PpclControl, "ppcl/control", self._on_control)
+        self._service(PpclPtuActivityInfo, "ppcl/ptu_activity_info", self._on_activity)
+        self._service(PpclGetCameraInfo, "ppcl/get_camera_info", self._on_camera_info)
+        self._service(PpclPtuLimits, "ppcl/ptu_limits", self._on_limits)
         self.create_timer(TICK_PERIOD_S, self._tick, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._heli = HelicopterState()
         self._heli.header.frame_id = "wgs84"
@@ -120,6 +123,10 @@ class PlatformServerNode(Node):
             f"platform server up: origin {self.frame.latitude:.6f}, {self.frame.longitude:.6f}, "
             f"{self.frame.altitude:.1f} m"
         )
+
+    def _service(self, srv_type: Any, name: str, handler: Callable[[Any, Any], Any]) -> None:
+        # deep request/answer queues: a burst of calls is queued and answered, never dropped
+        self.create_service(srv_type, name, handler, qos_profile=SERVICE_QOS)
 
     def _frame(self) -> WorldFrame:
         lat = float(self.get_parameter("origin_latitude").value)

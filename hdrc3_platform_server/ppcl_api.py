@@ -252,3 +252,10 @@ class PayloadCommandLayer:
 
     def after_step(self, now: float) -> None:
         """Nothing to do: PPCL outcomes come with the events."""
+
+    def on_restart(self, computer: str, now: float) -> None:
+        """Nothing yet (README, "Restarts").
+
+        A PPC restart is heard with its first reply, which cannot tell the commands the old PPC
+        forgot from those the new one runs.
+        """

@@ -62,6 +62,7 @@ class PlatformServerCore:
     def on_pfc(self, sample: PfcSample) -> HelicopterStateData | None:
         """Take a PFC report; returns the Data Interface sample when one is due (25 Hz)."""
         self.status.update_pfc(sample)
+        self.fcl.resync(sample)
         if not self.gate.due(sample.pfc_time):
             return None
         # The automaton runs at the DI rate here; replies also get a step from tick() and from

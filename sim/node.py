@@ -22,7 +22,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
-from hdrc3_base.ros_runtime import SteppedNode, run_stepped_node
+from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
 from hdrc3_interfaces.msg import (
     CameraCommand,
     LaserCommand,
@@ -139,7 +139,9 @@ class WorldSimNode(SteppedNode):
                 self._command_callback(name),
                 COMMAND_QOS,
             )
-            self.create_service(SimSetRc, f"/{name}/rc/set", self._rc_callback(name))
+            self.create_service(
+                SimSetRc, f"/{name}/rc/set", self._rc_callback(name), qos_profile=SERVICE_QOS
+            )
             self._payload_subscriptions(name)
         self._create_services()
 
@@ -285,7 +287,7 @@ class WorldSimNode(SteppedNode):
             (SimSetWind, "set_wind", set_wind),
             (SimSetPower, "set_power", set_power),
         ):
-            self.create_service(srv_type, f"{base}/{name}", handler)
+            self.create_service(srv_type, f"{base}/{name}", handler, qos_profile=SERVICE_QOS)
         self._reply = reply
 
     def _rc_callback(self, agent: str) -> Callable[[Any, Any], Any]:

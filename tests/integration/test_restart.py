@@ -1,0 +1,236 @@
+"""kill -9 of platform_server / control_kernel mid-command, and a burst of service calls.
+
+The real chain under ``hdrc3 launch`` (which restarts a crashed node): world_sim, control_kernel
+and platform_server of one agent over real DDS on the test's own domain. A fly-to is killed in
+flight; the command must end with exactly one terminal FAILED event naming the restart, and the
+next command must be accepted and finish without a cancel. Waits are bounded in wall time; what
+is waited for is read from the stack's outputs (answers, platform events, the Data Interface).
+The wall times from the kill to the terminal event are printed (pytest -s shows them).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from collections.abc import Callable, Iterator
+from typing import Any
+
+import pytest
+
+pytestmark = pytest.mark.ros
+
+AGENT = "uav0"
+WORLD = "revinge"
+CALL_TIMEOUT_S = 10.0
+SPEED = "2"
+"""Sim speed: a dead control_kernel leaves the aircraft on its last command (automatic
+lockstep lets the sim go on), so the sim must not run far ahead while it restarts."""
+
+
+class Rig:
+    """The test's side: FCL client, Data Interface, the launcher's process table."""
+
+    def __init__(self, process: Any) -> None:
+        from hdrc3.launcher import STATUS_QOS, STATUS_TOPIC
+        from hdrc3_interfaces.msg import HelicopterState, LaunchStatus, PfcState
+        from hdrc3_platform_server.client import PlatformClient
+        from hdrc3_platform_server.geo_frame import frame_from_world
+        from hdrc3_platform_server.node import STATE_QOS
+
+        self.process = process
+        self.frame = frame_from_world(WORLD)
+        self.client = PlatformClient(process, AGENT)
+        self.node: Any = self.client.node
+        self.states: list[Any] = []
+        self.pfc: list[Any] = []
+        self.status: Any = None
+        self.node.create_subscription(
+            HelicopterState, f"/{AGENT}/helicopter_state", self.states.append, STATE_QOS
+        )
+        self.node.create_subscription(PfcState, f"/{AGENT}/pfc/state", self.pfc.append, STATE_QOS)
+        self.node.create_subscription(LaunchStatus, STATUS_TOPIC, self._on_status, STATUS_QOS)
+
+    def _on_status(self, msg: Any) -> None:
+        self.status = msg
+
+    def wait(self, done: Callable[[], bool], timeout: float, what: str) -> None:
+        assert self.process.spin_until(done, timeout), f"not within {timeout} s: {what}"
+
+    def supervised(self, node: str) -> Any:
+        """The launcher's entry of ``node`` (waits for a status that lists it running)."""
+
+        def entry() -> Any:
+            for p in self.status.processes if self.status is not None else ():
+                if p.name == f"{AGENT}/{node}":
+                    return p
+            return None
+
+        self.wait(lambda: entry() is not None and entry().pid > 0, 30.0, f"{node} running")
+        return entry()
+
+    def fcl(self, srv: Any, name: str, **fields: Any) -> Any:
+        response = self.client.call(srv, f"fcl/{name}", srv.Request(**fields), CALL_TIMEOUT_S)
+        assert response is not None, f"fcl_{name}: no answer within {CALL_TIMEOUT_S} s"
+        return response.result
+
+    def final(self, command_id: int, timeout: float) -> Any:
+        event = self.client.wait_final(command_id, timeout, lambda _e: None)
+        assert event is not None, f"command {command_id}: no terminal event in {timeout} s"
+        return event
+
+    def terminal_events(self, command_id: int) -> list[Any]:
+        from hdrc3_platform_server.completion import TERMINAL
+
+        return [e for e in self.client.events if e.command_id == command_id and e.kind in TERMINAL]
+
+    def enu(self) -> tuple[float, float, float]:
+        s = self.states[-1]
+        return self.frame.to_enu(s.longitude, s.latitude, s.altitude)
+
+    def airborne(self) -> None:
+        """Hand over to autonomy and take off (finished, hovering)."""
+        from hdrc3.safety_pilot import Switch, set_rc
+        from hdrc3_interfaces.msg import FclReturn, SimResult
+        from hdrc3_interfaces.srv import FclTakeoff
+        from hdrc3_platform_server.codes import EventKind
+
+        code, reason = set_rc(
+            self.process, self.node, AGENT, Switch.AUTONOMOUS, Switch.ON, CALL_TIMEOUT_S
+        )
+        assert code == SimResult.OK, reason
+        self.wait(lambda: bool(self.states) and self.states[-1].auto_flag, 60.0, "autonomy")
+        takeoff = self.fcl(FclTakeoff, "takeoff")
+        assert takeoff.code == FclReturn.FCL_OK, takeoff.reason
+        assert self.final(takeoff.command_id, 120.0).kind is EventKind.FINISHED
+
+    def flyto(self, east: float, north: float, velocity: float) -> Any:
+        """Start a fly-to relative to the current position at 15 m up."""
+        from hdrc3_interfaces.srv import FclTraj3dFlyto
+
+        e, n, _ = self.enu()
+        lon, lat, alt = self.frame.to_wgs84(e + east, n + north, 15.0)
+        return self.fcl(
+            FclTraj3dFlyto,
+            "traj3d_flyto",
+            longitude=lon,
+            latitude=lat,
+            altitude=alt,
+            velocity=velocity,
+        )
+
+
+@pytest.fixture
+def rig(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[Rig]:
+    from hdrc3_base.ros_runtime import RosProcess
+
+    launch = hdrc3_cli(
+        "launch",
+        "--agents",
+        AGENT,
+        "--world",
+        WORLD,
+        "--nodes",
+        "world_sim,control_kernel,platform_server",
+        "--speed",
+        SPEED,
+    )
+    launch.wait_for_line("READY", timeout=90)
+    with RosProcess(domain_id=ros_domain, handle_signals=False) as process:
+        r = Rig(process)
+        try:
+            r.wait(lambda: len(r.states) > 0, 60.0, "the Data Interface")
+            yield r
+        finally:
+            r.node.destroy_node()
+            launch.interrupt(timeout=30)
+            print("\n".join(launch.lines[-30:]))
+
+
+def _kill_mid_flyto(r: Rig, node: str, reason: str) -> None:
+    from hdrc3_interfaces.msg import FclReturn
+    from hdrc3_interfaces.srv import FclYaw
+    from hdrc3_platform_server.codes import EventKind
+
+    r.airborne()
+    flyto = r.flyto(120.0, 0.0, 3.0)  # 40 s of sim time: still flying when the node is back
+    assert flyto.code == FclReturn.FCL_OK, flyto.reason
+    r.wait(lambda: r.pfc[-1].command_id == flyto.command_id, 30.0, "the PFC flies it")
+    before = r.supervised(node)
+    killed = time.monotonic()
+    os.kill(before.pid, signal.SIGKILL)
+    r.wait(
+        lambda: (
+            r.supervised(node).restarts == before.restarts + 1
+            and r.supervised(node).pid != before.pid
+        ),
+        30.0,
+        f"{node} restarted",
+    )
+    restarted = time.monotonic()
+    failed = r.final(flyto.command_id, 60.0)
+    ended = time.monotonic()
+    print(
+        f"kill -9 {node}: restarted after {restarted - killed:.2f} s, terminal event "
+        f"{ended - killed:.2f} s after the kill ({ended - restarted:.2f} s after the restart "
+        "was reported)"
+    )
+    assert failed.kind is EventKind.FAILED and reason in failed.reason, failed
+
+    # no cancel: the next command is taken once the PFC reports autonomous hover again
+    def hovering() -> bool:
+        s = r.pfc[-1]
+        return bool(s.auto_flag and not s.on_ground and s.mode == s.MODE_HOVER)
+
+    r.wait(hovering, 120.0, "autonomous hover after the restart")
+    yaw = r.fcl(FclYaw, "yaw", heading=1.0)
+    assert yaw.code == FclReturn.FCL_OK, yaw.reason
+    done = r.final(yaw.command_id, 120.0)
+    assert done.kind is EventKind.FINISHED, done
+    assert len(r.terminal_events(flyto.command_id)) == 1, r.terminal_events(flyto.command_id)
+
+
+@pytest.mark.slow
+def test_platform_server_killed_mid_command(rig: Rig) -> None:
+    _kill_mid_flyto(rig, "platform_server", "platform server restarted")
+
+
+@pytest.mark.slow
+def test_control_kernel_killed_mid_command(rig: Rig) -> None:
+    _kill_mid_flyto(rig, "control_kernel", "control kernel (PFC) restarted")
+
+
+def test_a_burst_of_concurrent_calls_is_answered(hdrc3_cli: Callable[..., Any], ros_domain: int):
+    """150 calls sent at once to FCL, PPCL and world_sim services: every one is answered."""
+    from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
+    from hdrc3_interfaces.msg import FclReturn, PpclReturn, SimResult
+    from hdrc3_interfaces.srv import FclClimb, PpclPtuLimits, SimTeleport
+
+    launch = hdrc3_cli("launch", "--agents", AGENT, "--nodes", "world_sim,platform_server")
+    launch.wait_for_line("READY", timeout=90)
+    with RosProcess(domain_id=ros_domain, handle_signals=False) as process:
+        from rclpy.node import Node
+
+        node = Node("burst_test", context=process.context)
+        process.add_node(node)
+        calls = [
+            (node.create_client(srv, name, qos_profile=SERVICE_QOS), request)
+            for srv, name, request in (
+                (FclClimb, f"/{AGENT}/fcl/climb", FclClimb.Request(altitude=float("nan"))),
+                (PpclPtuLimits, f"/{AGENT}/ppcl/ptu_limits", PpclPtuLimits.Request()),
+                (SimTeleport, "/world_sim/teleport", SimTeleport.Request(agent=AGENT, frame=99)),
+            )
+        ]
+        assert process.spin_until(lambda: all(c.service_is_ready() for c, _ in calls), 60.0)
+        futures = [client.call_async(request) for client, request in calls for _ in range(50)]
+        process.spin_until(lambda: all(f.done() for f in futures), 120.0)
+        answered = [f.result() for f in futures if f.done()]
+        assert len(answered) == len(futures) == 150, f"{len(answered)} of {len(futures)}"
+        codes = {(type(a).__name__, a.result.code) for a in answered}
+        assert codes == {
+            ("FclClimb_Response", FclReturn.FCL_NOT_ACCEPTED),  # NaN altitude
+            ("PpclPtuLimits_Response", PpclReturn.PPCL_OK),
+            ("SimTeleport_Response", SimResult.INVALID_ARGUMENT),  # unknown frame
+        }, codes
+        node.destroy_node()
+    assert launch.interrupt(timeout=30) == 0

@@ -1,0 +1,104 @@
+"""Restarts of the PFC and of the Platform Server itself (docs/realtime_events.md).
+
+The pure core with the fake kernels over a loopback network whose endpoints are replaced as a
+restarted process would replace them: a new incarnation counting from 1. Each command accepted
+before a restart ends with exactly one terminal event and the next command works without cancel.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from hdrc3_control.pfc_state import FlightMode
+from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
+from hdrc3_platform_server.completion import TERMINAL
+from hdrc3_platform_server.fakes import FakePfcTiming, FakeRig
+from hdrc3_platform_server.fcl_api import RESTARTED_DRC, RESTARTED_PFC
+from hdrc3_platform_server.geo_frame import WorldFrame
+
+FRAME = WorldFrame(55.70, 13.47, 95.0)
+C = FclCommand
+SLOW = FakePfcTiming(flyto=30.0)
+
+
+def flyto(east: float) -> tuple[float, ...]:
+    lon, lat, alt = FRAME.to_wgs84(east, 0.0, 30.0)
+    return (lon, lat, alt, 8.0)
+
+
+def terminal(rig: FakeRig, command_id: int) -> list[EventKind]:
+    return [e.kind for e in rig.log.of(command_id) if e.kind in TERMINAL]
+
+
+def start_flyto(rig: FakeRig) -> int:
+    answer = rig.core.fcl.submit(C.TRAJ3D_FLYTO, flyto(200.0), rig.t)
+    assert answer.code is FclCode.OK, answer.reason
+    rig.run(1.0)
+    assert rig.pfc.mode is FlightMode.FLYTO
+    return answer.command_id
+
+
+def next_command_works(rig: FakeRig) -> None:
+    answer = rig.core.fcl.submit(C.YAW, (1.0,), rig.t)
+    assert answer.code is FclCode.OK, answer.reason
+    final = rig.run_until_final(answer.command_id)
+    assert final is not None and final.kind is EventKind.FINISHED, rig.log.of(answer.command_id)
+
+
+@pytest.mark.parametrize("announced", [True, False], ids=["announced", "boot_mode_only"])
+def test_pfc_restart_fails_the_running_command_once(announced: bool) -> None:
+    rig = FakeRig(FRAME, on_ground=False, timing=SLOW)
+    cid = start_flyto(rig)
+    if announced:
+        rig.restart_pfc()
+    else:  # no event from the new PFC yet: its state report (boot mode) tells
+        rig.pfc = type(rig.pfc)(rig.net.endpoint("PFC"), SLOW, on_ground=False)
+        rig.pfc.mode = FlightMode.BOOT
+    rig.run(0.1)
+    assert terminal(rig, cid) == [EventKind.FAILED]
+    assert rig.log.final(cid).reason == RESTARTED_PFC  # type: ignore[union-attr]
+    rig.pfc.mode = FlightMode.HOVER  # the new PFC has booted into hover
+    rig.run(0.5)
+    next_command_works(rig)
+    rig.run(5.0)
+    assert terminal(rig, cid) == [EventKind.FAILED]
+
+
+def test_server_restart_ends_the_command_the_pfc_reports() -> None:
+    rig = FakeRig(FRAME, on_ground=False, timing=SLOW)
+    cid = start_flyto(rig)
+    before = len(rig.log.events)
+    rig.restart_server(id_start=cid + 1_000_000)
+    rig.run(0.2)
+    after = rig.log.events[before:]
+    ended = [e for e in after if e.command_id == cid]
+    assert [(e.kind, e.command, e.reason) for e in ended] == [
+        (EventKind.FAILED, "fcl_traj3d_flyto", RESTARTED_DRC)
+    ]
+    # the new server's cancel reached the PFC although it counts from 1 again
+    assert rig.pfc.job is None and rig.pfc.mode is FlightMode.HOVER
+    next_command_works(rig)
+    rig.run(2.0)
+    assert terminal(rig, cid) == [EventKind.FAILED]
+
+
+def test_server_restart_with_an_idle_pfc_changes_nothing() -> None:
+    rig = FakeRig(FRAME, on_ground=False)
+    before = len(rig.log.events)
+    rig.restart_server(id_start=5_000_000)
+    rig.run(0.5)
+    assert rig.log.events[before:] == []
+    next_command_works(rig)
+
+
+def test_a_final_reply_held_for_the_restarted_server_ends_the_command_once() -> None:
+    rig = FakeRig(FRAME, on_ground=False, timing=SLOW)
+    cid = start_flyto(rig)
+    rig.pfc.job = None  # it arrived while the server was down ...
+    rig.pfc.mode = FlightMode.HOVER
+    rig.restart_server(id_start=cid + 1_000_000)
+    rig.pfc._send("Traj-Arrived-EV", cid)  # ... and its transport held the reply meanwhile
+    rig.run(0.5)
+    assert terminal(rig, cid) == [EventKind.FAILED]
+    assert rig.log.final(cid).reason == RESTARTED_DRC  # type: ignore[union-attr]
+    next_command_works(rig)
