@@ -208,3 +208,17 @@ def test_pfc_fault_is_reported_as_info(state: str, command_id_is_zero: bool) -> 
     info = [e for e in rig.log.events if e.reason == "PFC fault: GPS lost"]
     assert len(info) == 1 and info[0].kind is EventKind.INFO
     assert (info[0].command_id == 0) is command_id_is_zero
+
+
+@pytest.mark.parametrize("state", ["hover", "busy"])
+def test_a_pfc_failsafe_is_its_own_platform_event(state: str) -> None:
+    from hdrc3_hcsm.event import WireEvent
+
+    rig = rig_in(state)
+    text = "failsafe: emergency landing: navigation lost: IMU frozen (identical samples)"
+    rig.pfc.transport.send(WireEvent(2108, "PFC-Fault-EV", text.encode(), "PFC", "DRC"))
+    rig.run(0.04)
+    announced = [e for e in rig.log.events if e.reason == text]
+    assert [(e.command_id, e.command, e.kind) for e in announced] == [
+        (0, "pfc_failsafe", EventKind.INFO)
+    ]
