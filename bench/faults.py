@@ -301,9 +301,13 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
     elif entry.startswith("gps_loss_"):
         start_flyto(rig, pad, row)
         seconds = float(entry.removeprefix("gps_loss_").removesuffix("s"))
+        before = rig.now()
         rig.fault("gps", mode.MODE_DROP)
         rig.wait_sim(seconds)
         rig.fault("gps", mode.MODE_NONE)
+        # the service calls take sim time too (at --speed max): the DI's stamps bound the outage
+        outage = rig.now() - before
+        row.note = f"GPS outage {seconds:g} s asked, {outage:.1f} s of sim time between calls"
     elif entry == "imu_freeze":
         start_flyto(rig, pad, row)
         rig.fault("imu", mode.MODE_FREEZE)
