@@ -320,6 +320,7 @@ class ControlKernelNode(SteppedNode):
         m.mode = int(s.mode)
         m.control_function, m.mode_switch_state = s.control_function, s.mode_switch_state
         m.command_id = s.command_id
+        m.failsafe, m.failsafe_reason = int(s.failsafe), s.failsafe_reason
         m.overruns, m.step_time, m.ticks = self.overruns, self.step_time, self.ticks
         self.state_pub.publish(m)
 

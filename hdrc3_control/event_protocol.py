@@ -37,10 +37,12 @@ FUNCTION_EVENT_PREFIX = "Fn-"
 REASONS: dict[str, str] = {
     "A.38": "take-off refused: the engine is not running",
     "A.39": "tracking needs the PPC colour tracker, which this system does not have",
-    "A.33": "navigation degraded (GPS lost): braking and hovering on dead reckoning",
-    "A.34": "navigation degraded (GPS lost): braking and hovering on dead reckoning",
-    "A.35": "navigation degraded (GPS lost): braking and hovering on dead reckoning",
-    "A.36": "navigation degraded (GPS lost): braking and hovering on dead reckoning",
+    "A.78": "failsafe: hovering on dead reckoning (GPS lost); only land, cancel, brake",
+    "A.79": "failsafe: hovering on dead reckoning (GPS lost); only land, cancel, brake",
+    "A.80": "failsafe: hovering on dead reckoning (GPS lost); only land, cancel, brake",
+    "A.81": "failsafe: hovering on dead reckoning (GPS lost); only land, cancel, brake",
+    "A.82": "failsafe emergency landing in progress: only the RC switch (manual) stops it",
+    "A.83": "failsafe emergency landing in progress: only the RC switch (manual) stops it",
     "W.4": "RC switch to manual: the safety pilot has the aircraft",
     "A.40": "emergency brake",
     "A.41": "emergency brake",
@@ -142,12 +144,20 @@ class SendLog:
 class EventProtocol:
     """Turns the automata's outgoing events into the contract's payloads."""
 
-    def __init__(self, failure_reason: Callable[[], str], rejected_id: int) -> None:
+    def __init__(
+        self,
+        failure_reason: Callable[[], str],
+        rejected_id: int,
+        trigger_reason: Callable[[str], str | None] = lambda _trigger: None,
+    ) -> None:
         """``failure_reason`` gives the reason of the last control function failure.
 
         ``rejected_id`` is the model's id of Cmd-Rejected-EV, which the protocol sends itself.
+        ``trigger_reason`` gives the reason of replies sent on an internal event that carries
+        one (the failsafe's Fs-Hold-EV, Fs-Land-EV), None for the others.
         """
         self.failure_reason = failure_reason
+        self.trigger_reason = trigger_reason
         self.rejected_id = rejected_id
         self.active: set[int] = set()
         self.dropped = 0
@@ -214,6 +224,9 @@ class EventProtocol:
             return name
         if send.tid in REASONS:
             return REASONS[send.tid]
+        by_trigger = self.trigger_reason(send.trigger)
+        if by_trigger is not None:
+            return by_trigger
         if send.trigger == "Ctrl-Error-EV":
             return self.failure_reason() or f"control function failed ({send.where})"
         return f"{send.trigger} in {send.where} ({send.tid})"

@@ -52,8 +52,11 @@ from hdrc3_control.measurements import (
 )
 from hdrc3_control.path_following import PathFollowingConfig, PathStatus
 from hdrc3_control.pfc_state import (
+    FAILSAFE_PREFIX,
+    FAILSAFE_STATES,
     POWER_DRC,
     SENSOR_POWER,
+    Failsafe,
     FlightMode,
     PfcSnapshot,
     PlatformStatus,
@@ -202,7 +205,9 @@ class PfcKernel:
         events = self.model.source.events
         self.log = SendLog(frozenset(e.name for e in events if e.source == "DRC"), trace)
         rejected = self.model.events.id_of("Cmd-Rejected-EV")
-        self.protocol = EventProtocol(lambda: self.ctx.failure, rejected)
+        self.protocol = EventProtocol(
+            lambda: self.ctx.failure, rejected, lambda trigger: self._fs_reasons.get(trigger)
+        )
         self.interpreter = Interpreter(self.model, self._conditions(), trace=self.log)
         self.loop = MainLoop(self.interpreter, (self, self.braking, self.functions))
         self.estimator = StateEstimator(c.estimator)
@@ -227,6 +232,11 @@ class PfcKernel:
         self._ui_since = -math.inf
         self._fault = ""
         self._states: dict[str, str] = {}
+        self._fs_texts: dict[str, str] = {}
+        self._fs_reasons: dict[str, str] = {}
+        """Reason of a command failed by a failsafe event (Fs-Hold-EV, Fs-Land-EV)."""
+        self.failsafe = Failsafe.NONE
+        self.failsafe_reason = ""
 
     # ------------------------------------------------------------------ inputs
     def feed(self, sample: Sample) -> None:
@@ -332,6 +342,7 @@ class PfcKernel:
                 "Nav-Lost-CO": lambda: (
                     self.estimator.initialised and health() is EstimatorHealth.LOST
                 ),
+                "Landing-CO": lambda: self._function_selected("landing"),
                 "Braking-Done-CO": self.braking.done,
                 "Hover-Stable-CO": lambda: (
                     self._function_is("hover") and self.hover.status is HoverStatus.STABLE
@@ -361,6 +372,10 @@ class PfcKernel:
             and now - self._last_attitude <= est.attitude_timeout
             and now - self._last_gps <= self.config.gps_timeout
         )
+
+    def _function_selected(self, name: str) -> bool:
+        cur = self.functions.current
+        return cur is not None and cur.name == name and cur.state is not FunctionState.OFF
 
     def _function_is(self, name: str) -> bool:
         cur = self.functions.current
@@ -406,6 +421,7 @@ class PfcKernel:
         self._write_slots(interp.memory, now)
         step = interp.execute(now)
         self._states = self._machine_states()
+        self._update_failsafe()
         self.loop.run_control_functions(now)
         cur = self.functions.current
         if cur is not None and cur.state is FunctionState.RUNNING:
@@ -437,19 +453,53 @@ class PfcKernel:
             memory.write("Sync-DO", encode_values((now, *ref)))
             fault = self._fault_text(now)
             memory.write("Fault-DO", fault.encode("utf-8")[:256])
+            self._fs_texts = self._failsafe_texts(now)
+            for slot, text in self._fs_texts.items():
+                memory.write(slot, text.encode("utf-8")[:256])
+            memory.write("No-Command-DO", encode(0))
+        self._fs_reasons = {
+            "Fs-Hold-EV": self._fs_texts["Fs-Hold-DO"],
+            "Fs-Land-EV": self._fs_texts["Fs-Land-DO"],
+        }
 
     def _fault_text(self, now: float) -> str:
-        if not self.estimator.initialised:
+        est = self.estimator
+        if not est.initialised:
             return "navigation not initialised"
-        health = self.estimator.health(now)
+        health = est.health(now)
         if health is EstimatorHealth.OK:
             return "navigation recovered: GPS aiding current"
-        age = self.estimator.aiding_age(now)
         if health is EstimatorHealth.DEGRADED:
+            age = est.aiding_age(now)
             return f"navigation degraded: no GPS fix for {age:.1f} s, dead reckoning on the IMU"
-        if now - self._last_imu > self.config.estimator.imu_timeout:
-            return "navigation lost: no IMU data"
-        return f"navigation lost: IMU frozen or no aiding for {age:.1f} s"
+        return f"navigation lost: {est.lost_cause(now)}"
+
+    def _failsafe_texts(self, now: float) -> dict[str, str]:
+        """The failsafe announcements for this tick (slots of automata/failsafe.hcsm)."""
+        est = self.estimator
+        age = est.aiding_age(now)
+        left = max(0.0, self.config.estimator.max_dead_reckoning - age)
+        ended = "on the ground" if self._on_ground else "GPS back, hovering on GPS"
+        return {
+            "Fs-Hold-DO": (
+                f"{FAILSAFE_PREFIX}: GPS lost for {age:.1f} s: braking and hovering on dead "
+                "reckoning; flight commands other than land refused; emergency landing unless "
+                f"GPS is back within {left:.1f} s"
+            ),
+            "Fs-Land-DO": (
+                f"{FAILSAFE_PREFIX}: emergency landing: navigation lost: "
+                f"{est.lost_cause(now) or 'solution unusable'}"
+            ),
+            "Fs-End-DO": f"{FAILSAFE_PREFIX} ended: {ended}",
+        }
+
+    def _update_failsafe(self) -> None:
+        """The Failsafe automaton's state after this step, with the text that announced it."""
+        failsafe = FAILSAFE_STATES.get(self._states.get("Failsafe", ""), Failsafe.NONE)
+        if failsafe is not self.failsafe:
+            self.failsafe = failsafe
+            slot = {Failsafe.HOLD: "Fs-Hold-DO", Failsafe.LAND: "Fs-Land-DO"}.get(failsafe)
+            self.failsafe_reason = self._fs_texts.get(slot, "") if slot else ""
 
     def _send(self, outbox: list[WireEvent]) -> tuple[WireEvent, ...]:
         sends, unanswered = self.log.take()
@@ -536,6 +586,8 @@ class PfcKernel:
             mode_switch_state=self._states.get("Mode-Switch", "") if self.auto() else "",
             command_id=self.protocol.current,
             ticks=self.ticks,
+            failsafe=self.failsafe,
+            failsafe_reason=self.failsafe_reason,
         )
 
     def braking_status(self) -> BrakeStatus:

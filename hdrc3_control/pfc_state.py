@@ -35,6 +35,30 @@ class FlightMode(enum.IntEnum):
     SWITCHING = 9
 
 
+class Failsafe(enum.IntEnum):
+    """The navigation failsafe in force (numbers of PfcState/HelicopterState.FAILSAFE_*).
+
+    Decided by the Failsafe automaton (``automata/failsafe.hcsm``); the policy is in
+    ``hdrc3_platform_server/README.md``.
+    """
+
+    NONE = 0
+    HOLD = 1
+    """GPS lost: braking and hovering on dead reckoning; flight commands but land refused."""
+    LAND = 2
+    """Navigation lost: emergency landing."""
+
+
+FAILSAFE_STATES = {
+    "Fs-None-ST": Failsafe.NONE,
+    "Fs-Hold-ST": Failsafe.HOLD,
+    "Fs-Land-ST": Failsafe.LAND,
+}
+"""Failsafe automaton state -> failsafe."""
+FAILSAFE_PREFIX = "failsafe"
+"""PFC-Fault-EV texts starting with this announce a failsafe change (docs/realtime_events.md)."""
+
+
 @dataclass(frozen=True, slots=True)
 class PlatformStatus:
     """The RC transmitter and engine as the YACS reports them (``<agent>/yacs/status``)."""
@@ -78,3 +102,6 @@ class PfcSnapshot:
     mode_switch_state: str
     command_id: int
     ticks: int
+    failsafe: Failsafe = Failsafe.NONE
+    failsafe_reason: str = ""
+    """The announcement of the failsafe in force ("" when none)."""

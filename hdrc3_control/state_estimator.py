@@ -220,17 +220,26 @@ class StateEstimator:
         return accepted
 
     # ------------------------------------------------------------------ outputs
+    def lost_cause(self, now: float) -> str | None:
+        """Why the solution is unusable (LOST) at ``now``, or None if it is usable."""
+        c = self.config
+        if not self._initialised:
+            return "navigation not initialised"
+        if self._attitude is None or now - self._attitude.time > c.attitude_timeout:
+            return "no attitude data"
+        if now - self._imu_time > c.imu_timeout:
+            return "no IMU data"
+        if self._same_imu >= c.frozen_count:
+            return "IMU frozen (identical samples)"
+        age = now - self._aiding_time
+        if age > c.max_dead_reckoning:
+            return f"no GPS fix for {age:.1f} s (dead-reckoning limit {c.max_dead_reckoning:g} s)"
+        return None
+
     def health(self, now: float) -> EstimatorHealth:
         """OK with current aiding, DEGRADED while dead-reckoning, LOST when unusable."""
         c = self.config
-        if (
-            not self._initialised
-            or self._attitude is None
-            or now - self._imu_time > c.imu_timeout
-            or now - self._attitude.time > c.attitude_timeout
-            or self._same_imu >= c.frozen_count
-            or now - self._aiding_time > c.max_dead_reckoning
-        ):
+        if self.lost_cause(now) is not None:
             return EstimatorHealth.LOST
         if now - self._aiding_time > c.aiding_timeout:
             return EstimatorHealth.DEGRADED

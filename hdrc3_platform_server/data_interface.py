@@ -33,6 +33,8 @@ HELICOPTER_FIELDS = (
     "ppc_minus_pfc_time",
     "power_status",
     "pfc_time",
+    "failsafe",
+    "failsafe_reason",
 )
 CAMERA_FIELDS = ("id", "pan", "tilt", "zoom", "ipc_time")
 
@@ -57,6 +59,9 @@ class HelicopterStateData:
     ppc_minus_pfc_time: float
     power_status: int
     pfc_time: float
+    failsafe: int = 0
+    """HelicopterState.FAILSAFE_*: the PFC's navigation failsafe (issue 21; not in §6.2.4)."""
+    failsafe_reason: str = ""
 
     def as_dict(self) -> dict[str, Any]:
         """The fields by their chapter names."""
@@ -107,6 +112,8 @@ def helicopter_state(
         ppc_minus_pfc_time=0.0 if ppc_time is None else ppc_time - sample.pfc_time,
         power_status=power_status or sample.power_status,
         pfc_time=sample.pfc_time,
+        failsafe=sample.failsafe,
+        failsafe_reason=sample.failsafe_reason,
     )
 
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from hdrc3_base.errors import ConfigError
 from hdrc3_control.event_codec import command_id_of, decode, encode
 from hdrc3_control.path_segment import PathSegment
-from hdrc3_control.pfc_state import FlightMode
+from hdrc3_control.pfc_state import FAILSAFE_PREFIX, FlightMode
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_platform_server import limits as check
 from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
@@ -353,6 +353,13 @@ class FlightCommandLayer:
         if event.name == "PFC-Fault-EV":
             # plain UTF-8 text (no id): a navigation or sensor fault the PFC is handling
             text = event.data.decode("utf-8", errors="replace").strip() or "fault"
+            if text.startswith(FAILSAFE_PREFIX):
+                # the PFC's own action (brake + hover, emergency landing, its end): no command's
+                # event; the interrupted command gets its own Cmd-Failed-EV with this reason
+                self.sink(
+                    CompletionEvent(0, "pfc_failsafe", EventKind.INFO, text, self.kernel.status.now)
+                )
+                return
             cur = self.current
             self.sink(
                 CompletionEvent(

@@ -165,6 +165,8 @@ class PlatformServerNode(Node):
             auto_flag=bool(msg.auto_flag),
             mode=int(msg.mode),
             command_id=int(msg.command_id),
+            failsafe=int(msg.failsafe),
+            failsafe_reason=str(msg.failsafe_reason),
         )
         data = self.core.on_pfc(sample)
         if data is not None:

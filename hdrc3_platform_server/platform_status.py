@@ -40,6 +40,9 @@ class PfcSample:
     mode: int = FlightMode.BOOT
     command_id: int = 0
     power_status: int = 0
+    failsafe: int = 0
+    """PfcState.FAILSAFE_* (hdrc3_control.pfc_state.Failsafe)."""
+    failsafe_reason: str = ""
 
     @property
     def hover_stable(self) -> bool:

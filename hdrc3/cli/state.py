@@ -48,6 +48,8 @@ def to_record(msg: Any, camera: bool) -> dict[str, Any]:
         value = getattr(msg, name)
         if name in ("pfc_time", "ipc_time"):
             value = _seconds(value)
+        elif isinstance(value, str):
+            pass
         elif isinstance(value, bool | int):
             value = value if isinstance(value, bool) else int(value)
         else:

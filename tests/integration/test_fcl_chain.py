@@ -311,3 +311,147 @@ def test_short_demo_flies_records_and_reports(
         ("fcl_land", "FINISHED"),
     ], text
     assert "+ 2 segment requests" in text
+
+
+# --- faults (issue 21): truthful outcomes and the failsafe policy of the platform server README
+
+
+def airborne(c: Chain) -> tuple[float, float, float]:
+    """Safety pilot hands over, take-off finished; the hover point (ENU)."""
+    from hdrc3.safety_pilot import Switch, set_rc
+    from hdrc3_interfaces.msg import FclReturn, SimResult
+    from hdrc3_interfaces.srv import FclTakeoff
+    from hdrc3_platform_server.codes import EventKind
+
+    code, reason = set_rc(c.process, c.node, AGENT, Switch.AUTONOMOUS, Switch.ON, CALL_TIMEOUT_S)
+    assert code == SimResult.OK, reason
+    c.wait(lambda: c.states[-1].auto_flag, 60.0, "auto_flag in the Data Interface")
+    takeoff = c.fcl(FclTakeoff, "takeoff")
+    assert takeoff.code == FclReturn.FCL_OK, takeoff.reason
+    done = c.final(takeoff.command_id, 120.0)
+    assert done.kind is EventKind.FINISHED, done
+    return c.enu(c.state_at(done.time))
+
+
+def flyto(c: Chain, target: tuple[float, float, float]) -> int:
+    """Start a fly-to at 6 m/s; its command id once the aircraft is under way."""
+    from hdrc3_interfaces.msg import FclReturn
+    from hdrc3_interfaces.srv import FclTraj3dFlyto
+
+    lon, lat, alt = c.frame.to_wgs84(*target)
+    where = {"longitude": lon, "latitude": lat, "altitude": alt, "velocity": 6.0}
+    answer = c.fcl(FclTraj3dFlyto, "traj3d_flyto", **where)
+    assert answer.code == FclReturn.FCL_OK, answer.reason
+    c.wait(lambda: horizontal_speed(c.states[-1]) > 3.0, 60.0, "under way")
+    return int(answer.command_id)
+
+
+def set_fault(c: Chain, sensor: str, mode: int) -> None:
+    from hdrc3_interfaces.msg import SimResult
+    from hdrc3_interfaces.srv import SimInjectFault
+
+    result = c.call_sim(
+        SimInjectFault, "/world_sim/inject_fault", agent=AGENT, sensor=sensor, mode=mode
+    )
+    assert result.code == SimResult.OK, result.reason
+
+
+def failsafe_events(c: Chain) -> list[Any]:
+    return [e for e in c.client.events if e.command == "pfc_failsafe"]
+
+
+def terminal_events(c: Chain, command_id: int) -> list[Any]:
+    from hdrc3_platform_server.completion import TERMINAL
+
+    return [e for e in c.events_of(command_id) if e.kind in TERMINAL]
+
+
+@pytest.mark.slow
+def test_imu_freeze_fails_the_flyto_and_lands_as_announced(chain: Chain) -> None:
+    from hdrc3_interfaces.msg import HelicopterState
+    from hdrc3_interfaces.srv import SimInjectFault
+    from hdrc3_platform_server.codes import EventKind
+
+    c = chain
+    pad = airborne(c)
+    cid = flyto(c, (pad[0] + 80.0, pad[1], ALTITUDE))
+    set_fault(c, "imu", SimInjectFault.Request.MODE_FREEZE)
+    failed = c.final(cid, 30.0)
+    assert failed.kind is EventKind.FAILED, failed
+    assert failed.reason.startswith("failsafe: emergency landing"), failed.reason
+    assert "IMU frozen" in failed.reason, failed.reason
+    c.wait(lambda: len(failsafe_events(c)) >= 1, 30.0, "the emergency landing announced")
+    assert failsafe_events(c)[0].reason == failed.reason
+    assert failsafe_events(c)[0].command_id == 0
+    c.wait(
+        lambda: c.states[-1].failsafe == HelicopterState.FAILSAFE_LAND, 30.0, "failsafe in the DI"
+    )
+    assert c.states[-1].failsafe_reason == failed.reason
+    c.wait(
+        lambda: len(failsafe_events(c)) >= 2 and c.states[-1].on_ground_flag,
+        120.0,
+        "landed, failsafe ended",
+    )
+    assert failsafe_events(c)[1].reason == "failsafe ended: on the ground"
+    ended = failsafe_events(c)[1].time
+    down = c.state_at(ended + 0.5)
+    assert down.on_ground_flag and down.failsafe == HelicopterState.FAILSAFE_NONE
+    assert [e.kind for e in terminal_events(c, cid)] == [EventKind.FAILED]
+    assert c.truth_at(ended).velocity_enu[2] > -2.0  # a landing, not a crash (ground truth)
+
+
+@pytest.mark.slow
+def test_gps_loss_short_is_flown_through_longer_holds_and_hovers_when_back(chain: Chain) -> None:
+    from hdrc3_interfaces.msg import HelicopterState
+    from hdrc3_interfaces.srv import SimInjectFault
+    from hdrc3_platform_server.codes import EventKind
+
+    c = chain
+    drop, restore = SimInjectFault.Request.MODE_DROP, SimInjectFault.Request.MODE_NONE
+    pad = airborne(c)
+
+    # 2 s without GPS (tolerance 3 s): the fly-to goes on and finishes, no failsafe
+    target = (pad[0] + 60.0, pad[1], ALTITUDE)
+    cid = flyto(c, target)
+    set_fault(c, "gps", drop)
+    c.state_at(stamp_s(c.states[-1].pfc_time) + 2.0)
+    set_fault(c, "gps", restore)
+    done = c.final(cid, 120.0)
+    assert done.kind is EventKind.FINISHED, done
+    assert not failsafe_events(c)
+
+    # GPS lost for longer: the fly-to fails with the failsafe's reason, brake + hover (HOLD)
+    cid = flyto(c, (target[0] - 60.0, target[1], ALTITUDE))
+    set_fault(c, "gps", drop)
+    failed = c.final(cid, 60.0)
+    assert failed.kind is EventKind.FAILED, failed
+    assert failed.reason.startswith("failsafe: GPS lost"), failed.reason
+    c.wait(lambda: len(failsafe_events(c)) == 1, 30.0, "the hold announced")
+    hold = failsafe_events(c)[0]
+    assert hold.reason == failed.reason and hold.command_id == 0
+    held = c.state_at(hold.time + 1.0)
+    assert held.failsafe == HelicopterState.FAILSAFE_HOLD and not held.on_ground_flag
+    assert held.failsafe_reason == hold.reason
+
+    # GPS back before the dead-reckoning limit (10 s): the failsafe ends, the aircraft hovers
+    set_fault(c, "gps", restore)
+    c.wait(lambda: len(failsafe_events(c)) == 2, 30.0, "the end of the hold announced")
+    back = failsafe_events(c)[1]
+    assert back.reason == "failsafe ended: GPS back, hovering on GPS", back.reason
+    c.wait(
+        lambda: (
+            stamp_s(c.states[-1].pfc_time) > back.time
+            and horizontal_speed(c.states[-1]) < 0.5
+            and abs(c.states[-1].velocity_up) < 0.5
+        ),
+        60.0,
+        "hovering after the hold",
+    )
+    still = stamp_s(c.states[-1].pfc_time)
+    after = c.states_between(still, still + 12.0)  # past the dead-reckoning limit
+    assert after and all(
+        not s.on_ground_flag and s.failsafe == HelicopterState.FAILSAFE_NONE for s in after
+    )
+    assert horizontal_speed(after[-1]) < 1.0 and abs(c.enu(after[-1])[2] - ALTITUDE) < 2.0
+    assert len(failsafe_events(c)) == 2  # no emergency landing after all
+    assert [e.kind for e in terminal_events(c, cid)] == [EventKind.FAILED]

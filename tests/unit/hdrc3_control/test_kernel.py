@@ -11,7 +11,7 @@ from hdrc3_control.event_codec import command_id_of, decode, encode
 from hdrc3_control.kernel import PfcKernel, UiCommand
 from hdrc3_control.kernel_harness import KernelFlight
 from hdrc3_control.path_segment import PathSegment
-from hdrc3_control.pfc_state import POWER_DRC, SENSOR_POWER, FlightMode, PowerReading
+from hdrc3_control.pfc_state import POWER_DRC, SENSOR_POWER, Failsafe, FlightMode, PowerReading
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.transport import LoopbackNetwork, LoopbackTransport
 from sim.sensors.fault import FaultMode
@@ -409,3 +409,51 @@ def test_a_failing_control_function_is_stopped_and_hover_restarted() -> None:
     assert f.run_until(lambda: f.reply("PFC-Fault-EV") is not None, 2)
     assert f.run_until(lambda: f.kernel.machine_state("Mode-Switch") == "Braking-ST", 2)
     assert f.run_until(lambda: hovering(f), 30) and speed(f) < 1.0
+
+
+def test_frozen_imu_during_a_flyto_fails_it_once_and_lands_as_announced() -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send("Traj3D-Flyto-EV", (p[0] + 60.0, p[1], p[2], 6.0))
+    assert f.run_until(lambda: speed(f) > 4.0, 20)
+    f.sim.agents[f.agent].sensors.sensors()["imu"].fault.set(FaultMode.FREEZE, (0.0,))
+    assert f.run_until(lambda: f.kernel.failsafe is Failsafe.LAND, 2)
+    assert f.kernel.failsafe_reason.startswith("failsafe: emergency landing")
+    assert f.run_until(
+        lambda: f.sim.truth(f.agent).on_ground and f.kernel.mode is FlightMode.GROUND_IDLE, 40
+    )
+    finals = [(n, r) for n, r in answers(f, cid) if n in FINAL]
+    assert len(finals) == 1 and finals[0][0] == "Cmd-Failed-EV", answers(f, cid)
+    assert "emergency landing" in finals[0][1] and "IMU frozen" in finals[0][1]
+    texts = [e.data.decode() for e in f.replies if e.name == "PFC-Fault-EV"]
+    assert [t for t in texts if t.startswith("failsafe")] == [
+        finals[0][1],
+        "failsafe ended: on the ground",
+    ]
+    assert f.kernel.failsafe is Failsafe.NONE
+    assert not f.sim.truth(f.agent).engine_running
+
+
+def test_gps_back_within_the_dead_reckoning_limit_ends_the_hold_in_hover() -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send("Traj3D-Flyto-EV", (p[0] + 60.0, p[1], p[2], 6.0))
+    assert f.run_until(lambda: speed(f) > 4.0, 20)
+    gps = f.sim.agents[f.agent].sensors.sensors()["gps"]
+    gps.fault.set(FaultMode.DROP, (0.0,))
+    assert f.run_until(lambda: f.kernel.failsafe is Failsafe.HOLD, 5)
+    ((name, reason),) = [(n, r) for n, r in answers(f, cid) if n in FINAL]
+    assert name == "Cmd-Failed-EV" and reason.startswith("failsafe: GPS lost"), reason
+    assert f.kernel.failsafe_reason == reason
+    f.run(1.0)
+    refused = f.send("Traj3D-Flyto-EV", (p[0], p[1], p[2], 6.0))
+    f.run(0.1)
+    assert [n for n, _ in answers(f, refused)] == ["Cmd-Rejected-EV"]
+    gps.fault.clear()
+    assert f.run_until(lambda: f.kernel.failsafe is Failsafe.NONE, 2)
+    assert f.run_until(lambda: hovering(f), 30)
+    f.run(12)  # past the dead-reckoning limit of the outage: no landing
+    assert hovering(f) and not f.sim.truth(f.agent).on_ground
+    assert "failsafe ended: GPS back, hovering on GPS" in [
+        e.data.decode() for e in f.replies if e.name == "PFC-Fault-EV"
+    ]

@@ -38,6 +38,8 @@ CHAPTER_HELICOPTER = {
     "power_status",
     "pfc_time",
 }
+FAILSAFE_FIELDS = {"failsafe", "failsafe_reason"}
+"""Beyond the chapter (issue 21): the PFC's navigation failsafe in the Data Interface."""
 
 
 def sample(**changes: object) -> PfcSample:
@@ -62,10 +64,16 @@ def sample(**changes: object) -> PfcSample:
 
 
 def test_field_names_are_the_chapters() -> None:
-    assert set(HELICOPTER_FIELDS) == CHAPTER_HELICOPTER
+    assert set(HELICOPTER_FIELDS) == CHAPTER_HELICOPTER | FAILSAFE_FIELDS
     assert set(CAMERA_FIELDS) == {"id", "pan", "tilt", "zoom", "ipc_time"}
     data = helicopter_state(sample(), FRAME, 10.004, 9.99, 0)
-    assert set(data.as_dict()) == CHAPTER_HELICOPTER
+    assert set(data.as_dict()) == CHAPTER_HELICOPTER | FAILSAFE_FIELDS
+
+
+def test_the_pfc_failsafe_is_in_the_data_interface() -> None:
+    text = "failsafe: emergency landing: navigation lost: IMU frozen (identical samples)"
+    data = helicopter_state(sample(failsafe=2, failsafe_reason=text), FRAME, 10.0, None, 0)
+    assert (data.failsafe, data.failsafe_reason) == (2, text)
 
 
 def test_conversion_from_enu_and_clock_differences() -> None:

@@ -239,3 +239,17 @@ def test_the_drc_model_decides_the_answer(monkeypatch: pytest.MonkeyPatch) -> No
     refused = hovering.core.fcl.submit(C.LAND, (0.5,), hovering.t)
     assert refused.code is FclCode.NOT_ACCEPTED
     assert "fcl_land can only be commanded when the aircraft is on the ground" in refused.reason
+
+
+@pytest.mark.parametrize("state", ["hover", "busy"])
+def test_a_pfc_failsafe_is_its_own_platform_event(state: str) -> None:
+    from hdrc3_hcsm.event import WireEvent
+
+    rig = rig_in(state)
+    text = "failsafe: emergency landing: navigation lost: IMU frozen (identical samples)"
+    rig.pfc.transport.send(WireEvent(2108, "PFC-Fault-EV", text.encode(), "PFC", "DRC"))
+    rig.run(0.04)
+    announced = [e for e in rig.log.events if e.reason == text]
+    assert [(e.command_id, e.command, e.kind) for e in announced] == [
+        (0, "pfc_failsafe", EventKind.INFO)
+    ]
