@@ -201,7 +201,7 @@ def test_payload_commands_drive_ptu_zoom_and_laser(services: SimServices) -> Non
     laser = sensors.laser
     assert (laser.config.fov_deg, laser.config.resolution_deg) == (100.0, 0.25)
     assert laser.rotation_speed == 1.0 and laser.rate_hz == pytest.approx(1 / 0.053)
-    assert services.laser_command("uav1", 1.0, 0.01, 1.0, True, 7.0).ok
-    assert laser.rotation_speed == 0.0 and laser.rotation_angle == pytest.approx(7.0 - 2 * math.pi)
+    assert services.laser_command("uav1", 1.0, 0.01, 1.0, True, -1.0).ok
+    assert laser.rotation_speed == 0.0 and laser.rotation_angle == pytest.approx(2 * math.pi - 1.0)
     sensors.power.switch(PowerDevice.PTU, False)
     assert services.ptu_command("uav1", 0.0, 0.0).code is SimCode.WRONG_STATE
