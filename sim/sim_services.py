@@ -36,7 +36,7 @@ MAX_NAME_LENGTH = 64
 MAX_FAULT_VALUES = 16
 """Values of a fault magnitude (the widest sensor measures 6 fields)."""
 MAX_BIAS = 1.0e6
-"""Largest bias magnitude, in the sensor's units (m, m/s, rad, Pa ...)."""
+"""Largest fault magnitude value (a bias in the sensor's units: m, m/s, rad, Pa ...)."""
 MAX_NOISE_FACTOR = 1000.0
 """Largest NOISE_UP factor on a sensor's noise."""
 SHOWN = 40
@@ -194,14 +194,14 @@ class SimServices:
             east, north = x, y
         sim = self.sim
         if not sim.inside_world(east, north):
-            return SimResult(SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is outside the world")
+            return SimResult(SimCode.BLOCKED, f"({east:.6g}, {north:.6g}) is outside the world")
         # the aircraft is about 3.6 m long with its rotor: keep its whole disc clear
         up = sim.world.terrain.height(east, north) + height
         for de, dn in ((0.0, 0.0), (1.8, 0.0), (-1.8, 0.0), (0.0, 1.8), (0.0, -1.8)):
             building = sim.blocked_by(east + de, north + dn, up + 1.0)
             if building is not None:
                 return SimResult(
-                    SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is inside building {building}"
+                    SimCode.BLOCKED, f"({east:.6g}, {north:.6g}) is inside building {building}"
                 )
         sim.place(agent, east, north, height, heading % math.tau)
         return OK
@@ -227,15 +227,13 @@ class SimServices:
         if len(magnitude) > MAX_FAULT_VALUES:
             return invalid(f"{len(magnitude)} magnitude values, at most {MAX_FAULT_VALUES}")
         values = tuple(float(m) for m in magnitude) or (0.0,)
-        if not finite(*values):
-            return invalid("fault magnitude must be finite")
+        if not (finite(*values) and max(abs(v) for v in values) <= MAX_BIAS):
+            return invalid(f"fault magnitude must be finite, within +-{MAX_BIAS:g}")
         if fault is FaultMode.NOISE_UP and (
             len(values) != 1 or not 0.0 <= values[0] <= MAX_NOISE_FACTOR
         ):
             return invalid(f"noise-up needs one factor within [0, {MAX_NOISE_FACTOR:g}]")
         if fault is FaultMode.BIAS:
-            if max(abs(v) for v in values) > MAX_BIAS:
-                return invalid(f"bias beyond +-{MAX_BIAS:g} (sensor units)")
             sizes = {1} if isinstance(target, LaserRangeFinder) else {1, len(target.fields)}
             if len(values) not in sizes:
                 return SimResult(
@@ -273,11 +271,11 @@ class SimServices:
         if ident in sim.objects:
             return SimResult(SimCode.DUPLICATE, f"object id {shown(ident)} already exists")
         if not sim.inside_world(east, north):
-            return SimResult(SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is outside the world")
+            return SimResult(SimCode.BLOCKED, f"({east:.6g}, {north:.6g}) is outside the world")
         building = sim.blocked_by(east, north)
         if building is not None:
             return SimResult(
-                SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is inside building {building}"
+                SimCode.BLOCKED, f"({east:.6g}, {north:.6g}) is inside building {building}"
             )
         extra = SPAWN_DEFAULTS[found]
         sim.spawn(
