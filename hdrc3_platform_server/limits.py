@@ -134,8 +134,8 @@ def position(
         return bad
     if not frame.inside(east, north):
         return (
-            f"{what} ({shown(east, 0)} m east, {shown(north, 0)} m north of the origin) is far outside "
-            f"the world (extent {frame.bounds} m, margin {frame.margin:g} m)"
+            f"{what} ({shown(east, 0)} m east, {shown(north, 0)} m north of the origin) is far "
+            f"outside the world (extent {frame.bounds} m, margin {frame.margin:g} m)"
         )
     ground = frame.ground_up(east, north)
     if up < ground + limits.min_clearance:
@@ -183,8 +183,8 @@ def pan_tilt(limits: PtuLimits, pan: float, tilt: float) -> str | None:
         return bad
     if not limits.contains(pan, tilt):
         return (
-            f"pan {shown(math.degrees(pan))} deg / tilt {shown(math.degrees(tilt))} deg outside the "
-            f"PTU limits pan [{math.degrees(limits.min_pan):.0f}, "
+            f"pan {shown(math.degrees(pan))} deg / tilt {shown(math.degrees(tilt))} deg outside "
+            f"the PTU limits pan [{math.degrees(limits.min_pan):.0f}, "
             f"{math.degrees(limits.max_pan):.0f}] deg, tilt [{math.degrees(limits.min_tilt):.0f}, "
             f"{math.degrees(limits.max_tilt):.0f}] deg"
         )

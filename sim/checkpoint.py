@@ -84,7 +84,10 @@ class WorldIdentity:
     def difference(self, other: WorldIdentity) -> str | None:
         """Readable difference between a checkpoint's identity (``other``) and this, or None."""
         if self.world != other.world or self.digest != other.digest:
-            return f"it is of world {other.world!r} ({other.digest[:12]}), this is {self.world!r} ({self.digest[:12]})"
+            return (
+                f"it is of world {other.world!r} ({other.digest[:12]}), "
+                f"this is {self.world!r} ({self.digest[:12]})"
+            )
         for name in ("agents", "seed", "payload"):
             mine, theirs = getattr(self, name), getattr(other, name)
             if mine != theirs:
@@ -217,7 +220,7 @@ def decode(data: bytes, sim: WorldSim) -> LoadResult:
         if different is not None:
             return LoadResult(LoadStatus.INCOMPATIBLE, reason=different)
         state = unpickler.load()
-    except Exception as exc:  # noqa: BLE001  any failure to rebuild means "cannot resume"
+    except Exception as exc:  # any failure to rebuild the state means "cannot resume"
         return LoadResult(LoadStatus.CORRUPT, reason=f"cannot rebuild the state: {exc}")
     if not isinstance(state, WorldState):
         return LoadResult(LoadStatus.CORRUPT, reason="no world state")

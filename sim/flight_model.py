@@ -274,16 +274,18 @@ class FlightModel:
     def rigid_body(self) -> RigidBodyState:
         """JSBSim's state now (with the external loads of the last step)."""
         fdm = self._fdm
-        vectors = {
-            name: tuple(fdm.get_property_value(read) for read, _ in props)
-            for name, props in _IC_VECTORS.items()
+
+        def vector(values: list[float]) -> tuple[float, float, float]:
+            return (values[0], values[1], values[2])
+
+        values: dict[str, object] = {
+            name: fdm.get_property_value(read) for name, (read, _) in _IC.items()
         }
-        return RigidBodyState(
-            **{name: fdm.get_property_value(read) for name, (read, _) in _IC.items()},
-            **vectors,  # type: ignore[arg-type]
-            force=tuple(n.get_double_value() for n in self._n_force),  # type: ignore[arg-type]
-            moment=tuple(n.get_double_value() for n in self._n_moment),  # type: ignore[arg-type]
-        )
+        for name, props in _IC_VECTORS.items():
+            values[name] = vector([fdm.get_property_value(read) for read, _ in props])
+        values["force"] = vector([n.get_double_value() for n in self._n_force])
+        values["moment"] = vector([n.get_double_value() for n in self._n_moment])
+        return RigidBodyState(**values)  # type: ignore[arg-type]  # fields named by _IC tables
 
     def _restore_rigid_body(self, state: RigidBodyState) -> None:
         """Put JSBSim in ``state`` (ConfigError if it refuses)."""

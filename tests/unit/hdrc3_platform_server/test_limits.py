@@ -73,8 +73,16 @@ _SEGMENT = [0.0, 0.0, 120.0, 20.0, 0.0, 120.0]
         (FclCommand.YAW, [1e308], "heading 1e+308 rad outside"),
         (FclCommand.YAW, [1e17], "heading 1e+17 rad outside"),
         (FclCommand.YAW, [-1e17], "heading -1e+17 rad outside"),
-        (FclCommand.TRAJ3D, [*_SEGMENT, 0, 0, 0, 1, 0, 0, 5, 0], "start direction must be a non-zero"),
-        (FclCommand.TRAJ3D, [*_SEGMENT, 1, 0, 0, 0, 0, 0, 5, 0], "end direction must be a non-zero"),
+        (
+            FclCommand.TRAJ3D,
+            [*_SEGMENT, 0, 0, 0, 1, 0, 0, 5, 0],
+            "start direction must be a non-zero",
+        ),
+        (
+            FclCommand.TRAJ3D,
+            [*_SEGMENT, 1, 0, 0, 0, 0, 0, 5, 0],
+            "end direction must be a non-zero",
+        ),
         (FclCommand.CLIMB, [1e308], "altitude 1e+308 m is above the ceiling"),
         (FclCommand.CLIMB, [-1e308], "altitude -1e+308 m is below the ground"),
         (FclCommand.TRAJ3D_FLYTO, [13.47, 55.70, 1e308, 5.0], "more than 10000 m"),

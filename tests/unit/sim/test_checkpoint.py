@@ -115,7 +115,11 @@ class _Exploit:
         (lambda d: d[:-100], LoadStatus.CORRUPT, "checksum"),
         (lambda d: d[:-1] + bytes([d[-1] ^ 1]), LoadStatus.CORRUPT, "checksum"),
         (lambda d: b"PK" + d[2:], LoadStatus.CORRUPT, "not a world checkpoint"),
-        (lambda d: _with_payload(d[len(ck.MAGIC) + 36 :], 99), LoadStatus.INCOMPATIBLE, "format 99"),
+        (
+            lambda d: _with_payload(d[len(ck.MAGIC) + 36 :], 99),
+            LoadStatus.INCOMPATIBLE,
+            "format 99",
+        ),
         (lambda d: _with_payload(pickle.dumps(_Exploit())), LoadStatus.CORRUPT, "does not contain"),
         (lambda d: _with_payload(b"not a pickle"), LoadStatus.CORRUPT, "cannot rebuild"),
         (lambda d: _with_payload(pickle.dumps(3)), LoadStatus.CORRUPT, "no world identity"),

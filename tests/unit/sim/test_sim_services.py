@@ -242,12 +242,14 @@ _numbers = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
     st.sampled_from([1e308, -1e308, 1e17, -1e17, 2 * math.pi + 1e-6, -0.0, 4.0]),
 )
-class float_list(list[float]):  # noqa: N801  strategy keys of the two kinds of list fields
-    pass
 
 
-class str_list(list[str]):  # noqa: N801
-    pass
+class FloatList(list[float]):
+    """Strategy key of a list of numbers (fault magnitudes)."""
+
+
+class StrList(list[str]):
+    """Strategy key of a list of names (lockstep agents)."""
 
 
 _extreme: dict[type, st.SearchStrategy[Any]] = {
@@ -255,15 +257,15 @@ _extreme: dict[type, st.SearchStrategy[Any]] = {
     bool: st.booleans(),
     int: st.one_of(st.integers(-(2**64), 2**64), st.sampled_from([0, 3, 255, 2**32 - 1])),
     str: st.one_of(st.text(max_size=8), st.just("u" * 100_000), st.just("\x00\n")),
-    float_list: st.one_of(st.lists(_numbers, max_size=20), st.just([1.0] * 100_000)),
-    str_list: st.lists(st.sampled_from(["uav0", "uav1", "", "u" * 100_000]), max_size=40),
+    FloatList: st.one_of(st.lists(_numbers, max_size=20), st.just([1.0] * 100_000)),
+    StrList: st.lists(st.sampled_from(["uav0", "uav1", "", "u" * 100_000]), max_size=40),
 }
 
 
 def _kind(value: object) -> type:
     """The strategy key of a field: its type, a list by the type of its items."""
     if isinstance(value, list):
-        return str_list if value and isinstance(value[0], str) else float_list
+        return StrList if value and isinstance(value[0], str) else FloatList
     return type(value)
 
 
