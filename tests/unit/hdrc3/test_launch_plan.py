@@ -109,7 +109,7 @@ def test_only_world_sim_gets_a_checkpoint_in_the_run_directory(
     )
     checkpoints = {
         spec.name: [a for a in spec.argv if a.startswith("checkpoint:=")]
-        for spec in build_plan(options, CATALOG)
+        for spec in build_plan(options, launch_plan.CATALOG)
     }
     expected = [] if run_dir is None else [f"checkpoint:={tmp_path / run_dir}/world_sim.checkpoint"]
     assert checkpoints == {"world_sim": expected, "uav0/control_kernel": []}
