@@ -39,6 +39,9 @@ class NodeKind:
     """True if the node takes the launch's agents/world/speed as ROS parameters."""
     default: bool = True
     """Started without --nodes; optional nodes start only when named."""
+    checkpoint: bool = False
+    """True if the node takes a ``checkpoint`` file in the launch's run directory (to resume
+    its state when the launcher restarts it)."""
 
 
 CATALOG: tuple[NodeKind, ...] = (
@@ -54,6 +57,7 @@ CATALOG: tuple[NodeKind, ...] = (
         Scope.GLOBAL,
         "simulated world: /clock, the aircraft of every agent, their sensors and ground truth",
         world_params=True,
+        checkpoint=True,
     ),
     NodeKind(
         "control_kernel",
@@ -105,6 +109,8 @@ class LaunchOptions:
     """Real-time factor; ``math.inf`` means as fast as possible."""
     record: Path | None
     domain_id: int | None
+    run_dir: Path | None = None
+    """Directory of this launch's run files (checkpoints); None: no checkpoints."""
 
 
 def parse_nodes(text: str | None, catalog: Sequence[NodeKind] = CATALOG) -> tuple[str, ...]:
@@ -188,6 +194,8 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             speed = "0.0" if math.isinf(options.speed) else repr(options.speed)
             args += ["-p", f"agents:=[{agents}]", "-p", f"world:={options.world}"]
             args += ["-p", f"speed:={speed}"]
+        if kind.checkpoint and options.run_dir is not None:
+            args += ["-p", f"checkpoint:={options.run_dir / kind.name}.checkpoint"]
         if kind.scope is Scope.GLOBAL:
             specs.append(
                 ProcessSpec(kind.name, (_executable(kind.executable), *args), f"/{kind.name}")

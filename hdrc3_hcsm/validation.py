@@ -53,6 +53,13 @@ class _Checker:
     def declarations(self) -> None:
         m = self.model
         top = SourcePos(m.file, 1, 1)
+        declared = (m.computers, m.events, m.conditions, m.flags, m.slots, m.containers)
+        if not (any(declared) or m.automata or m.includes or m.header_pos or m.root_pos):
+            self.error("E017", "empty model: the file declares nothing", top)
+        elif not m.automata and (m.header_pos is not None or m.root_pos is not None):
+            where = m.header_pos or m.root_pos or top
+            name = f"model {m.name}" if m.name else "the model"
+            self.error("E018", f"{name} declares no automaton", where)
         if m.computer is None and m.root_pos is not None:
             self.error("E011", "missing header 'model NAME on COMPUTER;'", top)
         for kind, pos in m.redeclared:

@@ -53,6 +53,14 @@ MAX_OWNER_LENGTH = 64
 """characters of a PPCL resource owner name."""
 
 
+def shown(value: float, decimals: int = 1) -> str:
+    """A number for a reason: fixed-point, or 4 significant digits beyond a million.
+
+    (``f"{1e308:.1f}"`` prints 310 digits.)
+    """
+    return f"{value:.{decimals}f}" if abs(value) < 1e6 else f"{value:.4g}"
+
+
 def finite(**values: float) -> str | None:
     """Reason if any value is NaN or infinite."""
     for name, value in values.items():
@@ -126,19 +134,19 @@ def position(
         return bad
     if not frame.inside(east, north):
         return (
-            f"{what} ({east:.0f} m east, {north:.0f} m north of the origin) is far outside "
-            f"the world (extent {frame.bounds} m, margin {frame.margin:g} m)"
+            f"{what} ({shown(east, 0)} m east, {shown(north, 0)} m north of the origin) is far "
+            f"outside the world (extent {frame.bounds} m, margin {frame.margin:g} m)"
         )
     ground = frame.ground_up(east, north)
     if up < ground + limits.min_clearance:
         return (
-            f"{what} altitude {up + frame.altitude:.1f} m is below the ground clearance "
+            f"{what} altitude {shown(up + frame.altitude)} m is below the ground clearance "
             f"({ground + frame.altitude + limits.min_clearance:.1f} m: terrain + "
             f"{limits.min_clearance:g} m)"
         )
     if up > ground + limits.max_height:
         return (
-            f"{what} altitude {up + frame.altitude:.1f} m is above the ceiling "
+            f"{what} altitude {shown(up + frame.altitude)} m is above the ceiling "
             f"({ground + frame.altitude + limits.max_height:.1f} m: terrain + "
             f"{limits.max_height:g} m)"
         )
@@ -175,8 +183,8 @@ def pan_tilt(limits: PtuLimits, pan: float, tilt: float) -> str | None:
         return bad
     if not limits.contains(pan, tilt):
         return (
-            f"pan {math.degrees(pan):.1f} deg / tilt {math.degrees(tilt):.1f} deg outside the "
-            f"PTU limits pan [{math.degrees(limits.min_pan):.0f}, "
+            f"pan {shown(math.degrees(pan))} deg / tilt {shown(math.degrees(tilt))} deg outside "
+            f"the PTU limits pan [{math.degrees(limits.min_pan):.0f}, "
             f"{math.degrees(limits.max_pan):.0f}] deg, tilt [{math.degrees(limits.min_tilt):.0f}, "
             f"{math.degrees(limits.max_tilt):.0f}] deg"
         )

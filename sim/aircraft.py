@@ -139,6 +139,19 @@ class Aircraft:
         for _ in range(round(seconds / self.model.dt)):
             self.step()
 
+    def shift_time(self, steps: int) -> None:
+        """Move the aircraft's clock on by ``steps`` without moving anything else.
+
+        The flight model's step count and every time the YAS and the sensors remember move
+        together, so the next step behaves as if no time had passed (a checkpoint resumed later).
+        """
+        m = self.model
+        m.steps += steps
+        seconds = steps * m.dt
+        self.yas.shift_time(seconds)
+        if self.sensors is not None:
+            self.sensors.shift_time(seconds)
+
     def truth(self) -> TruthState:
         """Exact state now."""
         return self.model.truth()

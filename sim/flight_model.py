@@ -71,6 +71,61 @@ class InitialPlacement:
     """Skid bottoms above the terrain, m (0: standing on the ground)."""
 
 
+@dataclass(frozen=True, slots=True)
+class RigidBodyState:
+    """What JSBSim integrates for one aircraft, in the units of its ``ic/`` properties.
+
+    JSBSim's Python API has no state setter (``FGPropagate`` only reads); a state is restored
+    by writing it as initial conditions and calling ``run_ic()``, which also restarts the
+    multi-step integrators' histories (see ``sim/WORLD_SIM.md``, "Checkpoints", for the error).
+    """
+
+    latitude: float
+    """Geodetic latitude, rad."""
+    longitude: float
+    """Longitude, rad."""
+    altitude: float
+    """Altitude of the CG above sea level, ft."""
+    euler: tuple[float, float, float]
+    """Roll, pitch, heading, rad."""
+    velocity_ned: tuple[float, float, float]
+    """CG velocity relative to the ground, ft/s, NED."""
+    rates: tuple[float, float, float]
+    """Body rates p, q, r relative to the Earth, rad/s."""
+    force: tuple[float, float, float]
+    """External body force of the last step, lbf (seeds the integrators' first derivative)."""
+    moment: tuple[float, float, float]
+    """External body moment of the last step, lbf ft."""
+
+
+_IC = {
+    "latitude": ("position/lat-geod-rad", "ic/lat-geod-rad"),
+    "longitude": ("position/long-gc-rad", "ic/long-gc-rad"),
+    "altitude": ("position/h-sl-ft", "ic/h-sl-ft"),  # ic/geod-alt-ft ignores writes
+}
+"""Scalar fields of RigidBodyState: (JSBSim property read, ``ic/`` property written)."""
+_IC_VECTORS = {
+    "euler": (
+        ("attitude/phi-rad", "ic/phi-rad"),
+        ("attitude/theta-rad", "ic/theta-rad"),
+        ("attitude/psi-rad", "ic/psi-true-rad"),
+    ),
+    "velocity_ned": (
+        ("velocities/v-north-fps", "ic/vn-fps"),
+        ("velocities/v-east-fps", "ic/ve-fps"),
+        ("velocities/v-down-fps", "ic/vd-fps"),
+    ),
+    "rates": (
+        ("velocities/p-rad_sec", "ic/p-rad_sec"),
+        ("velocities/q-rad_sec", "ic/q-rad_sec"),
+        ("velocities/r-rad_sec", "ic/r-rad_sec"),
+    ),
+}
+"""Vector fields of RigidBodyState read and written through properties."""
+_HANDLES = "_fdm"
+"""Attributes that belong to the JSBSim instance (``_fdm`` and every ``_n_*`` node handle)."""
+
+
 def _clip(value: float, low: float, high: float) -> float:
     return low if value < low else high if value > high else value
 
@@ -214,6 +269,64 @@ class FlightModel:
     def _set_masses(self) -> None:
         self._n_fuel.set_double_value(self.powertrain.fuel * KG_TO_LBS)
         self._n_payload.set_double_value(self._payload * KG_TO_LBS)
+
+    # ------------------------------------------------------------ checkpoint
+    def rigid_body(self) -> RigidBodyState:
+        """JSBSim's state now (with the external loads of the last step)."""
+        fdm = self._fdm
+
+        def vector(values: list[float]) -> tuple[float, float, float]:
+            return (values[0], values[1], values[2])
+
+        values: dict[str, object] = {
+            name: fdm.get_property_value(read) for name, (read, _) in _IC.items()
+        }
+        for name, props in _IC_VECTORS.items():
+            values[name] = vector([fdm.get_property_value(read) for read, _ in props])
+        values["force"] = vector([n.get_double_value() for n in self._n_force])
+        values["moment"] = vector([n.get_double_value() for n in self._n_moment])
+        return RigidBodyState(**values)  # type: ignore[arg-type]  # fields named by _IC tables
+
+    def _restore_rigid_body(self, state: RigidBodyState) -> None:
+        """Put JSBSim in ``state`` (ConfigError if it refuses)."""
+        fdm = self._fdm
+        if not fdm.run_ic():  # mass balance first, as in _place
+            raise ConfigError("JSBSim rejected the initial conditions")
+        east, north, up = self.position_enu  # as in _read_state: terrain below the CG
+        # JSBSim keeps the altitude kind set last (above sea level or ground) when the terrain
+        # or the latitude change: terrain first, the altitude after everything it depends on
+        fdm["ic/terrain-elevation-ft"] = state.altitude - (up - self._terrain(east, north)) / FT
+        for name, (_, write) in _IC.items():
+            fdm[write] = getattr(state, name)
+        for name, props in _IC_VECTORS.items():
+            for (_, write), value in zip(props, getattr(state, name), strict=True):
+                fdm[write] = value
+        for nodes, values in ((self._n_force, state.force), (self._n_moment, state.moment)):
+            for n, v in zip(nodes, values, strict=True):
+                n.set_double_value(v)
+        if not fdm.run_ic():
+            raise ConfigError("JSBSim rejected the checkpointed state")
+
+    def __getstate__(self) -> dict[str, object]:
+        """Pickle support: Python state plus JSBSim's state as a RigidBodyState."""
+        state = {
+            k: v for k, v in self.__dict__.items() if k != _HANDLES and not k.startswith("_n_")
+        }
+        state["_rigid_body"] = self.rigid_body()
+        return state
+
+    def __setstate__(self, state: dict[str, object]) -> None:
+        """Unpickle: a fresh JSBSim instance put into the pickled state."""
+        body = state.pop("_rigid_body")
+        assert isinstance(body, RigidBodyState)
+        self.__dict__.update(state)
+        self._fdm = self._load()
+        self._bind_nodes()
+        self._set_masses()
+        for n, v in zip(self._n_wind, self._wind_ned, strict=True):
+            n.set_double_value(v / FT)
+        self._restore_rigid_body(body)
+        self._read_state()
 
     # ---------------------------------------------------------------- inputs
     def set_servos(self, servo: ServoCommand) -> None:

@@ -9,10 +9,13 @@ See ``sim/WORLD_SIM.md`` for topics, services and the lockstep protocol.
 
 from __future__ import annotations
 
+import math
 import sys
 import threading
 import time
+import uuid
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType
@@ -27,6 +30,7 @@ from hdrc3_interfaces.msg import (
     CameraCommand,
     LaserCommand,
     PtuCommand,
+    SimRun,
     WindState,
     WorldObject,
     WorldObjects,
@@ -48,6 +52,7 @@ from sim.agent_topics import (
     set_time,
     stamp_header,
 )
+from sim.checkpoint import Checkpoints, RunEvent, RunKind, RunState, new_run_id
 from sim.lockstep import LockstepBarrier, Offer, Verdict
 from sim.pacer import Pacer
 from sim.rc_transmitter import FlightModeSwitch
@@ -77,7 +82,9 @@ COMMAND_QOS = QoSProfile(depth=20, reliability=ReliabilityPolicy.RELIABLE)
 LATCHED_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
-"""/clock and /world_sim/objects: a late joiner gets the current value at once."""
+"""/clock, /world_sim/objects and /world_sim/run: a late joiner gets the current value at once."""
+MAX_CHECKPOINT_PERIOD_S = 60.0
+"""Longest accepted checkpoint period, sim seconds."""
 
 
 _SOURCES = {
@@ -123,7 +130,15 @@ class WorldSimNode(SteppedNode):
             names, [str(r) for r in required if r]
         )
         self.requests = SimServices(self.sim, self.barrier)
+        self.checkpoints = self._checkpoints()
+        self.process_id = uuid.uuid4().hex[:16]
+        self.start_event = self.checkpoints.start(self.sim)
+        self.run_state = self.start_event.run
+        if self.start_event.kind is RunKind.RESUMED:  # pause and lockstep set as they were
+            self.requests.paused = self.run_state.paused
+            self.barrier.set_required(self.run_state.lockstep)
         self._restart = False
+        self._run_pub = self.create_publisher(SimRun, "/world_sim/run", LATCHED_QOS)
         self._clock_pub = self.create_publisher(Clock, "/clock", LATCHED_QOS)
         self._clock_msg = Clock()
         self._wind_pub = self.create_publisher(WindState, "/world_sim/wind", SENSOR_QOS)
@@ -153,6 +168,19 @@ class WorldSimNode(SteppedNode):
             return self.declare_parameter(name, default, descriptor or ParameterDescriptor()).value
         except (InvalidParameterTypeException, InvalidParameterValueException) as exc:
             raise ConfigError(f"parameter {name}: {exc}") from exc
+
+    def _checkpoints(self) -> Checkpoints:
+        """The ``checkpoint`` file ("" = none) written every ``checkpoint_period`` sim seconds."""
+        path = str(self._parameter("checkpoint", ""))
+        period = self._float("checkpoint_period", 0.5)
+        if not (math.isfinite(period) and TICK_S <= period <= MAX_CHECKPOINT_PERIOD_S):
+            raise ConfigError(
+                f"parameter checkpoint_period: expected {TICK_S} .. {MAX_CHECKPOINT_PERIOD_S} s, "
+                f"got {period}"
+            )
+        if path and not Path(path).parent.is_dir():
+            raise ConfigError(f"parameter checkpoint: directory of {path} does not exist")
+        return Checkpoints(Path(path) if path else None, round(period / TICK_S))
 
     def _float(self, name: str, default: float) -> float:
         """A float parameter that also accepts integers (``speed:=2``)."""
@@ -299,6 +327,30 @@ class WorldSimNode(SteppedNode):
         return on_rc
 
     # ------------------------------------------------------------ publishing
+    def _publish_run(self, event: RunEvent) -> None:
+        """Announce how the world (re)started on /world_sim/run (latched)."""
+        msg = SimRun()
+        msg.kind = int(event.kind)
+        msg.run_id = event.run.run_id
+        msg.process_id = self.process_id
+        set_time(msg.stamp, event.stamp_ns)
+        set_time(msg.checkpoint_stamp, event.checkpoint_ns)
+        msg.reason = event.reason
+        self._run_pub.publish(msg)
+        if event.kind is not RunKind.STARTED:
+            self.get_logger().warning(event.reason)
+
+    def _checkpoint(self) -> None:
+        """Write the state of the current tick if due (before the tick is published)."""
+        if not self.checkpoints.due(self.sim.tick):
+            return
+        barrier = self.barrier
+        lockstep = tuple(sorted(barrier.required)) if barrier.explicit else ()
+        self.run_state = RunState(self.run_state.run_id, self.requests.paused, lockstep)
+        problem = self.checkpoints.write(self.sim, self.run_state)
+        if problem is not None:
+            self.get_logger().error(problem, throttle_duration_sec=10.0)
+
     def _publish_objects(self) -> None:
         msg = WorldObjects()
         stamp_header(msg.header, self.sim.time_ns)
@@ -413,19 +465,36 @@ class WorldSimNode(SteppedNode):
 
     def run(self, executor: Any, stop: threading.Event) -> None:
         """Tick until ``stop`` is set."""
+        self._checkpoint()
+        self._publish_run(self.start_event)
         self._publish_objects()
         self.publish_tick()
         while not stop.is_set() and self.context.ok():
             if not self._wait_for_tick(executor, stop):
                 if self._restart:
                     self._restart = False
-                    self.publish_tick()
+                    self._full_reset_done()
                 continue
             for agent, command in self.barrier.commands().items():
                 if command is not None:
                     self.sim.command(agent, command)
             self.sim.advance()
+            self._checkpoint()
             self.publish_tick()
+
+    def _full_reset_done(self) -> None:
+        """After a full reset: a new run, checkpointed and announced before its first tick."""
+        self.run_state = RunState(new_run_id())
+        self._checkpoint()
+        self._publish_run(
+            RunEvent(
+                RunKind.RESET,
+                self.run_state,
+                self.sim.time_ns,
+                reason="full reset requested (/world_sim/reset): the world starts over at t = 0",
+            )
+        )
+        self.publish_tick()
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -2,7 +2,9 @@
 
 The ROS services of the node are thin wrappers around :class:`SimServices`; nothing a client
 sends (NaN, unknown agents or sensors, positions inside buildings) can raise out of here.
-Codes equal the constants of ``hdrc3_interfaces/msg/SimResult.msg``.
+Codes equal the constants of ``hdrc3_interfaces/msg/SimResult.msg``. Every number has a stated
+finite range and every string a length limit (the constants below; ``sim/WORLD_SIM.md``,
+"Services", lists them per field); a reason quotes at most ``SHOWN`` characters of a string.
 """
 
 from __future__ import annotations
@@ -15,7 +17,6 @@ from dataclasses import dataclass
 from sim.geodesy import geodetic_to_enu
 from sim.lockstep import LockstepBarrier
 from sim.rc_transmitter import FlightModeSwitch, RcSticks
-from sim.sensors.camera import ZoomStatus
 from sim.sensors.fault import FaultMode
 from sim.sensors.laser import LaserConfig, LaserConfigStatus, LaserRangeFinder, RangeMode
 from sim.sensors.power import ALL_DEVICES, PowerDevice
@@ -28,6 +29,18 @@ from sim.yacs import YacsCommand
 
 MAX_TELEPORT_HEIGHT = 500.0
 """m above the terrain: higher teleports are rejected."""
+ANGLE_LIMIT = math.tau
+"""rad: headings and payload angles are accepted within +-one turn."""
+MAX_NAME_LENGTH = 64
+"""Characters of an agent, sensor, object kind or object id."""
+MAX_FAULT_VALUES = 16
+"""Values of a fault magnitude (the widest sensor measures 6 fields)."""
+MAX_BIAS = 1.0e6
+"""Largest fault magnitude value (a bias in the sensor's units: m, m/s, rad, Pa ...)."""
+MAX_NOISE_FACTOR = 1000.0
+"""Largest NOISE_UP factor on a sensor's noise."""
+SHOWN = 40
+"""Characters of a rejected string quoted in a reason."""
 
 SPAWN_DEFAULTS: dict[ObjectKind, dict[str, object]] = {
     ObjectKind.PERSON: {"temperature": ZERO_CELSIUS + 33.0},
@@ -66,6 +79,30 @@ class SimResult:
 OK = SimResult(SimCode.OK)
 
 
+def shown(text: str) -> str:
+    """``text`` quoted for a reason, cut to SHOWN characters."""
+    return repr(text) if len(text) <= SHOWN else f"{text[:SHOWN]!r}... ({len(text)} characters)"
+
+
+def invalid(reason: str) -> SimResult:
+    """An INVALID_ARGUMENT answer."""
+    return SimResult(SimCode.INVALID_ARGUMENT, reason)
+
+
+def name_problem(what: str, text: str) -> SimResult | None:
+    """A name longer than MAX_NAME_LENGTH, or None."""
+    if len(text) > MAX_NAME_LENGTH:
+        return invalid(f"{what} {shown(text)} longer than {MAX_NAME_LENGTH} characters")
+    return None
+
+
+def angle_problem(what: str, value: float) -> SimResult | None:
+    """A NaN/inf angle or one beyond +-ANGLE_LIMIT, or None."""
+    if not (math.isfinite(value) and abs(value) <= ANGLE_LIMIT):
+        return invalid(f"{what} must be finite, within [-2 pi, 2 pi] rad, got {value:g}")
+    return None
+
+
 class RcSwitch(enum.IntEnum):
     """Values of the SimSetRc.srv switch fields (0 always means: leave as is)."""
 
@@ -100,7 +137,9 @@ class SimServices:
         if agent in self.sim.agents:
             return None
         known = ", ".join(self.sim.agents)
-        return SimResult(SimCode.UNKNOWN_AGENT, f"unknown agent {agent!r} (simulated: {known})")
+        return SimResult(
+            SimCode.UNKNOWN_AGENT, f"unknown agent {shown(agent)} (simulated: {known})"
+        )
 
     def reset(self, agent: str, lockstep_agents: Sequence[str] = ()) -> SimResult:
         """Reset one agent or (agent "") everything, then set the lockstep mode."""
@@ -109,12 +148,14 @@ class SimServices:
             if problem is not None:
                 return problem
             if lockstep_agents:
-                return SimResult(
-                    SimCode.INVALID_ARGUMENT, "lockstep_agents applies to a full reset only"
-                )
+                return invalid("lockstep_agents applies to a full reset only")
             # the barrier keeps this tick's answer: the controller must not have to answer twice
             self.sim.reset(agent)
             return OK
+        if len(lockstep_agents) > len(self.sim.agents):
+            return invalid(
+                f"{len(lockstep_agents)} lockstep agents, only {len(self.sim.agents)} simulated"
+            )
         for name in lockstep_agents:
             problem = self._agent(name)
             if problem is not None:
@@ -137,16 +178,15 @@ class SimServices:
         if problem is not None:
             return problem
         if not finite(x, y, height, heading):
-            return SimResult(SimCode.INVALID_ARGUMENT, "teleport values must be finite")
+            return invalid("teleport values must be finite")
         if not 0.0 <= height <= MAX_TELEPORT_HEIGHT:
-            return SimResult(
-                SimCode.INVALID_ARGUMENT, f"height {height} m outside [0, {MAX_TELEPORT_HEIGHT}]"
-            )
+            return invalid(f"height {height:g} m outside [0, {MAX_TELEPORT_HEIGHT:g}]")
+        problem = angle_problem("heading", heading)
+        if problem is not None:
+            return problem
         if wgs84:
             if not (-90.0 <= x <= 90.0 and -180.0 <= y <= 180.0):
-                return SimResult(
-                    SimCode.INVALID_ARGUMENT, f"({x}, {y}) is not a latitude/longitude"
-                )
+                return invalid(f"({x:g}, {y:g}) is not a latitude/longitude")
             east, north, _ = geodetic_to_enu(
                 self.sim.world.origin, x, y, self.sim.world.origin.altitude
             )
@@ -154,14 +194,14 @@ class SimServices:
             east, north = x, y
         sim = self.sim
         if not sim.inside_world(east, north):
-            return SimResult(SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is outside the world")
+            return SimResult(SimCode.BLOCKED, f"({east:.6g}, {north:.6g}) is outside the world")
         # the aircraft is about 3.6 m long with its rotor: keep its whole disc clear
         up = sim.world.terrain.height(east, north) + height
         for de, dn in ((0.0, 0.0), (1.8, 0.0), (-1.8, 0.0), (0.0, 1.8), (0.0, -1.8)):
             building = sim.blocked_by(east + de, north + dn, up + 1.0)
             if building is not None:
                 return SimResult(
-                    SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is inside building {building}"
+                    SimCode.BLOCKED, f"({east:.6g}, {north:.6g}) is inside building {building}"
                 )
         sim.place(agent, east, north, height, heading % math.tau)
         return OK
@@ -177,16 +217,22 @@ class SimServices:
         target = sensors.get(sensor)
         if target is None:
             known = ", ".join(sorted(sensors))
-            return SimResult(SimCode.UNKNOWN_NAME, f"unknown sensor {sensor!r} (known: {known})")
+            return SimResult(
+                SimCode.UNKNOWN_NAME, f"unknown sensor {shown(sensor)} (known: {known})"
+            )
         modes = list(FaultMode)
         if not 0 <= mode < len(modes):
-            return SimResult(SimCode.INVALID_ARGUMENT, f"unknown fault mode {mode}")
+            return invalid(f"unknown fault mode {mode}")
         fault = modes[mode]
+        if len(magnitude) > MAX_FAULT_VALUES:
+            return invalid(f"{len(magnitude)} magnitude values, at most {MAX_FAULT_VALUES}")
         values = tuple(float(m) for m in magnitude) or (0.0,)
-        if not finite(*values):
-            return SimResult(SimCode.INVALID_ARGUMENT, "fault magnitude must be finite")
-        if fault is FaultMode.NOISE_UP and (len(values) != 1 or values[0] < 0.0):
-            return SimResult(SimCode.INVALID_ARGUMENT, "noise-up needs one factor >= 0")
+        if not (finite(*values) and max(abs(v) for v in values) <= MAX_BIAS):
+            return invalid(f"fault magnitude must be finite, within +-{MAX_BIAS:g}")
+        if fault is FaultMode.NOISE_UP and (
+            len(values) != 1 or not 0.0 <= values[0] <= MAX_NOISE_FACTOR
+        ):
+            return invalid(f"noise-up needs one factor within [0, {MAX_NOISE_FACTOR:g}]")
         if fault is FaultMode.BIAS:
             sizes = {1} if isinstance(target, LaserRangeFinder) else {1, len(target.fields)}
             if len(values) not in sizes:
@@ -203,24 +249,33 @@ class SimServices:
     ) -> SimResult:
         """Add a dynamic object on the ground."""
         if not ident.strip():
-            return SimResult(SimCode.INVALID_ARGUMENT, "object id must not be empty")
+            return invalid("object id must not be empty")
+        problem = name_problem("object id", ident)
+        if problem is not None:
+            return problem
+        if not ident.isprintable():
+            return invalid(f"object id {shown(ident)} contains control characters")
         kinds = {k.value: k for k in ObjectKind}
         found = kinds.get(kind)
         if found is None:
             return SimResult(
-                SimCode.UNKNOWN_NAME, f"unknown object kind {kind!r} (known: {', '.join(kinds)})"
+                SimCode.UNKNOWN_NAME,
+                f"unknown object kind {shown(kind)} (known: {', '.join(kinds)})",
             )
-        if not finite(east, north, heading):
-            return SimResult(SimCode.INVALID_ARGUMENT, "object position must be finite")
+        if not finite(east, north):
+            return invalid("object position must be finite")
+        problem = angle_problem("heading", heading)
+        if problem is not None:
+            return problem
         sim = self.sim
         if ident in sim.objects:
-            return SimResult(SimCode.DUPLICATE, f"object id {ident!r} already exists")
+            return SimResult(SimCode.DUPLICATE, f"object id {shown(ident)} already exists")
         if not sim.inside_world(east, north):
-            return SimResult(SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is outside the world")
+            return SimResult(SimCode.BLOCKED, f"({east:.6g}, {north:.6g}) is outside the world")
         building = sim.blocked_by(east, north)
         if building is not None:
             return SimResult(
-                SimCode.BLOCKED, f"({east:.1f}, {north:.1f}) is inside building {building}"
+                SimCode.BLOCKED, f"({east:.6g}, {north:.6g}) is inside building {building}"
             )
         extra = SPAWN_DEFAULTS[found]
         sim.spawn(
@@ -265,16 +320,16 @@ class SimServices:
             return problem
         for name in ("mode", "engine", "link"):
             if getattr(request, name) not in tuple(RcSwitch):
-                return SimResult(SimCode.INVALID_ARGUMENT, f"rc {name} must be 0, 1 or 2")
+                return invalid(f"rc {name} must be 0, 1 or 2")
         sticks: RcSticks | None = None
         if request.sticks is not None:
             roll, pitch, yaw, throttle = request.sticks
             if not (
                 finite(roll, pitch, yaw, throttle) and max(abs(roll), abs(pitch), abs(yaw)) <= 1.0
             ):
-                return SimResult(SimCode.INVALID_ARGUMENT, "sticks must be finite, within [-1, 1]")
+                return invalid("sticks must be finite, within [-1, 1]")
             if not 0.0 <= throttle <= 1.0:
-                return SimResult(SimCode.INVALID_ARGUMENT, "throttle must be within [0, 1]")
+                return invalid("throttle must be within [0, 1]")
             sticks = RcSticks(roll, pitch, yaw, throttle)
         rc = self.sim.agents[agent].aircraft.rc
         if request.mode:
@@ -292,19 +347,20 @@ class SimServices:
 
     # ------------------------------------------------- payload (PPC) commands
     def ptu_command(self, agent: str, pan: float, tilt: float) -> SimResult:
-        """Pan-tilt set-point (clamped to the PTU's limits)."""
+        """Pan-tilt set-point within +-one turn (then clamped to the PTU's limits)."""
         problem = self._agent(agent)
         if problem is not None:
             return problem
+        problem = angle_problem("pan", pan) or angle_problem("tilt", tilt)
+        if problem is not None:
+            return problem
         result = self.sim.agents[agent].sensors.ptu.command(pan, tilt)
-        if result.status is PtuCommandStatus.REJECTED:
-            return SimResult(SimCode.INVALID_ARGUMENT, f"PTU angles must be finite: {pan}, {tilt}")
         if result.status is PtuCommandStatus.UNPOWERED:
             return SimResult(SimCode.WRONG_STATE, "the PTU is switched off")
         return OK
 
     def camera_command(self, agent: str, camera_id: int, zoom: float) -> SimResult:
-        """Zoom of one camera (0 wide .. 1 tele; clamped)."""
+        """Zoom of one camera (0 wide .. 1 tele)."""
         problem = self._agent(agent)
         if problem is not None:
             return problem
@@ -315,8 +371,9 @@ class SimServices:
             return SimResult(
                 SimCode.UNKNOWN_NAME, f"unknown camera id {camera_id} (0 color, 1 thermal)"
             )
-        if camera.command_zoom(zoom) is ZoomStatus.REJECTED:
-            return SimResult(SimCode.INVALID_ARGUMENT, f"zoom must be finite, got {zoom}")
+        if not (math.isfinite(zoom) and 0.0 <= zoom <= 1.0):
+            return invalid(f"zoom must be finite, within [0, 1], got {zoom:g}")
+        camera.command_zoom(zoom)
         return OK
 
     def laser_command(
@@ -337,22 +394,25 @@ class SimServices:
         if problem is not None:
             return problem
         if not finite(angular_resolution, distance_resolution, rotation_speed, rotation_angle):
-            return SimResult(SimCode.INVALID_ARGUMENT, "laser command values must be finite")
+            return invalid("laser command values must be finite")
+        laser = self.sim.agents[agent].sensors.laser
+        top = laser.params.max_rotation_speed
+        if abs(rotation_speed) > top:
+            return invalid(f"rotation speed {rotation_speed:g} rad/s beyond +-{top:.3f} rad/s")
+        problem = angle_problem("rotation angle", rotation_angle)
+        if problem is not None:
+            return problem
         modes = {m.resolution: m for m in RangeMode}
         mode = modes.get(distance_resolution)
         if mode is None:
             known = " or ".join(str(r) for r in modes)
-            return SimResult(
-                SimCode.INVALID_ARGUMENT,
-                f"distance resolution must be {known} m, got {distance_resolution}",
-            )
-        laser = self.sim.agents[agent].sensors.laser
+            return invalid(f"distance resolution must be {known} m, got {distance_resolution:g}")
         fov = 100.0 if angular_resolution == 0.25 else laser.config.fov_deg
         config = LaserConfig(fov, angular_resolution, mode)
         if config != laser.config:
             status, reason = laser.configure(config)
             if status is LaserConfigStatus.REJECTED:
-                return SimResult(SimCode.INVALID_ARGUMENT, reason)
+                return invalid(reason)
         laser.set_rotation_speed(0.0 if hold_angle else rotation_speed)
         if hold_angle:
             laser.rotation_angle = rotation_angle % math.tau

@@ -163,6 +163,30 @@ class WorldSim:
         for sim_agent in self.agents.values():
             self._build(sim_agent)
 
+    def resume(
+        self,
+        tick: int,
+        agents: dict[str, SimAgent],
+        wind: Wind,
+        objects: dict[str, DynamicObject],
+        skip: int = 0,
+    ) -> None:
+        """Take over a checkpointed world state of ``tick``, its clock moved on by ``skip`` ticks.
+
+        Nothing moves during the skipped ticks: the world is as if paused with its clock running
+        (every clock in the state moves along), so that the clock of a restarted simulator
+        never goes back behind a tick its predecessor may have published.
+        """
+        if set(agents) != set(self.agents):
+            raise ConfigError(f"the state is of agents {sorted(agents)}, not {sorted(self.agents)}")
+        self.tick = tick + skip
+        self.agents = {name: agents[name] for name in self.agents}
+        for agent in self.agents.values():
+            agent.aircraft.shift_time(skip * STEPS_PER_TICK)
+        self.wind = wind
+        self.objects = dict(objects)
+        self._readings = {name: [] for name in self.agents}
+
     def _origin(self) -> tuple[float, float, float]:
         o = self.world.origin
         return (o.latitude, o.longitude, o.altitude)

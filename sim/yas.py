@@ -93,6 +93,14 @@ class Yas:
         self.rates_ok = False
         """True while the gyro delivers fresh samples."""
 
+    def shift_time(self, seconds: float) -> None:
+        """Move the times of the last step and samples by ``seconds`` (the world's clock jumped)."""
+        if self._time is not None:
+            self._time += seconds
+        self._attitude_time += seconds
+        self._imu_time += seconds
+        self._baro_time += seconds
+
     def observe(self, readings: SensorReadings) -> None:
         """Advance to ``readings.time`` and fuse the samples that came due in this step."""
         now = readings.time

@@ -6,6 +6,9 @@ import argparse
 import math
 import os
 import sys
+import tempfile
+from dataclasses import replace
+from pathlib import Path
 
 from hdrc3.launch_plan import (
     CATALOG,
@@ -60,6 +63,13 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
 def run(args: argparse.Namespace) -> int:
     """Launch, print READY when every node is up, supervise until SIGINT/SIGTERM."""
     options = options_from(args)
+    # run files (world_sim's checkpoint) live as long as the launch: a restarted node resumes
+    with tempfile.TemporaryDirectory(prefix="hdrc3-launch-") as run_dir:
+        return _launch(args, replace(options, run_dir=Path(run_dir)))
+
+
+def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
+    """Start the plan of ``options`` and supervise it (see :func:`run`)."""
     if options.domain_id is not None:
         os.environ["ROS_DOMAIN_ID"] = str(options.domain_id)
     specs = build_plan(options)

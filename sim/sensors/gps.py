@@ -83,6 +83,11 @@ class Gps(Sensor[GpsSample]):
         self._vertical.reset(self.rng)
         self._outage_until = -math.inf
 
+    def shift_time(self, seconds: float) -> None:
+        """Move the schedule and a running outage by ``seconds``."""
+        super().shift_time(seconds)
+        self._outage_until += seconds
+
     def _measure(self, truth: TruthState, dt: float, scale: float) -> NDArray[np.float64] | None:
         p = self.params
         error = np.concatenate(

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
+from dataclasses import replace
 from typing import TYPE_CHECKING, ClassVar, Generic, TypeVar
 
 import numpy as np
@@ -67,6 +68,16 @@ class Sensor(ABC, Generic[SampleT]):
 
     def _reset_state(self) -> None:
         """Reset the subclass's error processes (they draw from ``self.rng``)."""
+
+    def shift_time(self, seconds: float) -> None:
+        """Move every time this sensor remembers by ``seconds`` (the world's clock jumped)."""
+        if self._start is not None:
+            self._start += seconds
+        if self._last_time is not None:
+            self._last_time += seconds
+        if self._last is not None:
+            truth, value = self._last
+            self._last = (replace(truth, time=truth.time + seconds), value)
 
     def powered(self) -> bool:
         """Tell whether the sensor has power (True unless its device is switched off)."""

@@ -100,6 +100,11 @@ class SensorSuite:
         for sensor, child in zip(sensors, children, strict=True):
             sensor.reset(int(child.generate_state(1)[0]))
 
+    def shift_time(self, seconds: float) -> None:
+        """Move every sensor's remembered times by ``seconds`` (the world's clock jumped)."""
+        for sensor in self.sensors().values():
+            sensor.shift_time(seconds)
+
     def step(self, truth: TruthState, dt: float) -> SensorReadings:
         """Advance the payload mechanisms by ``dt`` and read every sensor at ``truth.time``."""
         self.ptu.step(dt)

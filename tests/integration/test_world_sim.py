@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
+import signal
 import time
 from collections import defaultdict
 from collections.abc import Callable
@@ -36,7 +38,15 @@ from hdrc3_interfaces.msg import (
     YacsCommand,
     YacsStatus,
 )
-from hdrc3_interfaces.srv import SimInjectFault, SimReset, SimSetRc, SimSpawnObject
+from hdrc3_interfaces.srv import (
+    SimInjectFault,
+    SimReset,
+    SimSetPower,
+    SimSetRc,
+    SimSetWind,
+    SimSpawnObject,
+    SimTeleport,
+)
 from sim.world_loader import load_world
 
 pytestmark = pytest.mark.ros
@@ -470,3 +480,117 @@ def test_requests_change_the_running_world(hdrc3_cli, ros_context) -> None:
     assert bad.code == SimResult.INVALID_ARGUMENT
     node.destroy_node()
     assert launch.interrupt(timeout=15) == 0
+
+
+HUGE = "x" * 100_000
+EXTREME_REQUESTS: list[tuple[Any, str, dict[str, Any]]] = [
+    (SimTeleport, "/world_sim/teleport", {"agent": "uav0", "x": math.nan}),
+    (SimTeleport, "/world_sim/teleport", {"agent": "uav0", "heading": 1e308, "height": 2.0}),
+    (SimTeleport, "/world_sim/teleport", {"agent": HUGE}),
+    (SimTeleport, "/world_sim/teleport", {"agent": "uav0", "frame": 255}),
+    (
+        SimInjectFault,
+        "/world_sim/inject_fault",
+        {"agent": "uav0", "sensor": "gps", "mode": 3, "magnitude": [1e308]},
+    ),
+    (
+        SimInjectFault,
+        "/world_sim/inject_fault",
+        {"agent": "uav0", "sensor": "gps", "mode": 3, "magnitude": [1.0] * 100_000},
+    ),
+    (SimInjectFault, "/world_sim/inject_fault", {"agent": "uav0", "sensor": HUGE, "mode": 1}),
+    (SimInjectFault, "/world_sim/inject_fault", {"agent": "uav0", "sensor": "imu", "mode": 255}),
+    (SimSpawnObject, "/world_sim/spawn_object", {"id": HUGE, "kind": "box"}),
+    (SimSpawnObject, "/world_sim/spawn_object", {"id": "b", "kind": "box", "east": math.inf}),
+    (SimSpawnObject, "/world_sim/spawn_object", {"id": "b", "kind": "box", "heading": -1e308}),
+    (SimSpawnObject, "/world_sim/spawn_object", {"id": "b", "kind": HUGE}),
+    (SimSetWind, "/world_sim/set_wind", {"gust_intensity": math.nan}),
+    (SimSetWind, "/world_sim/set_wind", {"gust_intensity": 1e308}),
+    (SimSetPower, "/world_sim/set_power", {"agent": "uav0", "devices": 2**32 - 1, "on": True}),
+    (SimSetPower, "/world_sim/set_power", {"agent": HUGE, "devices": 1}),
+    (SimSetRc, "/uav0/rc/set", {"mode": 255}),
+    (SimSetRc, "/uav0/rc/set", {"set_sticks": True, "roll": math.nan}),
+    (SimSetRc, "/uav0/rc/set", {"set_sticks": True, "throttle": 1e308}),
+    (SimReset, "/world_sim/reset", {"agent": HUGE}),
+    (SimReset, "/world_sim/reset", {"agent": "", "lockstep_agents": ["uav0"] * 1000}),
+]
+"""A small version of the sim services' property test (tests/unit/sim/test_sim_services.py)."""
+
+
+def test_extreme_requests_get_an_answer_and_the_node_lives_on(hdrc3_cli, ros_context) -> None:
+    from hdrc3_interfaces.msg import LaserCommand, PtuCommand
+
+    launch = hdrc3_cli("launch", "--agents", "uav0", "--speed", "5", "--nodes", "world_sim")
+    launch.wait_for_line("READY", timeout=60)
+    node = Node("world_sim_extremes", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    for srv, name, fields in EXTREME_REQUESTS:
+        result = _call(executor, node, srv, name, **fields)
+        assert result.code != SimResult.OK and 0 < len(result.reason) <= 300, (name, result)
+    # payload commands with absurd values (topics: refused and logged, nothing to answer)
+    ptu = node.create_publisher(PtuCommand, "/uav0/ptu/command", RELIABLE)
+    laser = node.create_publisher(LaserCommand, "/uav0/laser/command", RELIABLE)
+    assert _spin_until(
+        executor, lambda: ptu.get_subscription_count() and laser.get_subscription_count(), 20.0
+    )
+    ptu.publish(PtuCommand(pan=1e308, tilt=math.nan))
+    laser.publish(LaserCommand(angular_resolution=1.0, distance_resolution=0.01,
+                               hold_angle=True, rotation_angle=-1e308))  # fmt: skip
+    # alive: it answers a valid request and its clock goes on
+    before = _sim_now(executor, node)
+    result = _call(executor, node, SimSetWind, "/world_sim/set_wind", gust_intensity=0.5)
+    assert result.code == SimResult.OK, result.reason
+    assert _sim_now(executor, node) > before
+    assert launch.proc.poll() is None
+
+
+def test_world_sim_killed_mid_flight_resumes_its_checkpoint(hdrc3_cli, ros_context) -> None:
+    """kill -9 of world_sim under the launcher: the restarted one goes on with the same flight."""
+    from hdrc3.launcher import STATUS_QOS, STATUS_TOPIC
+    from hdrc3_interfaces.msg import LaunchStatus, SimRun
+
+    launch = hdrc3_cli("launch", "--agents", "uav0", "--speed", "4", "--nodes", "world_sim")
+    launch.wait_for_line("READY", timeout=60)
+    node = Node("world_sim_restart", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    clock: list[int] = []
+    truth: list[TruthState] = []
+    runs: list[SimRun] = []
+    status: list[LaunchStatus] = []
+    node.create_subscription(Clock, "/clock", lambda m: clock.append(_ns(m.clock)), CLOCK_QOS)
+    node.create_subscription(TruthState, "/uav0/ground_truth/state", truth.append, RELIABLE)
+    node.create_subscription(SimRun, "/world_sim/run", runs.append, CLOCK_QOS)
+    node.create_subscription(LaunchStatus, STATUS_TOPIC, status.append, STATUS_QOS)
+    assert _spin_until(executor, lambda: bool(runs and status), 20.0)
+    assert runs[0].kind == SimRun.STARTED
+    # the safety pilot starts the engine and climbs on the collective stick (no controller)
+    result = _call(executor, node, SimSetRc, "/uav0/rc/set", engine=SimSetRc.Request.ENGINE_ON,
+                   set_sticks=True, throttle=0.65)  # fmt: skip
+    assert result.code == SimResult.OK, result.reason
+    airborne = lambda: bool(truth) and truth[-1].height_above_ground > 8.0  # noqa: E731
+    assert _spin_until(executor, airborne, 60.0), truth[-1:]
+    pid = next(p.pid for p in status[-1].processes if p.name == "world_sim")
+    os.kill(pid, signal.SIGKILL)
+    before = len(truth)
+    resumed = lambda: len(runs) > 1 and len(truth) > before + 10  # noqa: E731
+    assert _spin_until(executor, resumed, 90.0), (runs[1:], len(truth) - before)
+    run = runs[-1]
+    assert run.kind == SimRun.RESUMED, run.reason
+    assert run.run_id == runs[0].run_id and run.process_id != runs[0].process_id
+    stamp, saved = _ns(run.stamp), _ns(run.checkpoint_stamp)
+    # the clock never went back; the world was at most one checkpoint period (0.5 s) behind
+    assert all(b >= a for a, b in itertools.pairwise(clock)), clock
+    last_old = max(_ns(m.header.stamp) for m in truth[:before])
+    assert last_old < stamp <= saved + 500_000_000
+    after = [m for m in truth[before:] if _ns(m.header.stamp) >= stamp]
+    first = after[0]
+    assert _ns(first.header.stamp) == stamp
+    assert not first.on_ground and first.engine_running and first.height_above_ground > 5.0
+    old = {_ns(m.header.stamp): m for m in truth[:before]}
+    if saved in old:  # published by the old process right after it wrote the checkpoint
+        assert math.dist(old[saved].position_enu, first.position_enu) < 0.01
+    assert math.dist(truth[before - 1].position_enu, first.position_enu) < 5.0
+    assert not after[-1].on_ground and after[-1].rotor_rpm > 700.0
+    launch.wait_for_line("world_sim: restarted (restart 1)")

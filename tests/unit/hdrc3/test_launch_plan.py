@@ -94,6 +94,27 @@ def test_plan_namespaces_agent_nodes_and_passes_world_params(tmp_path: Path) -> 
     assert specs[4].argv[1:] == ("record", str(tmp_path / "run.mcap"), "--all")
 
 
+@pytest.mark.parametrize("run_dir", [None, "run"])
+def test_only_world_sim_gets_a_checkpoint_in_the_run_directory(
+    tmp_path: Path, run_dir: str | None
+) -> None:
+    options = LaunchOptions(
+        agents=("uav0",),
+        nodes=("world_sim", "control_kernel"),
+        world="revinge",
+        speed=1.0,
+        record=None,
+        domain_id=None,
+        run_dir=None if run_dir is None else tmp_path / run_dir,
+    )
+    checkpoints = {
+        spec.name: [a for a in spec.argv if a.startswith("checkpoint:=")]
+        for spec in build_plan(options, launch_plan.CATALOG)
+    }
+    expected = [] if run_dir is None else [f"checkpoint:={tmp_path / run_dir}/world_sim.checkpoint"]
+    assert checkpoints == {"world_sim": expected, "uav0/control_kernel": []}
+
+
 def test_world_sim_is_in_the_catalogue_with_world_parameters() -> None:
     kinds = {kind.name: kind for kind in launch_plan.CATALOG}
     assert kinds["world_sim"].executable == "hdrc3-world-sim"

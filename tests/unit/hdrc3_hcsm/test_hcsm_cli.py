@@ -38,6 +38,15 @@ def test_check_syntax_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     )
 
 
+def test_check_rejects_an_empty_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    empty = tmp_path / "empty.hcsm"
+    empty.write_text("")
+    assert main(["hcsm", "check", str(empty)]) == 1
+    out = capsys.readouterr().out
+    assert f"{empty}:1:1: error E017: empty model: the file declares nothing" in out
+    assert f"{empty}: invalid (1 errors, 1 warnings)" in out
+
+
 def test_render_dot_with_trace(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     trace = tmp_path / "t.jsonl"
     config = ("Mode-Switch:Hovering-ST", "Control-Mode:Ctrl-Run-ST")

@@ -95,6 +95,30 @@ def test_library_without_root_is_checked_with_a_warning() -> None:
         load_text(VALID.replace("root Top;", ""), "lib.hcsm")
 
 
+@pytest.mark.parametrize(
+    ("text", "code", "words"),
+    [
+        ("", "E017", "empty model: the file declares nothing"),
+        ("# a comment only\n\n", "E017", "empty model"),
+        ("model M on PFC;\ncomputers PFC;\nevent A-EV = 1;\n", "E018", "model M declares no"),
+        ("model M on PFC;\ncomputers PFC;\nroot Top;\n", "E018", "declares no automaton"),
+    ],
+)
+def test_empty_models_and_models_without_automata_are_invalid(
+    text: str, code: str, words: str
+) -> None:
+    result = check_text(text, "m.hcsm")
+    assert result.status is LoadStatus.INVALID
+    errors = [d for d in result.diagnostics if d.severity is Severity.ERROR]
+    assert errors[0].code == code and words in errors[0].message
+
+
+def test_a_declarations_only_library_stays_valid() -> None:
+    result = check_text("computers PFC;\nevent A-EV = 1;\n", "lib.hcsm")
+    assert result.status is LoadStatus.OK
+    assert [d.code for d in result.diagnostics] == ["W003"]
+
+
 def test_load_text_raises_with_every_error() -> None:
     with pytest.raises(ModelError, match=r"m.hcsm:16:\d+: error E040"):
         load_text(VALID.replace("init L-ST;", "state L-ST;"), "m.hcsm")

@@ -1,12 +1,16 @@
 import math
+from collections.abc import Callable, Sequence
+from typing import Any
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from sim.lockstep import LockstepBarrier
 from sim.rc_transmitter import FlightModeSwitch
 from sim.sensors.fault import FaultMode
 from sim.sensors.power import PowerDevice
-from sim.sim_services import RcRequest, SimCode, SimServices
+from sim.sim_services import RcRequest, SimCode, SimResult, SimServices
 from sim.world_loader import load_world
 from sim.world_sim import SimConfig, WorldSim
 from sim.yacs import YacsCommand
@@ -201,7 +205,127 @@ def test_payload_commands_drive_ptu_zoom_and_laser(services: SimServices) -> Non
     laser = sensors.laser
     assert (laser.config.fov_deg, laser.config.resolution_deg) == (100.0, 0.25)
     assert laser.rotation_speed == 1.0 and laser.rate_hz == pytest.approx(1 / 0.053)
-    assert services.laser_command("uav1", 1.0, 0.01, 1.0, True, 7.0).ok
-    assert laser.rotation_speed == 0.0 and laser.rotation_angle == pytest.approx(7.0 - 2 * math.pi)
+    assert services.laser_command("uav1", 1.0, 0.01, 1.0, True, -1.0).ok
+    assert laser.rotation_speed == 0.0 and laser.rotation_angle == pytest.approx(2 * math.pi - 1.0)
     sensors.power.switch(PowerDevice.PTU, False)
     assert services.ptu_command("uav1", 0.0, 0.0).code is SimCode.WRONG_STATE
+
+
+# ---------------------------------------------------------------- property test: extreme values
+ABSURD = 1e17
+"""Any number at least this large is outside every field's range (angles, m, m/s, factors)."""
+_PAD = WORLD.pad("H2")
+Call = Callable[[SimServices, Sequence[Any]], SimResult]
+SERVICES: dict[str, tuple[Call, tuple[Any, ...]]] = {
+    "reset": (lambda s, a: s.reset(a[0], a[1]), ("", ["uav0", "uav1"])),
+    "pause": (lambda s, a: s.pause(a[0]), (False,)),
+    "teleport": (
+        lambda s, a: s.teleport(*a),
+        ("uav1", False, _PAD.east + 20.0, _PAD.north, 2.0, 0.5),
+    ),
+    "inject_fault": (lambda s, a: s.inject_fault(*a), ("uav0", "gps", 3, [1.0])),
+    "clear_fault": (lambda s, a: s.inject_fault(*a), ("uav0", "imu", 0, [])),
+    "spawn_object": (lambda s, a: s.spawn_object(*a), ("p1", "person", 10.0, 5.0, 0.3)),
+    "set_wind": (lambda s, a: s.set_wind((a[0], a[1], a[2]), a[3]), (1.0, 0.0, 0.0, 0.5)),
+    "set_power": (lambda s, a: s.set_power(*a), ("uav0", 128, True)),
+    "set_rc": (
+        lambda s, a: s.set_rc(a[0], RcRequest(a[1], a[2], a[3], (a[4], a[5], a[6], a[7]))),
+        ("uav1", 2, 1, 1, 0.1, 0.1, 0.1, 0.5),
+    ),
+    "ptu_command": (lambda s, a: s.ptu_command(*a), ("uav0", 0.2, -0.3)),
+    "camera_command": (lambda s, a: s.camera_command(*a), ("uav0", 1, 0.5)),
+    "laser_command": (lambda s, a: s.laser_command(*a), ("uav0", 1.0, 0.01, 1.0, True, 0.5)),
+}
+"""Every request of SimServices as (call with flat arguments, valid arguments)."""
+
+_numbers = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([1e308, -1e308, 1e17, -1e17, 2 * math.pi + 1e-6, -0.0, 4.0]),
+)
+
+
+class FloatList(list[float]):
+    """Strategy key of a list of numbers (fault magnitudes)."""
+
+
+class StrList(list[str]):
+    """Strategy key of a list of names (lockstep agents)."""
+
+
+_extreme: dict[type, st.SearchStrategy[Any]] = {
+    float: _numbers,
+    bool: st.booleans(),
+    int: st.one_of(st.integers(-(2**64), 2**64), st.sampled_from([0, 3, 255, 2**32 - 1])),
+    str: st.one_of(st.text(max_size=8), st.just("u" * 100_000), st.just("\x00\n")),
+    FloatList: st.one_of(st.lists(_numbers, max_size=20), st.just([1.0] * 100_000)),
+    StrList: st.lists(st.sampled_from(["uav0", "uav1", "", "u" * 100_000]), max_size=40),
+}
+
+
+def _kind(value: object) -> type:
+    """The strategy key of a field: its type, a list by the type of its items."""
+    if isinstance(value, list):
+        return StrList if value and isinstance(value[0], str) else FloatList
+    return type(value)
+
+
+@st.composite
+def _requests(draw: st.DrawFn) -> tuple[str, tuple[Any, ...], frozenset[int]]:
+    """A valid request of one service with one to three fields replaced by extreme values."""
+    name = draw(st.sampled_from(sorted(SERVICES)))
+    args = list(SERVICES[name][1])
+    changed = frozenset(draw(st.lists(st.integers(0, len(args) - 1), min_size=1, max_size=3)))
+    for i in changed:
+        args[i] = draw(_extreme[_kind(args[i])])
+    return name, tuple(args), changed
+
+
+@pytest.fixture(scope="module")
+def fuzzed() -> SimServices:
+    sim = WorldSim(SimConfig(WORLD, ("uav0", "uav1")))
+    return SimServices(sim, LockstepBarrier(sim.agents))
+
+
+@pytest.mark.parametrize("name", sorted(SERVICES))
+def test_the_fuzzed_requests_start_from_valid_ones(fuzzed: SimServices, name: str) -> None:
+    call, args = SERVICES[name]
+    assert call(fuzzed, args).ok
+
+
+_EXTREMES = (math.nan, math.inf, -math.inf, 1e308, -1e308, 1e17, -1e17)
+_FLOAT_FIELDS = [
+    (name, i, value)
+    for name, (_, args) in sorted(SERVICES.items())
+    for i, arg in enumerate(args)
+    if isinstance(arg, float)
+    for value in _EXTREMES
+]
+
+
+@pytest.mark.parametrize(("name", "index", "value"), _FLOAT_FIELDS)
+def test_every_number_field_refuses_extreme_values(
+    fuzzed: SimServices, name: str, index: int, value: float
+) -> None:
+    call, args = SERVICES[name]
+    result = call(fuzzed, (*args[:index], value, *args[index + 1 :]))
+    assert result.code is not SimCode.OK and 0 < len(result.reason) <= 300
+
+
+@given(st.lists(_requests(), min_size=1, max_size=4))
+def test_extreme_values_get_a_defined_answer(
+    fuzzed: SimServices, requests: list[tuple[str, tuple[Any, ...], frozenset[int]]]
+) -> None:
+    """NaN, +-inf, +-1e308 and 100,000-character strings: a code, a short reason, a live core."""
+    for name, args, changed in requests:
+        result = SERVICES[name][0](fuzzed, args)
+        assert result.code in SimCode
+        assert result.ok or 0 < len(result.reason) <= 300
+        absurd = [
+            args[i]
+            for i in changed
+            if isinstance(args[i], float) and not (math.isfinite(args[i]) and abs(args[i]) < ABSURD)
+        ]
+        if absurd:
+            assert not result.ok, (name, args)
+    fuzzed.sim.advance()
+    assert all(math.isfinite(v) for v in fuzzed.sim.truth("uav0").position_enu)
