@@ -358,6 +358,8 @@ class Grounder:
             elif (cond.left.name == cond.right.name) != cond.positive:
                 goal_pos |= 1 << len(atoms)
         resource_indices = tuple(i for k, i in num_index.items() if k[0] in self.domain.resources)
+        read = self._read_functions()
+        inert = tuple(i for k, i in num_index.items() if k[0] not in read)
         by_pred: dict[str, dict[tuple[str, ...], int]] = {}
         for atom, bit in atom_bit.items():
             by_pred.setdefault(atom[0], {})[atom[1]] = 1 << bit
@@ -380,7 +382,32 @@ class Grounder:
             ops=ops,
             resource_indices=resource_indices,
             by_pred=by_pred,
+            inert_nums=inert,
         )
+
+    def _read_functions(self) -> frozenset[str]:
+        """Functions whose values some condition, duration or effect value reads.
+
+        The others (``total-cost``, ``total-fuel-used``) only accumulate plan metrics: they
+        cannot change which plans are valid, so the cycle check ignores them.
+        """
+        exprs: list[NumExpr] = []
+        conds = [*self.problem.goal]
+        for op in self.domain.operators:
+            conds.extend(op.pre + op.prevail)
+            exprs.append(op.duration)
+            exprs.extend(e.value for e in op.effects if isinstance(e, NumEffect))
+        for cond in conds:
+            if isinstance(cond, Comparison):
+                exprs.extend((cond.left, cond.right))
+        found: set[str] = set()
+        while exprs:
+            expr = exprs.pop()
+            if isinstance(expr, BinOp):
+                exprs.extend((expr.left, expr.right))
+            elif isinstance(expr, FuncTerm):
+                found.add(expr.atom.pred)
+        return frozenset(found)
 
     def _compare(
         self, cond: Comparison, env: dict[str, str], num_index: dict[GroundAtom, int]
