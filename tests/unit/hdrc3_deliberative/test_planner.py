@@ -5,15 +5,22 @@ from pathlib import Path
 import pytest
 
 from hdrc3_deliberative.generators import (
+    BLOCKS_CONTROL,
+    BLOCKS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
     UAV_CONTROL,
     UAV_DOMAIN,
     UAV_SCENARIO,
+    ZENOTRAVEL_CONTROL,
+    ZENOTRAVEL_DOMAIN,
     LogisticsSize,
     UavSize,
+    ZenoSize,
+    blocks_problem,
     logistics_problem,
     uav_problem,
+    zenotravel_problem,
 )
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner, is_pddl
 from hdrc3_deliberative.result import PlanStatus
@@ -170,3 +177,25 @@ def test_domain_problem_mismatch_is_named(planner: TaskPlanner) -> None:
     result = planner.plan(PlanRequest(ZENO_DOMAIN, problem), timeout=5)
     assert result.status is PlanStatus.INVALID_INPUT
     assert "problem is for domain 'depots', not 'zeno'" in result.reason
+
+
+@pytest.mark.parametrize(
+    ("domain", "control", "problem", "max_length"),
+    [
+        (BLOCKS_DOMAIN, BLOCKS_CONTROL, blocks_problem(10, 1), 40),
+        (BLOCKS_DOMAIN, BLOCKS_CONTROL, blocks_problem(10, 2), 40),
+        (ZENOTRAVEL_DOMAIN, ZENOTRAVEL_CONTROL, zenotravel_problem(ZenoSize(5, 2, 5), 1), 40),
+        (ZENOTRAVEL_DOMAIN, ZENOTRAVEL_CONTROL, zenotravel_problem(ZenoSize(6, 2, 6), 2), 40),
+    ],
+)
+def test_shipped_domains_solve_with_their_control_rules(
+    planner: TaskPlanner, domain: Path, control: Path, problem: str, max_length: int
+) -> None:
+    """Control rules steer the depth-first search straight to a valid plan (no backtracking)."""
+    request = PlanRequest(domain.read_text(), problem, control.read_text())
+    result = planner.plan(request, timeout=60)
+    assert result.status is PlanStatus.SOLVED, result.reason
+    assert len(result.plan) <= max_length
+    assert result.stats.nodes_expanded <= 2 * len(result.plan) + 1
+    outcome = validate_pddl_plan(domain.read_text(), problem, result.plan)
+    assert outcome.valid, outcome.reason
