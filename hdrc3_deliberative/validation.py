@@ -22,6 +22,11 @@ from hdrc3_deliberative.result import Occurrence
 _EITHER = re.compile(r"\(\s*either\s[^()]*\)", re.IGNORECASE)
 
 
+def widen_either(domain_text: str) -> str:
+    """The domain text with every ``(either ...)`` type replaced by ``object``."""
+    return _EITHER.sub("object", domain_text)
+
+
 @dataclass(frozen=True)
 class ValidationOutcome:
     """Verdict of the external validator."""
@@ -44,7 +49,7 @@ def validate_pddl_plan(
         domain_path = os.path.join(tmp, "domain.pddl")
         problem_path = os.path.join(tmp, "problem.pddl")
         with open(domain_path, "w") as f:
-            f.write(_EITHER.sub("object", domain_text))
+            f.write(widen_either(domain_text))
         with open(problem_path, "w") as f:
             f.write(problem_text)
         problem = PDDLReader().parse_problem(domain_path, problem_path)
