@@ -11,7 +11,8 @@ unified-planning, and Fast Downward ``lama-first`` (``up-fast-downward``) on the
 instances in a child process with a hard time limit. The peak memory (max RSS) of the
 benchmark process is printed after each domain.
 
-Usage: .venv/bin/python bench/talplanner.py [--quick] [--domains-only] [--png out/talplanner.png]
+Usage: .venv/bin/python bench/talplanner.py [--quick] [--domains-only | --no-domains]
+       [--seeds N] [--fd-limit S] [--png out/talplanner.png]
 """
 
 from __future__ import annotations
@@ -274,6 +275,7 @@ def main() -> int:
     parser.add_argument("--seeds", type=int, default=2, help="seeds per size (100-package: 1)")
     parser.add_argument("--png", type=Path, default=None, help="write nodes-vs-length plot here")
     parser.add_argument("--domains-only", action="store_true", help="only the per-domain table")
+    parser.add_argument("--no-domains", action="store_true", help="skip the per-domain table")
     parser.add_argument("--fd-limit", type=float, default=60.0, help="Fast Downward limit (s)")
     parser.add_argument("--worker", nargs=3, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -345,7 +347,8 @@ def main() -> int:
         "up-pyperplan via unified-planning (s/plan length)."
     )
     all_ok &= uav_section(planner)
-    all_ok &= domains_section(planner, domain_runs(args.quick, args.seeds), args.fd_limit)
+    if not args.no_domains:
+        all_ok &= domains_section(planner, domain_runs(args.quick, args.seeds), args.fd_limit)
     if args.png is not None:
         import matplotlib
 
