@@ -1,36 +1,53 @@
-"""Benchmark TALplanner on generated IPC-2000-size Logistics problems.
+"""Benchmark TALplanner on generated Logistics, Blocks and ZenoTravel problems.
 
-For every instance: concurrent TALplanner with control rules (plan validated by
-unified-planning), the same in sequential mode, TALplanner without control rules (small
+Logistics table, for every instance: concurrent TALplanner with control rules (plan validated
+by unified-planning), the same in sequential mode, TALplanner without control rules (small
 instances only) and pyperplan through unified-planning (``up-pyperplan``, run in a child
 process with a hard time limit because pyperplan ignores timeouts).
 
-Usage: .venv/bin/python bench/talplanner.py [--quick] [--png out/talplanner.png]
+Per-domain table: for each shipped domain with control rules, generated instances of growing
+size: solved, median/max wall and CPU time, median plan length, all plans validated by
+unified-planning, and Fast Downward ``lama-first`` (``up-fast-downward``) on the same
+instances in a child process with a hard time limit. The peak memory (max RSS) of the
+benchmark process is printed after each domain.
+
+Usage: .venv/bin/python bench/talplanner.py [--quick] [--domains-only | --no-domains]
+       [--seeds N] [--fd-limit S] [--png out/talplanner.png]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import resource
+import statistics
 import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from hdrc3_deliberative.generators import (
+    BLOCKS_CONTROL,
+    BLOCKS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
     UAV_CONTROL,
     UAV_DOMAIN,
     UAV_SCENARIO,
+    ZENOTRAVEL_CONTROL,
+    ZENOTRAVEL_DOMAIN,
     LogisticsSize,
     UavSize,
+    ZenoSize,
+    blocks_problem,
     logistics_problem,
     uav_problem,
+    zenotravel_problem,
 )
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
-from hdrc3_deliberative.validation import validate_pddl_plan
+from hdrc3_deliberative.validation import validate_pddl_plan, widen_either
 
 SIZES = [
     LogisticsSize(6, 2, 1),
@@ -46,8 +63,14 @@ NO_CONTROL_MAX_PACKAGES = 10
 PYPERPLAN_LIMIT_S = 20.0
 
 
-def pyperplan_worker(problem_path: str) -> None:
-    """Child process: solve with up-pyperplan, print JSON (time, plan length)."""
+PLANNERS: dict[str, tuple[str, dict[str, str]]] = {
+    "pyperplan": ("pyperplan", {}),
+    "lama-first": ("fast-downward", {"fast_downward_alias": "lama-first"}),
+}
+
+
+def planner_worker(planner_name: str, domain_path: str, problem_path: str) -> None:
+    """Child process: solve with a unified-planning engine, print JSON (time, plan length)."""
     import warnings
 
     from unified_planning.io import PDDLReader
@@ -55,36 +78,49 @@ def pyperplan_worker(problem_path: str) -> None:
 
     warnings.simplefilter("ignore")
     get_environment().credits_stream = None
-    problem = PDDLReader().parse_problem(str(LOGISTICS_DOMAIN), problem_path)
+    text = Path(domain_path).read_text()
+    with tempfile.TemporaryDirectory() as tmp:  # unified-planning cannot read (either ...)
+        widened = Path(tmp) / "domain.pddl"
+        widened.write_text(widen_either(text))
+        problem = PDDLReader().parse_problem(str(widened), problem_path)
+    engine, params = PLANNERS[planner_name]
     start = time.perf_counter()
-    with OneshotPlanner(name="pyperplan") as planner:
+    with OneshotPlanner(name=engine, params=params) as planner:
         result = planner.solve(problem)
     elapsed = time.perf_counter() - start
     length = len(result.plan.actions) if result.plan is not None else -1
     print(json.dumps({"status": result.status.name, "seconds": elapsed, "length": length}))
 
 
-def run_pyperplan(problem_text: str) -> str:
+def run_planner(
+    planner_name: str, domain: Path, problem_text: str, limit: float
+) -> dict[str, float] | str:
+    """Run a planner in a child process; its figures, or why there are none."""
     with tempfile.NamedTemporaryFile("w", suffix=".pddl", delete=False) as f:
         f.write(problem_text)
         path = f.name
     try:
         proc = subprocess.run(
-            [sys.executable, __file__, "--pyperplan-worker", path],
+            [sys.executable, __file__, "--worker", planner_name, str(domain), path],
             capture_output=True,
             text=True,
-            timeout=PYPERPLAN_LIMIT_S,
+            timeout=limit,
             check=False,
         )
     except subprocess.TimeoutExpired:
-        return f">{PYPERPLAN_LIMIT_S:.0f}s"
+        return f">{limit:.0f}s"
     finally:
         Path(path).unlink()
     try:
-        data = json.loads(proc.stdout.strip().splitlines()[-1])
+        data: dict[str, float] = json.loads(proc.stdout.strip().splitlines()[-1])
     except (IndexError, json.JSONDecodeError):
         return "error"
-    return f"{data['seconds']:.2f}s/{data['length']}"
+    return data
+
+
+def run_pyperplan(problem_text: str) -> str:
+    data = run_planner("pyperplan", LOGISTICS_DOMAIN, problem_text, PYPERPLAN_LIMIT_S)
+    return data if isinstance(data, str) else f"{data['seconds']:.2f}s/{data['length']:.0f}"
 
 
 def uav_section(planner: TaskPlanner) -> bool:
@@ -113,18 +149,145 @@ def uav_section(planner: TaskPlanner) -> bool:
     return ok
 
 
+@dataclass(frozen=True)
+class DomainRun:
+    """One shipped domain: files and generated instances (label, problem text)."""
+
+    name: str
+    domain: Path
+    control: Path
+    instances: list[tuple[str, str]]
+
+
+def domain_runs(quick: bool, seeds: int) -> list[DomainRun]:
+    """Instances of growing size per domain; the last size is the largest we run."""
+    seed_list = range(1, (1 if quick else seeds) + 1)
+    blocks = [10, 20] if quick else [10, 20, 30, 50]
+    zeno = [ZenoSize(5, 2, 5), ZenoSize(10, 3, 10)]
+    if not quick:
+        zeno += [ZenoSize(20, 5, 25), ZenoSize(30, 8, 40)]
+    logistics = SIZES[:3] if quick else SIZES[:6]
+    return [
+        DomainRun(
+            "blocks",
+            BLOCKS_DOMAIN,
+            BLOCKS_CONTROL,
+            [(f"{n} blocks", blocks_problem(n, s)) for n in blocks for s in seed_list],
+        ),
+        DomainRun(
+            "zenotravel",
+            ZENOTRAVEL_DOMAIN,
+            ZENOTRAVEL_CONTROL,
+            [
+                (f"{z.cities}c/{z.planes}a/{z.people}p", zenotravel_problem(z, s))
+                for z in zeno
+                for s in seed_list
+            ],
+        ),
+        DomainRun(
+            "logistics",
+            LOGISTICS_DOMAIN,
+            LOGISTICS_CONTROL,
+            [
+                (f"{z.packages}p/{z.cities}c/{z.airplanes}a", logistics_problem(z, s))
+                for z in logistics
+                for s in seed_list
+            ],
+        ),
+    ]
+
+
+def domains_section(planner: TaskPlanner, runs: list[DomainRun], fd_limit: float) -> bool:
+    """Per-domain table: TALplanner with control rules beside Fast Downward lama-first."""
+    print("\nPer-domain: TALplanner + control rules (validated by unified-planning) vs lama-first")
+    header = (
+        f"{'domain':>10} {'instance':>14} | {'status':>7} {'wall':>6} {'cpu':>5} {'len':>4} "
+        f"{'valid':>5} | {'FD t':>7} {'FD len':>6}"
+    )
+    print(header)
+    print("-" * len(header))
+    all_ok = True
+    summary = []
+    for run in runs:
+        domain = run.domain.read_text()
+        control = run.control.read_text()
+        walls, cpus, lengths, fd_times, fd_lengths = [], [], [], [], []
+        solved = fd_solved = 0
+        for label, problem in run.instances:
+            result = planner.plan(PlanRequest(domain, problem, control), timeout=60.0)
+            wall = result.stats.grounding_seconds + result.stats.search_seconds
+            valid = False
+            if result.solved:
+                valid = validate_pddl_plan(domain, problem, result.plan).valid
+                solved += valid
+                walls.append(wall)
+                cpus.append(result.stats.cpu_seconds)
+                lengths.append(len(result.plan))
+            all_ok &= valid
+            fd = run_planner("lama-first", run.domain, problem, fd_limit)
+            if isinstance(fd, str):
+                fd_text, fd_len = fd, "-"
+            else:
+                fd_solved += fd["length"] >= 0
+                fd_times.append(fd["seconds"])
+                fd_lengths.append(fd["length"])
+                fd_text, fd_len = f"{fd['seconds']:.2f}", f"{fd['length']:.0f}"
+            print(
+                f"{run.name:>10} {label:>14} | {result.status.value[:7]:>7} {wall:>6.2f} "
+                f"{result.stats.cpu_seconds:>5.2f} {len(result.plan):>4} {valid!s:>5} | "
+                f"{fd_text:>7} {fd_len:>6}",
+                flush=True,
+            )
+        rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        print(f"{run.name:>10} peak memory (max RSS of this process so far): {rss:.0f} MB")
+        summary.append((run, solved, walls, cpus, lengths, fd_solved, fd_times, fd_lengths))
+    print(
+        f"\n{'domain':>10} | {'solved':>7} {'wall med/max':>13} {'cpu med/max':>12} "
+        f"{'len med':>7} | {'FD solved':>9} {'FD t med/max':>13} {'FD len med':>10}"
+    )
+    for run, solved, walls, cpus, lengths, fd_solved, fd_times, fd_lengths in summary:
+        n = len(run.instances)
+        print(
+            f"{run.name:>10} | {solved:>3}/{n:<3} {_med_max(walls):>13} {_med_max(cpus):>12} "
+            f"{_median(lengths):>7} | {fd_solved:>4}/{n:<4} {_med_max(fd_times):>13} "
+            f"{_median(fd_lengths):>10}",
+            flush=True,
+        )
+    print(
+        f"columns: wall = parse+ground+search seconds, cpu = process CPU seconds of the "
+        f"planning call; len = actions; FD = Fast Downward lama-first through unified-planning "
+        f"(child process, limit {fd_limit:.0f} s, seconds include its translator)."
+    )
+    return all_ok
+
+
+def _median(values: list[float] | list[int]) -> str:
+    return f"{statistics.median(values):.0f}" if values else "-"
+
+
+def _med_max(values: list[float]) -> str:
+    return f"{statistics.median(values):.2f}/{max(values):.2f}" if values else "-"
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="only the first four sizes, one seed")
     parser.add_argument("--seeds", type=int, default=2, help="seeds per size (100-package: 1)")
     parser.add_argument("--png", type=Path, default=None, help="write nodes-vs-length plot here")
-    parser.add_argument("--pyperplan-worker", default=None, help=argparse.SUPPRESS)
+    parser.add_argument("--domains-only", action="store_true", help="only the per-domain table")
+    parser.add_argument("--no-domains", action="store_true", help="skip the per-domain table")
+    parser.add_argument("--fd-limit", type=float, default=60.0, help="Fast Downward limit (s)")
+    parser.add_argument("--worker", nargs=3, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
-    if args.pyperplan_worker:
-        pyperplan_worker(args.pyperplan_worker)
+    if args.worker:
+        planner_worker(*args.worker)
         return 0
-    sizes = SIZES[:4] if args.quick else SIZES
     planner = TaskPlanner()
+    if args.domains_only:
+        return (
+            0 if domains_section(planner, domain_runs(args.quick, args.seeds), args.fd_limit) else 1
+        )
+    sizes = SIZES[:4] if args.quick else SIZES
     domain = LOGISTICS_DOMAIN.read_text()
     control = LOGISTICS_CONTROL.read_text()
     header = (
@@ -184,6 +347,8 @@ def main() -> int:
         "up-pyperplan via unified-planning (s/plan length)."
     )
     all_ok &= uav_section(planner)
+    if not args.no_domains:
+        all_ok &= domains_section(planner, domain_runs(args.quick, args.seeds), args.fd_limit)
     if args.png is not None:
         import matplotlib
 

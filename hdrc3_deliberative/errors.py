@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from hdrc3_base.errors import ConfigError
+from hdrc3_base.errors import ConfigError, Hdrc3Error
 
 
 class PlanningInputError(ConfigError):
@@ -20,3 +20,7 @@ class PlanningInputError(ConfigError):
         if line:
             where = f"{source}:{line}:{column}"
         super().__init__(f"{where}: {message}" if where else message)
+
+
+class GroundingTimeout(Hdrc3Error):
+    """Grounding did not finish before the planning deadline (the planner reports TIMEOUT)."""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import random
 from dataclasses import dataclass
@@ -13,6 +14,11 @@ LOGISTICS_CONTROL = DOMAINS_DIR / "logistics" / "control.tal"
 UAV_DOMAIN = DOMAINS_DIR / "uav_logistics" / "domain.tal"
 UAV_CONTROL = DOMAINS_DIR / "uav_logistics" / "control.tal"
 UAV_SCENARIO = DOMAINS_DIR / "uav_logistics" / "scenario.tal"
+ZENOTRAVEL_DOMAIN = DOMAINS_DIR / "zenotravel" / "domain.pddl"
+ZENOTRAVEL_CONTROL = DOMAINS_DIR / "zenotravel" / "control.tal"
+BLOCKS_DOMAIN = DOMAINS_DIR / "blocks" / "domain.pddl"
+BLOCKS_CONTROL = DOMAINS_DIR / "blocks" / "control.tal"
+ZENO_FUEL_LEVELS = 7  # f0 .. f6 as in the IPC-2002 STRIPS problems
 
 
 @dataclass(frozen=True)
@@ -60,14 +66,8 @@ def logistics_problem(size: LogisticsSize, seed: int, name: str = "") -> str:
         " ".join(trucks) + " - truck",
         " ".join(packages) + " - package",
     ]
-    body = "\n    ".join(o for o in objects if o)
-    lines = "\n    ".join(init)
-    goal_lines = "\n           ".join(goals)
     pname = name or f"logistics-{size.packages}-{size.cities}-{size.airplanes}-{seed}"
-    return (
-        f"(define (problem {pname})\n  (:domain logistics)\n  (:objects\n    {body})\n"
-        f"  (:init\n    {lines})\n  (:goal (and {goal_lines})))\n"
-    )
+    return _pddl_problem(pname, "logistics", objects, init, goals)
 
 
 @dataclass(frozen=True)
@@ -129,6 +129,96 @@ def uav_problem(size: UavSize, seed: int, name: str = "") -> str:
     for i, b in enumerate(boxes):
         lines.append(f"goal at({b}, {bodies[i % len(bodies)]})")
     return "\n".join(lines) + "\n"
+
+
+@dataclass(frozen=True)
+class ZenoSize:
+    """Parameters of the IPC-2002 ZenoTravel generator: cities, aircraft, people."""
+
+    cities: int
+    planes: int
+    people: int
+
+
+def _pddl_problem(
+    name: str, domain: str, objects: list[str], init: list[str], goals: list[str]
+) -> str:
+    body = "\n    ".join(o for o in objects if o)
+    lines = "\n    ".join(init)
+    goal_lines = "\n           ".join(goals)
+    return (
+        f"(define (problem {name})\n  (:domain {domain})\n  (:objects\n    {body})\n"
+        f"  (:init\n    {lines})\n  (:goal (and {goal_lines})))\n"
+    )
+
+
+def zenotravel_problem(size: ZenoSize, seed: int, name: str = "") -> str:
+    """A STRIPS ZenoTravel problem as the IPC-2002 generator lays it out.
+
+    Aircraft start in random cities with a random fuel level, people in random cities; every
+    person has a random goal city and every second aircraft one too.
+    """
+    if size.cities < 2 or size.planes < 1 or size.people < 1:
+        raise ValueError("need at least two cities, one aircraft and one person")
+    rng = random.Random(seed)
+    cities = [f"city{i}" for i in range(size.cities)]
+    planes = [f"plane{i + 1}" for i in range(size.planes)]
+    people = [f"person{i + 1}" for i in range(size.people)]
+    levels = [f"fl{i}" for i in range(ZENO_FUEL_LEVELS)]
+    init = [f"(next {levels[i]} {levels[i + 1]})" for i in range(len(levels) - 1)]
+    goals = []
+    for i, plane in enumerate(planes):
+        init.append(f"(at {plane} {rng.choice(cities)})")
+        init.append(f"(fuel-level {plane} {rng.choice(levels)})")
+        if i % 2 == 1:
+            goals.append(f"(at {plane} {rng.choice(cities)})")
+    for person in people:
+        init.append(f"(at {person} {rng.choice(cities)})")
+        goals.insert(0, f"(at {person} {rng.choice(cities)})")
+    objects = [
+        " ".join(planes) + " - aircraft",
+        " ".join(people) + " - person",
+        " ".join(cities) + " - city",
+        " ".join(levels) + " - flevel",
+    ]
+    pname = name or f"zeno-{size.cities}-{size.planes}-{size.people}-{seed}"
+    return _pddl_problem(pname, "zenotravel", objects, init, goals)
+
+
+def _random_towers(blocks: list[str], rng: random.Random) -> list[list[str]]:
+    """A random state: blocks shuffled and cut into towers (bottom first)."""
+    order = blocks[:]
+    rng.shuffle(order)
+    towers: list[list[str]] = []
+    for block in order:
+        if towers and rng.random() < 0.7:
+            rng.choice(towers).append(block)
+        else:
+            towers.append([block])
+    return towers
+
+
+def blocks_problem(blocks: int, seed: int, name: str = "") -> str:
+    """A four-operator Blocks problem: random initial and goal towers (AIPS-2000 layout).
+
+    As in the competition's problems, the goal lists only the ``on`` relations.
+    """
+    if blocks < 2:
+        raise ValueError("need at least two blocks")
+    rng = random.Random(seed)
+    names = [f"b{i + 1}" for i in range(blocks)]
+    init = ["(arm-empty)"]
+    for tower in _random_towers(names, rng):
+        init.append(f"(on-table {tower[0]})")
+        init.extend(f"(on {upper} {lower})" for lower, upper in itertools.pairwise(tower))
+        init.append(f"(clear {tower[-1]})")
+    goals = [
+        f"(on {upper} {lower})"
+        for tower in _random_towers(names, rng)
+        for lower, upper in itertools.pairwise(tower)
+    ]
+    pname = name or f"blocks-{blocks}-{seed}"
+    return _pddl_problem(pname, "blocks", [" ".join(names)], init, goals)
 
 
 def distance(a: tuple[float, float, float], b: tuple[float, float, float]) -> float:

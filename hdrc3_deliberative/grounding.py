@@ -4,14 +4,19 @@ Boolean fluent atoms are interned as bit positions of a Python int; numeric feat
 indices into a tuple. Operators are instantiated by relaxed reachability (only instances whose
 positive fluent preconditions can become true), static predicates are evaluated away, and
 flight durations/costs come from the motion-plan-info hook.
+
+Grounding is interruptible: with a deadline it checks the clock every few hundred bindings
+and raises :class:`GroundingTimeout` once the deadline has passed, so a planning timeout
+covers grounding as well as search.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Iterator
 from dataclasses import replace
 
-from hdrc3_deliberative.errors import PlanningInputError
+from hdrc3_deliberative.errors import GroundingTimeout, PlanningInputError
 from hdrc3_deliberative.model import (
     Atom,
     AtomEffect,
@@ -66,8 +71,16 @@ class Grounder:
     """Builds a :class:`Task`; one instance per (domain, problem)."""
 
     def __init__(
-        self, domain: Domain, problem: Problem, motion: MotionPlanInfo | None = None
+        self,
+        domain: Domain,
+        problem: Problem,
+        motion: MotionPlanInfo | None = None,
+        deadline: float = float("inf"),
+        clock: Callable[[], float] = time.perf_counter,
     ) -> None:
+        self.deadline = deadline
+        self.clock = clock
+        self._ticks = 0
         self.domain = domain
         self.problem = problem
         self.motion = motion or StraightLineMotionPlanInfo()
@@ -145,6 +158,12 @@ class Grounder:
         rf = _as_fn(right)
         return lambda nums: _arith(op, lf(nums), rf(nums))
 
+    def _tick(self) -> None:
+        """Raise GroundingTimeout when the deadline has passed (checked every 256 calls)."""
+        self._ticks += 1
+        if self._ticks & 255 == 0 and self.clock() > self.deadline:
+            raise GroundingTimeout("grounding did not finish before the deadline")
+
     def _members(self, tname: str) -> frozenset[str]:
         """Objects of a type (cached)."""
         found = self._type_members.get(tname)
@@ -194,6 +213,7 @@ class Grounder:
         env: dict[str, str] = {}
 
         def extend(remaining: list[Atom]) -> Iterator[dict[str, str]]:
+            self._tick()
             if not remaining:
                 yield from free([p.name for p in op.params if p.name not in env])
                 return
@@ -272,6 +292,7 @@ class Grounder:
                         if isinstance(c, Literal) and c.positive and c.atom.pred in delta:
                             found.extend(self._bindings(op, facts, (c.atom, delta[c.atom.pred])))
                 for env in found:
+                    self._tick()
                     key = (op.name, tuple(env[p.name] for p in op.params))
                     if key in instances or not self._static_ok(op, env):
                         continue
@@ -318,6 +339,7 @@ class Grounder:
         ops: list[GroundOp] = []
         for key in sorted(instances, key=lambda k: (k[0], k[1])):
             op, env = instances[key]
+            self._tick()
             ground = self._ground_op(len(ops), op, env, atom_bit, num_index)
             if ground is not None:
                 ops.append(ground)
@@ -358,6 +380,8 @@ class Grounder:
             elif (cond.left.name == cond.right.name) != cond.positive:
                 goal_pos |= 1 << len(atoms)
         resource_indices = tuple(i for k, i in num_index.items() if k[0] in self.domain.resources)
+        read = self._read_functions()
+        inert = tuple(i for k, i in num_index.items() if k[0] not in read)
         by_pred: dict[str, dict[tuple[str, ...], int]] = {}
         for atom, bit in atom_bit.items():
             by_pred.setdefault(atom[0], {})[atom[1]] = 1 << bit
@@ -380,7 +404,32 @@ class Grounder:
             ops=ops,
             resource_indices=resource_indices,
             by_pred=by_pred,
+            inert_nums=inert,
         )
+
+    def _read_functions(self) -> frozenset[str]:
+        """Functions whose values some condition, duration or effect value reads.
+
+        The others (``total-cost``, ``total-fuel-used``) only accumulate plan metrics: they
+        cannot change which plans are valid, so the cycle check ignores them.
+        """
+        exprs: list[NumExpr] = []
+        conds = [*self.problem.goal]
+        for op in self.domain.operators:
+            conds.extend(op.pre + op.prevail)
+            exprs.append(op.duration)
+            exprs.extend(e.value for e in op.effects if isinstance(e, NumEffect))
+        for cond in conds:
+            if isinstance(cond, Comparison):
+                exprs.extend((cond.left, cond.right))
+        found: set[str] = set()
+        while exprs:
+            expr = exprs.pop()
+            if isinstance(expr, BinOp):
+                exprs.extend((expr.left, expr.right))
+            elif isinstance(expr, FuncTerm):
+                found.add(expr.atom.pred)
+        return frozenset(found)
 
     def _compare(
         self, cond: Comparison, env: dict[str, str], num_index: dict[GroundAtom, int]

@@ -24,6 +24,30 @@ from hdrc3_deliberative.model import (
 )
 
 FLIGHT_FUNCTIONS = ("flight-time", "flight-cost")
+_EITHER = "(either "
+
+
+def union_type(members: tuple[str, ...]) -> str:
+    """Canonical name of the PDDL type ``(either a b ...)`` (members sorted, deduplicated)."""
+    return _EITHER + " ".join(sorted(set(members))) + ")"
+
+
+def union_members(tname: str) -> tuple[str, ...] | None:
+    """The member types of a union type name, None for a plain type."""
+    if not tname.startswith(_EITHER):
+        return None
+    return tuple(tname[len(_EITHER) : -1].split())
+
+
+def _used_types(domain: Domain, problem: Problem) -> set[str]:
+    """Every type name the domain and problem mention."""
+    used = {p.type for p in (*domain.constants, *problem.objects)}
+    for table in (domain.predicates, domain.functions):
+        for arg_types in table.values():
+            used.update(arg_types)
+    for op in domain.operators:
+        used.update(p.type for p in op.params)
+    return used
 
 
 def _fail(message: str, pos: Pos) -> PlanningInputError:
@@ -46,8 +70,14 @@ class TypeTable:
         self.ancestors[ROOT_TYPE] = frozenset({ROOT_TYPE})
         by_type: dict[str, list[str]] = {t: [] for t in self.ancestors}
         for obj in sorted(self.obj_type):
-            for anc in self.ancestors[self.obj_type[obj]]:
-                by_type[anc].append(obj)
+            tname = self.obj_type[obj]
+            for anc in self.ancestors.get(tname, frozenset({tname, ROOT_TYPE})):
+                by_type.setdefault(anc, []).append(obj)
+        for tname in sorted(_used_types(domain, problem)):
+            members = union_members(tname)
+            if members is not None:
+                found = {o for m in members for o in by_type.get(m, ())}
+                by_type[tname] = sorted(found)
         self.objects = {t: tuple(objs) for t, objs in by_type.items()}
 
     def _up(self, tname: str) -> frozenset[str]:
@@ -58,7 +88,12 @@ class TypeTable:
         return frozenset(seen)
 
     def check_type(self, tname: str, pos: Pos, what: str) -> None:
-        """Raise if ``tname`` is not declared."""
+        """Raise if ``tname`` (or a member of an ``either`` type) is not declared."""
+        members = union_members(tname)
+        if members is not None:
+            for member in members:
+                self.check_type(member, pos, what)
+            return
         if tname != ROOT_TYPE and tname not in self.parent:
             raise PlanningInputError(
                 f"undefined type '{tname}' of {what}", pos.source, pos.line, pos.column

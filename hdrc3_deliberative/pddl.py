@@ -1,4 +1,11 @@
-"""PDDL reader: STRIPS, typing, negative preconditions and equality.
+"""PDDL reader: STRIPS and typing, numeric fluents, durative actions with a fixed duration.
+
+Accepted beyond STRIPS (README "Accepted PDDL" says exactly what): ``(either ...)`` parameter
+and object types; ``:numeric-fluents`` (``:functions``, ``increase``/``decrease``/``assign``,
+comparisons in preconditions and goals, ``(= (f o) v)`` initial values); ``:durative-actions``
+with ``(= ?duration EXPRESSION)``, ``at start`` preconditions, ``over all`` conditions (TAL
+prevail conditions) and ``at start``/``at end`` effects. ``at end`` conditions, duration
+inequalities, continuous effects and the ADL connectives are rejected by name.
 
 The lexical layer is a lark s-expression grammar (``sexpr.lark``); a walker turns the lists into
 the syntax tree of :mod:`hdrc3_deliberative.model` and reports every structural problem with
@@ -18,19 +25,36 @@ from hdrc3_deliberative.model import (
     ROOT_TYPE,
     Atom,
     AtomEffect,
+    BinOp,
+    Comparison,
     Condition,
     Domain,
+    Effect,
     EffectTime,
     Equality,
+    FuncTerm,
     Literal,
+    Num,
+    NumEffect,
+    NumExpr,
     Operator,
     Param,
     Pos,
     Problem,
     Term,
 )
+from hdrc3_deliberative.names import union_members, union_type
 
-ACCEPTED_REQUIREMENTS = (":strips", ":typing", ":negative-preconditions", ":equality")
+ACCEPTED_REQUIREMENTS = (
+    ":strips",
+    ":typing",
+    ":negative-preconditions",
+    ":equality",
+    ":numeric-fluents",
+    ":fluents",
+    ":action-costs",
+    ":durative-actions",
+)
 
 
 @dataclass(frozen=True)
@@ -127,8 +151,18 @@ def _head(expr: SList, keyword: str) -> tuple[SExpr, ...]:
     return expr.items[1:]
 
 
+def _type_name(expr: SExpr) -> str:
+    """A type name, or ``(either a b)`` as the canonical union name of :mod:`names`."""
+    if isinstance(expr, SSym):
+        return expr.text
+    members = _head(expr, "either")
+    if not members:
+        raise _fail("expected '(either TYPE TYPE ...)' with at least one type", expr)
+    return union_type(tuple(_symbol(m, "a type name") for m in members))
+
+
 def _typed_list(items: tuple[SExpr, ...], variables: bool) -> tuple[Param, ...]:
-    """Parse ``a b - t c`` into params; untyped names get the root type."""
+    """Parse ``a b - t c`` (or ``- (either t u)``) into params; untyped names get the root type."""
     result: list[Param] = []
     pending: list[str] = []
     i = 0
@@ -137,10 +171,8 @@ def _typed_list(items: tuple[SExpr, ...], variables: bool) -> tuple[Param, ...]:
         if sym == "-":
             if i + 1 >= len(items):
                 raise _fail("expected a type name after '-'", items[i])
-            type_expr = items[i + 1]
-            if isinstance(type_expr, SList):
-                raise _fail("'(either ...)' types are not supported", type_expr)
-            result.extend(Param(name, type_expr.text) for name in pending)
+            tname = _type_name(items[i + 1])
+            result.extend(Param(name, tname) for name in pending)
             pending = []
             i += 2
             continue
@@ -170,18 +202,54 @@ _UNSUPPORTED_GD = {
     "exists": ":existential-preconditions",
     "forall": ":universal-preconditions",
     "when": ":conditional-effects",
-    "increase": ":numeric-fluents",
-    "decrease": ":numeric-fluents",
-    "assign": ":numeric-fluents",
-    "<": ":numeric-fluents",
-    ">": ":numeric-fluents",
-    "<=": ":numeric-fluents",
-    ">=": ":numeric-fluents",
+    "scale-up": ":numeric-fluents (scale-up/scale-down are not supported)",
+    "scale-down": ":numeric-fluents (scale-up/scale-down are not supported)",
 }
+_COMPARISONS = ("<", "<=", ">", ">=")
+_NEGATED = {"<": ">=", "<=": ">", ">": "<=", ">=": "<", "=": "!=", "!=": "="}
+_ASSIGN = {"increase": "+=", "decrease": "-=", "assign": ":="}
+_ARITH = ("+", "-", "*", "/")
 
 
-def _conditions(expr: SExpr, out: list[Condition], positive: bool = True) -> None:
-    """Flatten a goal description (and/not/=/atoms) into literals."""
+def _number(text: str) -> float | None:
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
+def _num_expr(expr: SExpr, duration: NumExpr | None = None) -> NumExpr:
+    """A numeric expression: number, ``(f args)``, ``(op a b)``, ``(- a)`` or ``?duration``."""
+    if isinstance(expr, SSym):
+        value = _number(expr.text)
+        if value is not None:
+            return Num(value)
+        if expr.text == "?duration" and duration is not None:
+            return duration
+        hint = " (?duration is only defined in durative actions)" * (expr.text == "?duration")
+        raise _fail(f"expected a number or '(function args...)', found '{expr.text}'{hint}", expr)
+    head = _symbol(expr.items[0], "a function or arithmetic operator") if expr.items else ""
+    if not head:
+        raise _fail("expected a numeric expression, found '()'", expr)
+    if head in _ARITH:
+        args = [_num_expr(a, duration) for a in expr.items[1:]]
+        if head == "-" and len(args) == 1:
+            return BinOp("-", Num(0.0), args[0])
+        if len(args) != 2:
+            raise _fail(f"'{head}' takes two arguments, got {len(args)}", expr)
+        return BinOp(head, args[0], args[1])
+    return FuncTerm(_atom(expr))
+
+
+def _is_numeric(expr: SExpr) -> bool:
+    """Whether an argument of ``=`` is numeric (a number or a parenthesised term)."""
+    return isinstance(expr, SList) or _number(expr.text) is not None
+
+
+def _conditions(
+    expr: SExpr, out: list[Condition], positive: bool = True, duration: NumExpr | None = None
+) -> None:
+    """Flatten a goal description (and/not/=/comparisons/atoms) into conditions."""
     node = _list(expr, "a condition '(...)'")
     if not node.items:
         return
@@ -194,13 +262,19 @@ def _conditions(expr: SExpr, out: list[Condition], positive: bool = True) -> Non
         if not positive:
             raise _fail("negated conjunctions are not supported (STRIPS literals only)", node)
         for child in node.items[1:]:
-            _conditions(child, out)
+            _conditions(child, out, duration=duration)
     elif head == "not":
         if len(node.items) != 2:
             raise _fail("expected '(not CONDITION)' with one argument", node)
         if not positive:
             raise _fail("double negation is not supported", node)
-        _conditions(node.items[1], out, positive=False)
+        _conditions(node.items[1], out, positive=False, duration=duration)
+    elif head in _COMPARISONS or (head == "=" and any(map(_is_numeric, node.items[1:]))):
+        if len(node.items) != 3:
+            raise _fail(f"expected '({head} EXPRESSION EXPRESSION)'", node)
+        op = head if positive else _NEGATED[head]
+        left, right = (_num_expr(a, duration) for a in node.items[1:])
+        out.append(Comparison(op, left, right))
     elif head == "=":
         if len(node.items) != 3:
             raise _fail("expected '(= TERM TERM)'", node)
@@ -209,7 +283,13 @@ def _conditions(expr: SExpr, out: list[Condition], positive: bool = True) -> Non
         out.append(Literal(_atom(node), positive))
 
 
-def _effects(expr: SExpr, out: list[AtomEffect], positive: bool = True) -> None:
+def _effects(
+    expr: SExpr,
+    out: list[Effect],
+    time: EffectTime = EffectTime.END,
+    duration: NumExpr | None = None,
+) -> None:
+    """Flatten an effect (and/not/increase/decrease/assign/atoms) into timed effects."""
     node = _list(expr, "an effect '(...)'")
     if not node.items:
         return
@@ -218,15 +298,100 @@ def _effects(expr: SExpr, out: list[AtomEffect], positive: bool = True) -> None:
         raise _fail(
             f"'{head}' needs requirement {_UNSUPPORTED_GD[head]}, which is not supported", node
         )
-    if head == "and" and positive:
+    if head == "and":
         for child in node.items[1:]:
-            _effects(child, out)
-    elif head == "not" and positive and len(node.items) == 2:
-        _effects(node.items[1], out, positive=False)
-    elif head in ("and", "not"):
-        raise _fail(f"malformed '{head}' effect", node)
+            _effects(child, out, time, duration)
+    elif head == "not" and len(node.items) == 2:
+        target = _list(node.items[1], "an atom '(predicate args...)'")
+        out.append(AtomEffect(time, Literal(_atom(target), False)))
+    elif head == "not":
+        raise _fail("malformed 'not' effect: expected '(not ATOM)'", node)
+    elif head in _ASSIGN:
+        if len(node.items) != 3:
+            raise _fail(f"expected '({head} (FUNCTION args...) EXPRESSION)'", node)
+        if isinstance(node.items[2], SSym) and node.items[2].text == "#t":
+            raise _fail(
+                "continuous effects ('#t') need :continuous-effects, which is not supported", node
+            )
+        target = _list(node.items[1], "a function term '(function args...)'")
+        value = _num_expr(node.items[2], duration)
+        out.append(NumEffect(time, _ASSIGN[head], _atom(target), value))
     else:
-        out.append(AtomEffect(EffectTime.END, Literal(_atom(node), positive)))
+        out.append(AtomEffect(time, Literal(_atom(node), True)))
+
+
+def _timed_parts(expr: SExpr, what: str) -> list[tuple[str, SExpr, SList]]:
+    """``(and (at start X) (over all Y) ...)`` -> [("at start", X, node), ...]."""
+    node = _list(expr, f"a durative {what} '(...)'")
+    if not node.items:
+        return []
+    head = _symbol(node.items[0], f"'and', 'at' or 'over' in a durative {what}")
+    if head == "and":
+        return [part for child in node.items[1:] for part in _timed_parts(child, what)]
+    if head in ("at", "over") and len(node.items) == 3 and isinstance(node.items[1], SSym):
+        return [(f"{head} {node.items[1].text}", node.items[2], node)]
+    raise _fail(
+        f"expected '(at start ...)', '(at end ...)' or '(over all ...)' in a durative {what}, "
+        f"found '({head} ...)'",
+        node,
+    )
+
+
+def _duration(expr: SExpr) -> NumExpr:
+    node = _list(expr, "a duration constraint '(= ?duration EXPRESSION)'")
+    items = node.items
+    head = _symbol(items[0], "'='") if items else ""
+    if head in ("<=", ">=", "<", ">", "and"):
+        raise _fail(
+            f"duration constraint '({head} ...)' needs :duration-inequalities, which is not "
+            "supported (TALplanner actions have one fixed duration: '(= ?duration EXPRESSION)')",
+            node,
+        )
+    if head != "=" or len(items) != 3 or _symbol(items[1], "'?duration'") != "?duration":
+        raise _fail("expected '(= ?duration EXPRESSION)'", node)
+    return _num_expr(items[2])
+
+
+def _function_decls(body: tuple[SExpr, ...]) -> dict[str, tuple[str, ...]]:
+    """``(f ?x - t) (g) - number ...``: numeric functions (object fluents are rejected)."""
+    result: dict[str, tuple[str, ...]] = {}
+    i = 0
+    while i < len(body):
+        item = body[i]
+        if isinstance(item, SSym):
+            if item.text != "-" or i + 1 >= len(body):
+                raise _fail(
+                    f"expected a function declaration '(name ?x - type)', found '{item.text}'",
+                    item,
+                )
+            kind = _symbol(body[i + 1], "'number'")
+            if kind != "number":
+                raise _fail(
+                    f"function type '{kind}' needs :object-fluents, which is not supported "
+                    "(only '- number')",
+                    body[i + 1],
+                )
+            i += 2
+            continue
+        fname = _symbol(item.items[0], "a function name") if item.items else ""
+        if not fname:
+            raise _fail("empty function declaration", item)
+        result[fname] = tuple(p.type for p in _typed_list(item.items[1:], variables=True))
+        i += 1
+    return result
+
+
+def _initial_value(node: SList) -> tuple[Atom, float]:
+    """``(= (f o1 o2) 3.5)`` in ``:init``."""
+    if len(node.items) != 3 or not isinstance(node.items[1], SList):
+        raise _fail("expected '(= (FUNCTION objects...) NUMBER)'", node)
+    atom = _atom(node.items[1])
+    value = _number(node.items[2].text) if isinstance(node.items[2], SSym) else None
+    if value is None:
+        raise _fail("expected a number as the initial value of a function", node.items[2])
+    if any(t.is_var for t in atom.args):
+        raise _fail("initial values must be ground", node)
+    return atom, value
 
 
 class PddlReader:
@@ -256,6 +421,7 @@ class PddlReader:
         types: dict[str, str] = {}
         constants: tuple[Param, ...] = ()
         predicates: dict[str, tuple[str, ...]] = {}
+        functions: dict[str, tuple[str, ...]] = {}
         operators: list[Operator] = []
         for section in top.items[1:]:
             node = _list(section, "a domain section '(:keyword ...)'")
@@ -283,29 +449,32 @@ class PddlReader:
                         raise _fail("empty predicate declaration", dl)
                     params = _typed_list(dl.items[1:], variables=True)
                     predicates[pname] = tuple(p.type for p in params)
+            elif key == ":functions":
+                functions.update(_function_decls(body))
             elif key == ":action":
                 operators.append(self._action(node))
-            elif key in (":functions", ":durative-action", ":derived"):
-                needed = {":functions": ":numeric-fluents", ":durative-action": ":durative-actions"}
+            elif key == ":durative-action":
+                operators.append(self._durative_action(node))
+            elif key == ":derived":
                 raise _fail(
-                    f"'{key}' needs requirement {needed.get(key, ':derived-predicates')}, "
-                    "which the PDDL reader does not support (use the TAL domain language)",
+                    "':derived' needs requirement :derived-predicates, which is not supported",
                     node,
                 )
             else:
                 raise _fail(
                     f"unknown domain section '{key}': expected :requirements, :types, "
-                    ":constants, :predicates or :action",
+                    ":constants, :predicates, :functions, :action or :durative-action",
                     node,
                 )
-        for parent in set(types.values()) - set(types) - {ROOT_TYPE}:
+        parents = {t for t in types.values() if union_members(t) is None}
+        for parent in parents - set(types) - {ROOT_TYPE}:
             types[parent] = ROOT_TYPE
         return Domain(
             name,
             types,
             constants,
             predicates,
-            {},
+            functions,
             tuple(operators),
             frozenset(),
             requirements,
@@ -319,7 +488,7 @@ class PddlReader:
         name = _symbol(items[1], "an action name")
         params: tuple[Param, ...] = ()
         pre: list[Condition] = []
-        effects: list[AtomEffect] = []
+        effects: list[Effect] = []
         i = 2
         while i < len(items):
             key = _symbol(items[i], "':parameters', ':precondition' or ':effect'")
@@ -340,6 +509,57 @@ class PddlReader:
             i += 2
         return Operator(name, params, tuple(pre), tuple(effects), pos=node.pos)
 
+    def _durative_action(self, node: SList) -> Operator:
+        """``:durative-action``: ``at start`` preconditions, ``over all`` prevail conditions."""
+        items = node.items
+        if len(items) < 2:
+            raise _fail("expected an action name after ':durative-action'", node)
+        name = _symbol(items[1], "an action name")
+        fields: dict[str, SExpr] = {}
+        for i in range(2, len(items), 2):
+            key = _symbol(items[i], "':parameters', ':duration', ':condition' or ':effect'")
+            if key not in (":parameters", ":duration", ":condition", ":effect"):
+                raise _fail(
+                    f"unexpected '{key}': expected ':parameters', ':duration', ':condition' "
+                    "or ':effect'",
+                    items[i],
+                )
+            if i + 1 >= len(items):
+                raise _fail(f"expected a value after '{key}'", items[i])
+            fields[key] = items[i + 1]
+        if ":duration" not in fields:
+            raise _fail(f"durative action '{name}' has no ':duration'", node)
+        params: tuple[Param, ...] = ()
+        if ":parameters" in fields:
+            params = _typed_list(_list(fields[":parameters"], "a parameter list").items, True)
+        duration = _duration(fields[":duration"])
+        pre: list[Condition] = []
+        prevail: list[Condition] = []
+        conditions = _timed_parts(fields.get(":condition", SList((), node.pos)), "condition")
+        for when, cond, where in conditions:
+            if when == "at start":
+                _conditions(cond, pre, duration=duration)
+            elif when == "over all":
+                _conditions(cond, prevail, duration=duration)
+            else:
+                raise _fail(
+                    f"'({when} ...)' conditions are not supported by TALplanner's model "
+                    "(accepted: 'at start' preconditions and 'over all' prevail conditions)",
+                    where,
+                )
+        effects: list[Effect] = []
+        times = {"at start": EffectTime.START, "at end": EffectTime.END}
+        for when, eff, where in _timed_parts(fields.get(":effect", SList((), node.pos)), "effect"):
+            if when not in times:
+                raise _fail(
+                    f"'({when} ...)' effects are not supported (accepted: 'at start', 'at end')",
+                    where,
+                )
+            _effects(eff, effects, times[when], duration)
+        return Operator(
+            name, params, tuple(pre), tuple(effects), duration, None, tuple(prevail), node.pos
+        )
+
     def read_problem(self, text: str, source: str = "<problem>") -> Problem:
         """Parse a PDDL problem; raises PlanningInputError on any problem."""
         top = self._single(text, source, "problem")
@@ -347,6 +567,7 @@ class PddlReader:
         domain_name = ""
         objects: tuple[Param, ...] = ()
         init: list[Atom] = []
+        init_values: list[tuple[Atom, float]] = []
         goal: list[Condition] = []
         for section in top.items[1:]:
             node = _list(section, "a problem section '(:keyword ...)'")
@@ -362,9 +583,8 @@ class PddlReader:
                 for fact in body:
                     fl = _list(fact, "an initial fact '(predicate objects...)'")
                     if fl.items and isinstance(fl.items[0], SSym) and fl.items[0].text == "=":
-                        raise _fail(
-                            "numeric initial values need :numeric-fluents (unsupported)", fl
-                        )
+                        init_values.append(_initial_value(fl))
+                        continue
                     atom = _atom(fl)
                     if any(t.is_var for t in atom.args):
                         raise _fail("initial facts must be ground", fl)
@@ -386,4 +606,6 @@ class PddlReader:
                 )
         if not domain_name:
             raise _fail("missing '(:domain NAME)'", top)
-        return Problem(name, domain_name, objects, tuple(init), (), tuple(goal), {}, source)
+        return Problem(
+            name, domain_name, objects, tuple(init), tuple(init_values), tuple(goal), {}, source
+        )

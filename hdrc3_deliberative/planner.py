@@ -7,7 +7,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from hdrc3_deliberative.control import ControlCompiler
-from hdrc3_deliberative.errors import PlanningInputError
+from hdrc3_deliberative.errors import GroundingTimeout, PlanningInputError
 from hdrc3_deliberative.grounding import Grounder
 from hdrc3_deliberative.model import ControlSpec, Domain, Problem
 from hdrc3_deliberative.motion_plan_info import MotionPlanInfo
@@ -76,9 +76,9 @@ class TaskPlanner:
             control = self._tal.read_control(request.control, request.control_source)
         return domain, problem, control
 
-    def ground(self, domain: Domain, problem: Problem) -> Task:
-        """Ground the task with this planner's motion-plan-info hook."""
-        return Grounder(domain, problem, self._motion).ground()
+    def ground(self, domain: Domain, problem: Problem, deadline: float = float("inf")) -> Task:
+        """Ground the task with this planner's motion-plan-info hook (GroundingTimeout)."""
+        return Grounder(domain, problem, self._motion, deadline).ground()
 
     def plan(
         self,
@@ -91,8 +91,11 @@ class TaskPlanner:
         cpu0 = time.process_time()  # CPU time too: wall time is noisy on a shared machine
         try:
             domain, problem, spec = self.read(request)
-            task = self.ground(domain, problem)
+            task = self.ground(domain, problem, t0 + timeout)
             program = ControlCompiler(task, spec).compile()
+        except GroundingTimeout:
+            stats = Statistics(grounding_seconds=time.perf_counter() - t0)
+            return PlanResult(PlanStatus.TIMEOUT, (), stats, f"grounding took over {timeout:g} s")
         except PlanningInputError as exc:
             return PlanResult(PlanStatus.INVALID_INPUT, (), Statistics(), str(exc))
         except RecursionError:

@@ -166,7 +166,8 @@ class TalPlanner:
         )
         res = set(task.resource_indices)
         self._res = tuple(sorted(res))
-        self._plain = tuple(i for i in range(len(task.init_nums)) if i not in res)
+        ignored = res | set(task.inert_nums)  # metric-only features cannot matter later
+        self._plain = tuple(i for i in range(len(task.init_nums)) if i not in ignored)
 
     # --- successors (Definition 9.1) ------------------------------------------------------
 
@@ -301,6 +302,21 @@ class TalPlanner:
 
     # --- the search loop ------------------------------------------------------------------
 
+    @staticmethod
+    def _pending_key(node: _Node) -> tuple[object, ...]:
+        """Undecided prevail conditions and what can still decide them, relative to tau0.
+
+        Two nodes with the same state but differently timed undecided conditions (or running
+        actions that will change the state during them) have different futures, so the cycle
+        check must tell them apart; without pending conditions the state alone is the key.
+        """
+        if not node.queue:
+            return ()
+        tau0 = node.tau0
+        pending = sorted((p.op.index, max(p.start - tau0, 0.0), p.end - tau0) for p in node.queue)
+        running = sorted((r.end - tau0, r.writes) for r in node.running if r.end > tau0)
+        return (tuple(pending), tuple(running))
+
     def _goal(self, node: _Node) -> bool:
         task = self.task
         return (
@@ -391,7 +407,7 @@ class TalPlanner:
             node.queue = remaining
             if self.config.cycle_check:
                 plain = tuple(node.nums[i] for i in self._plain)
-                key = (node.bits, plain, tuple(sorted(p.op.index for p in node.queue)))
+                key = (node.bits, plain, self._pending_key(node))
                 res = tuple(node.nums[i] for i in self._res)
                 seen = visited.setdefault(key, [])
                 if any(all(a >= b for a, b in zip(old, res, strict=True)) for old in seen):

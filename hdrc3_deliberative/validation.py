@@ -3,15 +3,28 @@
 The concurrent plan is linearised by start time (the planner guarantees that this order is a
 valid sequential plan) and checked by unified-planning's SequentialPlanValidator on the
 problem as read by unified-planning's own PDDL reader.
+
+unified-planning 1.3's reader rejects ``(either ...)`` types (ZenoTravel's ``at``): they are
+widened to ``object`` in the text handed to it. That only loosens the predicate signatures;
+the action parameters, whose types decide which actions exist, are unchanged, so a plan
+valid under the widened domain with the problem's typed objects is valid under the original.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 from dataclasses import dataclass
 
 from hdrc3_deliberative.result import Occurrence
+
+_EITHER = re.compile(r"\(\s*either\s[^()]*\)", re.IGNORECASE)
+
+
+def widen_either(domain_text: str) -> str:
+    """The domain text with every ``(either ...)`` type replaced by ``object``."""
+    return _EITHER.sub("object", domain_text)
 
 
 @dataclass(frozen=True)
@@ -36,7 +49,7 @@ def validate_pddl_plan(
         domain_path = os.path.join(tmp, "domain.pddl")
         problem_path = os.path.join(tmp, "problem.pddl")
         with open(domain_path, "w") as f:
-            f.write(domain_text)
+            f.write(widen_either(domain_text))
         with open(problem_path, "w") as f:
             f.write(problem_text)
         problem = PDDLReader().parse_problem(domain_path, problem_path)

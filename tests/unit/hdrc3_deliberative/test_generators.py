@@ -2,7 +2,15 @@ from __future__ import annotations
 
 import pytest
 
-from hdrc3_deliberative.generators import LogisticsSize, UavSize, logistics_problem, uav_problem
+from hdrc3_deliberative.generators import (
+    LogisticsSize,
+    UavSize,
+    ZenoSize,
+    blocks_problem,
+    logistics_problem,
+    uav_problem,
+    zenotravel_problem,
+)
 
 
 def test_logistics_generator_is_deterministic_and_sized() -> None:
@@ -24,3 +32,27 @@ def test_uav_generator() -> None:
 def test_generator_rejects_empty_sizes() -> None:
     with pytest.raises(ValueError, match="positive"):
         logistics_problem(LogisticsSize(0, 1, 1), 1)
+
+
+def test_zenotravel_generator_follows_the_ipc_layout() -> None:
+    text = zenotravel_problem(ZenoSize(cities=5, planes=2, people=4), 3)
+    assert (
+        text == zenotravel_problem(ZenoSize(5, 2, 4), 3) != zenotravel_problem(ZenoSize(5, 2, 4), 4)
+    )
+    assert text.count("(next fl") == 6  # fuel levels fl0 .. fl6
+    assert text.count("(fuel-level plane") == 2
+    assert text.count("(at person") == 2 * 4  # initial + goal
+    assert text.count("(at plane") == 2 + 1  # initial + the second aircraft's goal
+    with pytest.raises(ValueError, match="two cities"):
+        zenotravel_problem(ZenoSize(1, 1, 1), 1)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_blocks_generator_makes_consistent_states(seed: int) -> None:
+    text = blocks_problem(12, seed)
+    init, goal = text.split("(:goal")
+    on_table = init.count("(on-table ")
+    on = init.count("(on ")
+    assert on_table + on == 12  # every block lies on the table or on one other block
+    assert init.count("(clear ") == on_table  # one clear block per tower
+    assert "(on-table" not in goal and goal.count("(on ") <= 11

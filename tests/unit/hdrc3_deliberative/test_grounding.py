@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from hdrc3_deliberative.errors import PlanningInputError
+from hdrc3_deliberative.errors import GroundingTimeout, PlanningInputError
 from hdrc3_deliberative.generators import (
     LOGISTICS_DOMAIN,
     UAV_DOMAIN,
@@ -14,7 +14,9 @@ from hdrc3_deliberative.generators import (
 )
 from hdrc3_deliberative.grounding import Grounder
 from hdrc3_deliberative.motion_plan_info import StraightLineMotionPlanInfo
+from hdrc3_deliberative.pddl import PddlReader
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
+from hdrc3_deliberative.result import PlanStatus
 from hdrc3_deliberative.task import Task
 
 MINI = """domain mini
@@ -152,3 +154,18 @@ def test_grounder_rejects_nonpositive_duration() -> None:
     )
     with pytest.raises(PlanningInputError, match="non-positive duration"):
         Grounder(d, p).ground()
+
+
+def test_grounding_stops_at_the_deadline() -> None:
+    """A clock past the deadline interrupts grounding; the planner reports TIMEOUT."""
+    reader = PddlReader()
+    domain = reader.read_domain(LOGISTICS_DOMAIN.read_text())
+    problem = reader.read_problem(logistics_problem(LogisticsSize(30, 10, 3), 1))
+    ticks = iter(range(10**9))
+    with pytest.raises(GroundingTimeout):
+        Grounder(domain, problem, deadline=3.0, clock=lambda: float(next(ticks))).ground()
+    full = Grounder(domain, problem, deadline=100.0, clock=lambda: 0.0).ground()
+    assert len(full.ops) > 1000
+    text = logistics_problem(LogisticsSize(30, 10, 3), 1)
+    result = TaskPlanner().plan(PlanRequest(LOGISTICS_DOMAIN.read_text(), text), timeout=0.0)
+    assert result.status is PlanStatus.TIMEOUT and "grounding" in result.reason

@@ -5,15 +5,22 @@ from pathlib import Path
 import pytest
 
 from hdrc3_deliberative.generators import (
+    BLOCKS_CONTROL,
+    BLOCKS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
     UAV_CONTROL,
     UAV_DOMAIN,
     UAV_SCENARIO,
+    ZENOTRAVEL_CONTROL,
+    ZENOTRAVEL_DOMAIN,
     LogisticsSize,
     UavSize,
+    ZenoSize,
+    blocks_problem,
     logistics_problem,
     uav_problem,
+    zenotravel_problem,
 )
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner, is_pddl
 from hdrc3_deliberative.result import PlanStatus
@@ -119,3 +126,76 @@ def test_unreadable_file_raises_input_error(tmp_path: Path) -> None:
 )
 def test_format_detection(text: str, expected: bool) -> None:
     assert is_pddl(text) is expected
+
+
+ZENO_DOMAIN = """(define (domain zeno) (:requirements :typing :fluents :durative-actions)
+  (:types aircraft person city - object)
+  (:predicates (at ?x - (either person aircraft) ?c - city) (in ?p - person ?a - aircraft))
+  (:functions (fuel ?a - aircraft) (distance ?c1 - city ?c2 - city) (total-fuel-used))
+  (:durative-action board :parameters (?p - person ?a - aircraft ?c - city)
+    :duration (= ?duration 1)
+    :condition (and (at start (at ?p ?c)) (over all (at ?a ?c)))
+    :effect (and (at start (not (at ?p ?c))) (at end (in ?p ?a))))
+  (:durative-action debark :parameters (?p - person ?a - aircraft ?c - city)
+    :duration (= ?duration 1)
+    :condition (and (at start (in ?p ?a)) (over all (at ?a ?c)))
+    :effect (and (at start (not (in ?p ?a))) (at end (at ?p ?c))))
+  (:durative-action fly :parameters (?a - aircraft ?c1 ?c2 - city)
+    :duration (= ?duration (distance ?c1 ?c2))
+    :condition (and (at start (at ?a ?c1)) (at start (>= (fuel ?a) (distance ?c1 ?c2))))
+    :effect (and (at start (not (at ?a ?c1))) (at end (at ?a ?c2))
+                 (at end (increase (total-fuel-used) (distance ?c1 ?c2)))
+                 (at end (decrease (fuel ?a) (distance ?c1 ?c2))))))"""
+
+ZENO_PROBLEM = """(define (problem z1) (:domain zeno)
+  (:objects plane - aircraft ann bob - person a b c - city)
+  (:init (at plane a) (at ann a) (at bob b) (= (fuel plane) 10) (= (total-fuel-used) 0)
+    (= (distance a b) 3) (= (distance b a) 3) (= (distance a c) 4) (= (distance c a) 4)
+    (= (distance b c) 5) (= (distance c b) 5))
+  (:goal (and (at ann c) (at bob c))))"""
+
+
+def test_numeric_durative_either_domain_solves(planner: TaskPlanner) -> None:
+    result = planner.plan(PlanRequest(ZENO_DOMAIN, ZENO_PROBLEM), timeout=20)
+    assert result.status is PlanStatus.SOLVED, result.reason
+    # 3 + 5 = 8 fuel for a -> b -> c; a -> c -> b -> c needs 4 + 5 + 5 = 14 > 10
+    flights = [o.args for o in result.plan if o.name == "fly"]
+    assert flights[-1][2] == "c" and len(flights) <= 3
+    durations = {o.name: o.duration for o in result.plan}
+    assert durations["board"] == 1.0 and durations["debark"] == 1.0
+    assert all(line.endswith("]") and ": (" in line for line in result.ipc_lines())
+
+
+def test_fuel_precondition_makes_problem_unsolvable(planner: TaskPlanner) -> None:
+    problem = ZENO_PROBLEM.replace("(= (fuel plane) 10)", "(= (fuel plane) 2)")
+    result = planner.plan(PlanRequest(ZENO_DOMAIN, problem), timeout=20)
+    assert result.status is PlanStatus.UNSOLVABLE_PROVEN
+
+
+def test_domain_problem_mismatch_is_named(planner: TaskPlanner) -> None:
+    problem = ZENO_PROBLEM.replace("(:domain zeno)", "(:domain depots)")
+    result = planner.plan(PlanRequest(ZENO_DOMAIN, problem), timeout=5)
+    assert result.status is PlanStatus.INVALID_INPUT
+    assert "problem is for domain 'depots', not 'zeno'" in result.reason
+
+
+@pytest.mark.parametrize(
+    ("domain", "control", "problem", "max_length"),
+    [
+        (BLOCKS_DOMAIN, BLOCKS_CONTROL, blocks_problem(10, 1), 40),
+        (BLOCKS_DOMAIN, BLOCKS_CONTROL, blocks_problem(10, 2), 40),
+        (ZENOTRAVEL_DOMAIN, ZENOTRAVEL_CONTROL, zenotravel_problem(ZenoSize(5, 2, 5), 1), 40),
+        (ZENOTRAVEL_DOMAIN, ZENOTRAVEL_CONTROL, zenotravel_problem(ZenoSize(6, 2, 6), 2), 40),
+    ],
+)
+def test_shipped_domains_solve_with_their_control_rules(
+    planner: TaskPlanner, domain: Path, control: Path, problem: str, max_length: int
+) -> None:
+    """Control rules steer the depth-first search straight to a valid plan (no backtracking)."""
+    request = PlanRequest(domain.read_text(), problem, control.read_text())
+    result = planner.plan(request, timeout=60)
+    assert result.status is PlanStatus.SOLVED, result.reason
+    assert len(result.plan) <= max_length
+    assert result.stats.nodes_expanded <= 2 * len(result.plan) + 1
+    outcome = validate_pddl_plan(domain.read_text(), problem, result.plan)
+    assert outcome.valid, outcome.reason

@@ -1,0 +1,1 @@
+"""Planning domain files shipped with hdrc3_deliberative (data package)."""
