@@ -91,6 +91,10 @@ class _Builder(Transformer[Token, Any]):
             raise ValueError(f"number {children[0]!s} is out of range")
         return Number(value, self._pos(children[0]))
 
+    def neg_number(self, children: list[Token]) -> Number:
+        number = self.number(children)
+        return Number(-number.value, number.pos)
+
     def name_arg(self, children: list[Token]) -> Name:
         return Name(str(children[0]), self._pos(children[0]))
 
