@@ -22,6 +22,7 @@ class CheckStatus(enum.Enum):
     """Outcome of loading a TST."""
 
     OK = "ok"
+    UNREADABLE = "unreadable"
     SYNTAX_ERROR = "syntax_error"
     INVALID = "invalid"
     INCONSISTENT = "inconsistent"
@@ -57,8 +58,8 @@ def load_text(text: str, file: str = "<string>", agents: tuple[str, ...] = ()) -
 def load_file(path: str | Path, agents: tuple[str, ...] = ()) -> CheckResult:
     """Parse, resolve and propagate a ``.tst`` file (never raises on bad input)."""
     parsed = parse_file(path)
-    if parsed.status is not ParseStatus.OK:
-        return CheckResult(CheckStatus.SYNTAX_ERROR, None, parsed.diagnostics)
+    if parsed.status is ParseStatus.UNREADABLE:
+        return CheckResult(CheckStatus.UNREADABLE, None, parsed.diagnostics)
     return _finish(parsed.tree, parsed.diagnostics, agents, str(path))
 
 

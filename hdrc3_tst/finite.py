@@ -86,9 +86,13 @@ class FiniteModel:
             labels.append(label)
             return lit
 
-        for var, dom in self.domains.items():
-            if not dom:
-                return SolveResult(SolveStatus.INCONSISTENT, {}, (f"{var} has no possible value",))
+        # A name variable without possible values (no agents declared yet) stays open as long
+        # as nothing constrains it.
+        for sym in self.symbolic:
+            for var in (sym.var, sym.other):
+                if var is not None and not self.domains[var]:
+                    reason = f"{var} has no possible value"
+                    return SolveResult(SolveStatus.INCONSISTENT, {}, (sym.label, reason))
         for lin in self.linear:
             expr = sum(round(c * SCALE) * ints[v] for c, v in lin.terms)
             rhs = round(lin.constant * SCALE * SCALE)

@@ -266,6 +266,8 @@ def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: st
     message = f"unexpected {found}"
     if expected:
         message += "; expected one of: " + ", ".join(expected[:16])
+    if found == "';'" and "'where'" in expected:
+        message += " (a composite child ends with a where clause, `where true` if none)"
     return Diagnostic("E001", message, SourcePos(file, line, column))
 
 

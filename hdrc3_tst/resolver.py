@@ -144,6 +144,7 @@ class _Resolver:
     cons_defs: dict[str, ConsDef] = field(default_factory=dict)
     library: dict[str, TstDef] = field(default_factory=dict)
     tree: TaskTree | None = None
+    mission: str = ""
     root_scope: _Scope = field(default_factory=lambda: _Scope({}))
     pending: list[tuple[Constraint, _Scope, str]] = field(default_factory=list)
 
@@ -288,7 +289,7 @@ class _Resolver:
                 node.children.append(NodeRef(UNASSIGNED, child.node_id))
                 if kind is NodeKind.SEQUENCE and previous is not None:
                     self.net.stn.constrain(
-                        child.params["TS"], previous.params["TE"], 0.0, False,
+                        previous.params["TE"], child.params["TS"], 0.0, False,
                         f"{tst.pos}: sequence {node_id}: {previous.node_id} before {child.node_id}",
                     )
                 previous = child
@@ -337,7 +338,7 @@ class _Resolver:
                 lin.append(LinearConstraint(((1.0, var),), op, bound, f"{node.node_id}: {pspec.name} {op.value} {bound:g} {pspec.unit} (RMAX)"))
         if spec.duration == pspec.name and var in self.net.values:
             d = float(self.net.values[var])
-            label = f"{node.node_id}: TE - TS = {spec.duration} {d:g} s"
+            label = f"{node.pos}: {node.node_id}: TE - TS = {spec.duration} {d:g} s"
             self.net.stn.constrain(node.params["TE"], node.params["TS"], d, False, label)
             self.net.stn.constrain(node.params["TS"], node.params["TE"], -d, False, label)
 
@@ -367,7 +368,7 @@ class _Resolver:
         if target is None:
             self.error("E112", f"call of unknown TST {task.name!r}", task.pos)
             return
-        if target is self.file.tsts()[0] or f"/{task.name}/" in f"/{prefix}":
+        if target.name == self.mission or f"/{task.name}/" in f"/{prefix}":
             self.error("E113", f"recursive call of {task.name!r}", task.pos)
             return
         if len(task.args) != len(target.params):
@@ -515,13 +516,21 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
             places = {p.name: (p.east, p.north) for p in named}
     resolver = _Resolver(tree, extent, places, all_agents, diags)
     resolver.declarations()
-    tsts = tree.tsts()
+    tsts = mission_candidates(tree)
     if not tsts:
-        resolver.error("E130", "the file defines no TST", SourcePos(file, 1, 1))
+        resolver.error("E130", "the file defines no TST that is not called by another", SourcePos(file, 1, 1))
     else:
+        resolver.mission = tsts[0].name
         resolver.tree = TaskTree(tsts[0].name)
         resolver.node(tsts[0], resolver.root_scope, None)
         resolver.constraints()
+        for unused in tsts[1:]:
+            resolver.error(
+                "E131",
+                f"TST {unused.name!r} is neither the mission ({tsts[0].name}) nor called "
+                "(a missing ';' before it?)",
+                unused.pos,
+            )
     if resolver.diags or resolver.tree is None:
         return ResolveResult(ResolveStatus.INVALID, None, tuple(resolver.diags))
     resolved = ResolvedTst(resolver.tree, resolver.net, all_agents, resolver.places, world_decl.name if world_decl else None)
@@ -532,6 +541,18 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
     for var, value in _fixed_agents(resolver.net).items():
         resolver.net.values.setdefault(var, value)
     return ResolveResult(ResolveStatus.OK, resolved)
+
+
+def mission_candidates(tree: TstFile) -> tuple[TstDef, ...]:
+    """TST definitions no ``call`` names, in file order: the first one is the mission."""
+    called: set[str] = set()
+    stack = list(tree.tsts())
+    while stack:
+        tst = stack.pop()
+        if isinstance(tst.task, CallTask):
+            called.add(tst.task.name)
+        stack.extend(tst.children())
+    return tuple(t for t in tree.tsts() if t.name not in called)
 
 
 def _fixed_agents(net: ConstraintNetwork) -> dict[str, str]:

@@ -25,7 +25,7 @@ Bound = tuple[float, int]
 
 ORIGIN = "Z"
 HORIZON = 1.0e9
-"""Seconds; a latest time at the horizon is shown as unbounded."""
+"""Seconds; a latest time beyond half the horizon is shown as unbounded."""
 _INF: Bound = (math.inf, 0)
 
 
@@ -54,8 +54,9 @@ class Window:
 
     def __str__(self) -> str:
         lo = "(" if self.earliest_strict else "["
-        hi = ")" if self.latest_strict or self.latest >= HORIZON else "]"
-        latest = "inf" if self.latest >= HORIZON else f"{self.latest:g}"
+        unbounded = self.latest >= HORIZON / 2
+        hi = ")" if self.latest_strict or unbounded else "]"
+        latest = "inf" if unbounded else f"{self.latest:g}"
         return f"{lo}{self.earliest:g}, {latest}{hi}"
 
 
@@ -82,6 +83,11 @@ class SimpleTemporalNetwork:
     def variables(self) -> tuple[str, ...]:
         """Every time variable except the origin."""
         return tuple(v for v in self._out if v != ORIGIN)
+
+    @property
+    def edge_count(self) -> int:
+        """Edges of the distance graph (two per equality, one per bound)."""
+        return sum(len(e) for e in self._out.values())
 
     def add_variable(self, name: str) -> None:
         """A new time point in ``[0, HORIZON]``."""
