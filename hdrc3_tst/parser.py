@@ -15,8 +15,7 @@ from pathlib import Path
 from typing import Any
 
 import lark
-from lark import Token, Transformer, v_args
-from lark.tree import Meta
+from lark import Token, Transformer
 
 from hdrc3_tst.diagnostics import Diagnostic
 from hdrc3_tst.syntax import (
@@ -71,7 +70,8 @@ class ParseResult:
 def lark_parser() -> lark.Lark:
     """The LALR parser of ``tst.lark`` (built once per process)."""
     grammar = resources.files("hdrc3_tst").joinpath("tst.lark").read_text(encoding="utf-8")
-    return lark.Lark(grammar, parser="lalr", propagate_positions=True, maybe_placeholders=True)
+    # Positions come from the tokens (propagate_positions would cost 45 % of the parse).
+    return lark.Lark(grammar, parser="lalr", maybe_placeholders=True)
 
 
 class _Builder(Transformer[Token, Any]):
@@ -81,7 +81,7 @@ class _Builder(Transformer[Token, Any]):
         super().__init__()
         self._file = file
 
-    def _pos(self, item: Meta | Token) -> SourcePos:
+    def _pos(self, item: Token) -> SourcePos:
         return SourcePos(self._file, getattr(item, "line", 0) or 0, getattr(item, "column", 0) or 0)
 
     # --- small pieces -------------------------------------------------------------------
@@ -135,14 +135,14 @@ class _Builder(Transformer[Token, Any]):
             terms.append(term if str(op) == "+" else Term(-term.coef, term.name))
         return Expr(tuple(terms))
 
-    @v_args(meta=True)
-    def comparison(self, meta: Meta, children: list[Any]) -> Comparison:
-        return Comparison(children[0], Cmp(str(children[1])), children[2], self._pos(meta))
+    def comparison(self, children: list[Any]) -> Comparison:
+        # At the operator: expressions may start with a constant, which keeps no position.
+        op: Token = children[1]
+        return Comparison(children[0], Cmp(str(op)), children[2], self._pos(op))
 
-    @v_args(meta=True)
-    def membership(self, meta: Meta, children: list[Any]) -> Membership:
+    def membership(self, children: list[Any]) -> Membership:
         var = Name(str(children[0]), self._pos(children[0]))
-        return Membership(var, children[1], self._pos(meta))
+        return Membership(var, children[1], var.pos)
 
     def cons_ref(self, children: list[Token]) -> ConsRef:
         return ConsRef(Name(str(children[0]), self._pos(children[0])))
@@ -157,10 +157,9 @@ class _Builder(Transformer[Token, Any]):
     def where_clause(self, children: list[tuple[Constraint, ...]]) -> tuple[Constraint, ...]:
         return children[0]
 
-    @v_args(meta=True)
-    def cond(self, meta: Meta, children: list[Any]) -> Condition:
+    def cond(self, children: list[Any]) -> Condition:
         negated, name, args = children
-        return Condition(str(name), args or (), negated is not None, None, self._pos(meta))
+        return Condition(str(name), args or (), negated is not None, None, self._pos(name))
 
     # --- tasks --------------------------------------------------------------------------
     def action(self, children: list[Any]) -> ActionTask:
@@ -203,35 +202,29 @@ class _Builder(Transformer[Token, Any]):
     child = _tst
 
     # --- declarations -------------------------------------------------------------------
-    @v_args(meta=True)
-    def world_decl(self, meta: Meta, children: list[Token]) -> WorldDecl:
-        return WorldDecl(str(children[0]), self._pos(meta))
+    def world_decl(self, children: list[Token]) -> WorldDecl:
+        return WorldDecl(str(children[0]), self._pos(children[0]))
 
-    @v_args(meta=True)
-    def agents_decl(self, meta: Meta, children: list[tuple[str, ...]]) -> AgentsDecl:
-        return AgentsDecl(children[0], self._pos(meta))
+    def agents_decl(self, children: list[Token]) -> AgentsDecl:
+        return AgentsDecl(tuple(str(c) for c in children), self._pos(children[0]))
 
-    @v_args(meta=True)
-    def area_decl(self, meta: Meta, children: list[Any]) -> AreaDecl:
-        return AreaDecl(str(children[0]), tuple(children[1:]), self._pos(meta))
+    def area_decl(self, children: list[Any]) -> AreaDecl:
+        return AreaDecl(str(children[0]), tuple(children[1:]), self._pos(children[0]))
 
     def place_alt(self, children: list[Any]) -> tuple[str, float]:
         return (str(children[0]), children[1].value)
 
-    @v_args(meta=True)
-    def point_decl(self, meta: Meta, children: list[Any]) -> PointDecl:
-        name, where = str(children[0]), children[1]
+    def point_decl(self, children: list[Any]) -> PointDecl:
+        name, where, pos = str(children[0]), children[1], self._pos(children[0])
         if isinstance(where[0], str):
-            return PointDecl(name, None, where[0], where[1], self._pos(meta))
-        return PointDecl(name, where, None, 0.0, self._pos(meta))
+            return PointDecl(name, None, where[0], where[1], pos)
+        return PointDecl(name, where, None, 0.0, pos)
 
-    @v_args(meta=True)
-    def path_decl(self, meta: Meta, children: list[Token]) -> PathDecl:
-        return PathDecl(str(children[0]), tuple(str(c) for c in children[1:]), self._pos(meta))
+    def path_decl(self, children: list[Token]) -> PathDecl:
+        return PathDecl(str(children[0]), tuple(str(c) for c in children[1:]), self._pos(children[0]))
 
-    @v_args(meta=True)
-    def cons_def(self, meta: Meta, children: list[Any]) -> ConsDef:
-        return ConsDef(str(children[0]), children[1], self._pos(meta))
+    def cons_def(self, children: list[Any]) -> ConsDef:
+        return ConsDef(str(children[0]), children[1], self._pos(children[0]))
 
     def start(self, children: list[Any]) -> TstFile:
         return TstFile(tuple(children))
@@ -266,7 +259,7 @@ def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: st
     message = f"unexpected {found}"
     if expected:
         message += "; expected one of: " + ", ".join(expected[:16])
-    if found == "';'" and "'where'" in expected:
+    if "'where'" in expected and found in ("';'", "end of file"):
         message += " (a composite child ends with a where clause, `where true` if none)"
     return Diagnostic("E001", message, SourcePos(file, line, column))
 

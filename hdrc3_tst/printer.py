@@ -6,6 +6,7 @@ One node per line, children indented; a composite child always ends with its whe
 
 from __future__ import annotations
 
+from hdrc3_tst.errors import TstError
 from hdrc3_tst.syntax import (
     ActionTask,
     AgentsDecl,
@@ -128,6 +129,8 @@ def _tst(tst: TstDef, depth: int, child: bool) -> list[str]:
         lines = [f"{head} foreach {', '.join(task.vars)} where {_cond(task.cond)} do conc"]
         lines += _tst(task.body, depth + 1, True)
     composite = not isinstance(task, ActionTask | GoalTask | CallTask)
+    if child and not composite and tst.where:
+        raise TstError(f"{tst.name}: an elementary child has no where clause; use its parent's")
     if tst.where or (child and composite):
         lines.append(f"{pad}where {cons_text(tst.where)}")
     return lines

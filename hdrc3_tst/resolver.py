@@ -524,6 +524,7 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
         resolver.tree = TaskTree(tsts[0].name)
         resolver.node(tsts[0], resolver.root_scope, None)
         resolver.constraints()
+        resolver.net.stn.order(temporal_order(resolver.tree))
         for unused in tsts[1:]:
             resolver.error(
                 "E131",
@@ -541,6 +542,22 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
     for var, value in _fixed_agents(resolver.net).items():
         resolver.net.values.setdefault(var, value)
     return ResolveResult(ResolveStatus.OK, resolved)
+
+
+def temporal_order(tree: TaskTree) -> list[str]:
+    """Time variables in execution order: a node's TS, its children's, then its TE."""
+    out: list[str] = []
+    stack: list[tuple[str, bool]] = [(tree.root, False)]
+    while stack:
+        node_id, done = stack.pop()
+        node = tree.nodes[node_id]
+        if done:
+            out.append(node.params["TE"])
+            continue
+        out.append(node.params["TS"])
+        stack.append((node_id, True))
+        stack.extend((c.node_id, False) for c in reversed(node.children) if c.node_id in tree.nodes)
+    return out
 
 
 def mission_candidates(tree: TstFile) -> tuple[TstDef, ...]:

@@ -17,7 +17,7 @@ every negative cycle is reachable from ``Z`` in both directions.
 from __future__ import annotations
 
 import math
-from collections import deque
+import heapq
 from dataclasses import dataclass
 
 Bound = tuple[float, int]
@@ -113,14 +113,80 @@ class SimpleTemporalNetwork:
         self._store(Edge(earlier, later, (bound, -1 if strict else 0), label))
 
     # --- propagation --------------------------------------------------------------------
+    def order(self, names: list[str]) -> None:
+        """Sweep the variables in this order (the rest after them): for a TST, a node's start
+        before its children's variables and its end after them, so that earliest times flow
+        forward and latest times backward through one sweep each."""
+        ranked = dict.fromkeys([ORIGIN, *(n for n in names if n in self._out), *self._out])
+        self._out = {name: self._out[name] for name in ranked}
+
     def propagate(self) -> None:
-        """Recompute every window from scratch (raises :class:`Inconsistent`)."""
-        for name in self._from:
-            self._from[name] = _INF
-            self._to[name] = _INF
-        self._from[ORIGIN] = self._to[ORIGIN] = (0.0, 0)
-        self._relax(self._from, self._out, "target", [ORIGIN], {})
-        self._relax(self._to, self._in, "source", [ORIGIN], {})
+        """Recompute every window from scratch (raises :class:`Inconsistent`).
+
+        Bellman-Ford with Yen's ordering: the variables in creation order (which follows the
+        tree, so most constraints point one way), each pass a forward sweep over the edges
+        going up that order and a backward sweep over those going down. A tree-shaped STN
+        settles in a few passes; a cycle in the predecessor graph is a negative cycle.
+        """
+        names = list(self._out)
+        self._from = self._sweeps(names, self._out, "target")
+        self._to = self._sweeps(names, self._in, "source")
+
+    def _sweeps(self, names: list[str], graph: dict[str, dict[str, Edge]], end: str) -> dict[str, Bound]:
+        index = {name: i for i, name in enumerate(names)}
+        n = len(names)
+        value = [math.inf] * n
+        strict = [0] * n
+        pred: list[Edge | None] = [None] * n
+        value[index[ORIGIN]] = 0.0
+        up: list[list[tuple[int, float, int, Edge]]] = [[] for _ in range(n)]
+        down: list[list[tuple[int, float, int, Edge]]] = [[] for _ in range(n)]
+        for name, edges in graph.items():
+            i = index[name]
+            for edge in edges.values():
+                j = index[getattr(edge, end)]
+                (up if j > i else down)[i].append((j, edge.bound[0], edge.bound[1], edge))
+        for _ in range(n + 1):
+            changed = False
+            for order, lists in ((range(n), up), (range(n - 1, -1, -1), down)):
+                for i in order:
+                    base = value[i]
+                    if base == math.inf:
+                        continue
+                    sbase = strict[i]
+                    for j, w, s, edge in lists[i]:
+                        cand = base + w
+                        cs = sbase if sbase < s else s
+                        if cand < value[j] or (cand == value[j] and cs < strict[j]):
+                            value[j], strict[j], pred[j] = cand, cs, edge
+                            changed = True
+            if not changed:
+                return {name: (value[i], strict[i]) for i, name in enumerate(names)}
+            cycle = self._pred_cycle(names, index, pred, end)
+            if cycle:
+                raise Inconsistent(cycle)
+        raise AssertionError("Bellman-Ford did not settle in n passes without a cycle")
+
+    @staticmethod
+    def _pred_cycle(
+        names: list[str], index: dict[str, int], pred: list[Edge | None], end: str
+    ) -> tuple[Edge, ...]:
+        """The edges of a cycle in the predecessor graph, if there is one."""
+        back = "source" if end == "target" else "target"
+        state = [0] * len(names)  # 0 unseen, 1 on the current walk, 2 done
+        for start in range(len(names)):
+            walk: list[int] = []
+            i = start
+            while state[i] == 0 and pred[i] is not None:
+                state[i] = 1
+                walk.append(i)
+                i = index[getattr(pred[i], back)]
+            if state[i] == 1:  # came back onto this walk: a cycle
+                cycle = walk[walk.index(i) :]
+                return tuple(sorted((pred[k] for k in cycle), key=lambda e: e.label))  # type: ignore[arg-type,return-value]
+            for k in walk:
+                state[k] = 2
+        return ()
 
     def add(self, later: str, earlier: str, bound: float, strict: bool, label: str) -> None:
         """Add ``later - earlier <= bound`` and update only what changes.
@@ -180,17 +246,18 @@ class SimpleTemporalNetwork:
         start: list[str],
         undo: dict[str, Bound],
     ) -> None:
-        """Label-correcting shortest paths (SPFA) from ``start``; a node improved more
-        often than there are nodes lies on or behind a negative cycle."""
+        """Label-correcting shortest paths from ``start``, smallest label first (a heap, as
+        Dijkstra, re-inserting a node whose label a negative edge improves later). A node
+        improved more often than there are nodes lies on or behind a negative cycle."""
         limit = len(dist)
         count: dict[str, int] = {}
         pred: dict[str, Edge] = {}
-        queue = deque(start)
-        queued = set(start)
-        while queue:
-            node = queue.popleft()
-            queued.discard(node)
-            base = dist[node]
+        heap = [(dist[node], node) for node in start]
+        heapq.heapify(heap)
+        while heap:
+            base, node = heapq.heappop(heap)
+            if base != dist[node]:
+                continue  # a stale entry: the node was improved after it was pushed
             for edge in graph[node].values():
                 nxt = getattr(edge, end)
                 cand = (base[0] + edge.bound[0], min(base[1], edge.bound[1]))
@@ -201,9 +268,7 @@ class SimpleTemporalNetwork:
                     count[nxt] = count.get(nxt, 0) + 1
                     if count[nxt] > limit:
                         raise Inconsistent(self._cycle(pred, nxt, end))
-                    if nxt not in queued:
-                        queued.add(nxt)
-                        queue.append(nxt)
+                    heapq.heappush(heap, (cand, nxt))
 
     @staticmethod
     def _cycle(pred: dict[str, Edge], node: str, end: str) -> tuple[Edge, ...]:
