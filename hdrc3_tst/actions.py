@@ -1,0 +1,143 @@
+"""The elementary action registry: one source of truth for every action type (section 6.3).
+
+Each action is called in the language as ``name(TS, TE, p1, p2, ...)`` (Example 6.2): the node's
+start and end times first, then the type-specific parameters listed here with their types and
+units (SI; headings and PTU angles in degrees at this user-facing edge, as FCL/PPCL take them).
+Executors (one per action per platform) are registered against these names, and the resolver
+type-checks calls against them. Trailing parameters with a default may be left out.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+
+
+class ParamType(enum.Enum):
+    """Type of a node parameter (its constraint-variable kind)."""
+
+    TIME = "time"
+    """A time point in seconds from the start of the mission (T_S, T_E): STN variables."""
+    DURATION = "duration"
+    SPEED = "speed"
+    LENGTH = "length"
+    ANGLE = "angle"
+    NUMBER = "number"
+    AGENT = "agent"
+    AREA = "area"
+    POINT = "point"
+    PATH = "path"
+
+    @property
+    def numeric(self) -> bool:
+        """Numbers (as opposed to names of agents, areas, points, paths)."""
+        return self not in (ParamType.AGENT, ParamType.AREA, ParamType.POINT, ParamType.PATH)
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """One type-specific parameter of an action."""
+
+    name: str
+    type: ParamType
+    unit: str
+    default: float | None = None
+    minimum: float | None = None
+    maximum: float | None = None
+    """Bounds the platform imposes (the RMAX flight envelope), added as constraints."""
+
+
+@dataclass(frozen=True)
+class ActionSpec:
+    """One elementary action type."""
+
+    name: str
+    summary: str
+    params: tuple[ParamSpec, ...] = ()
+    duration: str | None = None
+    """Name of a DURATION parameter that fixes ``TE - TS`` (hover, wait)."""
+    fcl_or_ppcl: str = ""
+    """The Platform Server command the RMAX executor issues (documentation for executors)."""
+
+    def param(self, name: str) -> ParamSpec | None:
+        """The parameter called ``name``, if any."""
+        return next((p for p in self.params if p.name == name), None)
+
+    @property
+    def required(self) -> int:
+        """How many type-specific arguments must be given (the rest have defaults)."""
+        return sum(p.default is None for p in self.params)
+
+
+_SPEED = ParamSpec("speed", ParamType.SPEED, "m/s", None, 0.5, 15.0)
+_ALT = ParamSpec("altitude", ParamType.LENGTH, "m above ground", 30.0, 5.0, 150.0)
+_DURATION = ParamSpec("duration", ParamType.DURATION, "s", None, 0.0, None)
+
+ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
+    {
+        a.name: a
+        for a in (
+            ActionSpec("take-off", "take off and hover at the take-off altitude", (), None, "takeoff"),
+            ActionSpec(
+                "land",
+                "land with the given heading",
+                (ParamSpec("heading", ParamType.ANGLE, "deg", 0.0, -360.0, 360.0),),
+                None,
+                "land",
+            ),
+            ActionSpec("hover", "hover in place", (_DURATION,), "duration", "(hovering)"),
+            ActionSpec(
+                "fly-to",
+                "fly straight to a point",
+                (_SPEED, ParamSpec("destination", ParamType.POINT, "point")),
+                None,
+                "traj3d_flyto",
+            ),
+            ActionSpec(
+                "fly-path",
+                "fly along a path of points",
+                (_SPEED, ParamSpec("path", ParamType.PATH, "path")),
+                None,
+                "traj3d",
+            ),
+            ActionSpec(
+                "scan-area",
+                "lawn-mower coverage of a polygon at an altitude",
+                (_SPEED, ParamSpec("area", ParamType.AREA, "area"), _ALT),
+                None,
+                "traj3d",
+            ),
+            ActionSpec(
+                "look-at",
+                "point the camera at a point",
+                (ParamSpec("target", ParamType.POINT, "point"),),
+                None,
+                "ppcl look_at",
+            ),
+            ActionSpec(
+                "ptu-turn-to",
+                "turn the pan-tilt unit to fixed angles",
+                (
+                    ParamSpec("pan", ParamType.ANGLE, "deg", None, -180.0, 180.0),
+                    ParamSpec("tilt", ParamType.ANGLE, "deg", None, -90.0, 30.0),
+                ),
+                None,
+                "ppcl turn_to",
+            ),
+            ActionSpec(
+                "camera-zoom",
+                "set a camera's zoom",
+                (
+                    ParamSpec("camera", ParamType.NUMBER, "id (0 color, 1 thermal)", None, 0, 1),
+                    ParamSpec("zoom", ParamType.NUMBER, "factor", None, 1.0, 20.0),
+                ),
+                None,
+                "ppcl zoom",
+            ),
+            ActionSpec("wait", "do nothing for a while", (_DURATION,), "duration", ""),
+        )
+    }
+)
+"""Every elementary action type, by its name in the language."""

@@ -1,0 +1,288 @@
+"""Parser: ``.tst`` text -> :class:`~hdrc3_tst.syntax.TstFile` through the lark grammar.
+
+Bad input never raises out of :func:`parse_text`: lark errors become diagnostics with
+``file:line:column``, the offending text and the tokens that were expected.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import lark
+from lark import Token, Transformer
+
+from hdrc3_tst.diagnostics import Diagnostic
+from hdrc3_tst.syntax import (
+    ActionTask,
+    AgentsDecl,
+    AreaDecl,
+    CallTask,
+    Cmp,
+    Comparison,
+    ConcurrentTask,
+    Condition,
+    ConsDef,
+    ConsRef,
+    Constraint,
+    Expr,
+    ForeachTask,
+    GoalTask,
+    IfTask,
+    Membership,
+    Name,
+    Number,
+    PathDecl,
+    PointDecl,
+    SequenceTask,
+    SourcePos,
+    Term,
+    TstDef,
+    TstFile,
+    WhileTask,
+    WorldDecl,
+)
+
+
+class ParseStatus(enum.Enum):
+    """Outcome of parsing one file."""
+
+    OK = "ok"
+    SYNTAX_ERROR = "syntax_error"
+    UNREADABLE = "unreadable"
+
+
+@dataclass(frozen=True)
+class ParseResult:
+    """The syntax tree (when the syntax was fine) and the diagnostics."""
+
+    status: ParseStatus
+    tree: TstFile | None
+    diagnostics: tuple[Diagnostic, ...]
+
+
+@cache
+def lark_parser() -> lark.Lark:
+    """The LALR parser of ``tst.lark`` (built once per process)."""
+    grammar = resources.files("hdrc3_tst").joinpath("tst.lark").read_text(encoding="utf-8")
+    # Positions come from the tokens (propagate_positions would cost 45 % of the parse).
+    return lark.Lark(grammar, parser="lalr", maybe_placeholders=True)
+
+
+class _Builder(Transformer[Token, Any]):
+    """Turn the lark parse tree into frozen dataclasses, keeping positions."""
+
+    def __init__(self, file: str) -> None:
+        super().__init__()
+        self._file = file
+
+    def _pos(self, item: Token) -> SourcePos:
+        return SourcePos(self._file, getattr(item, "line", 0) or 0, getattr(item, "column", 0) or 0)
+
+    # --- small pieces -------------------------------------------------------------------
+    def number(self, children: list[Token]) -> Number:
+        value = float(children[0])
+        if not math.isfinite(value):
+            raise ValueError(f"number {children[0]!s} is out of range")
+        return Number(value, self._pos(children[0]))
+
+    def neg_number(self, children: list[Token]) -> Number:
+        number = self.number(children)
+        return Number(-number.value, number.pos)
+
+    def name_arg(self, children: list[Token]) -> Name:
+        return Name(str(children[0]), self._pos(children[0]))
+
+    def args(self, children: list[Any]) -> tuple[Any, ...]:
+        return tuple(children)
+
+    def name_list(self, children: list[Token]) -> tuple[str, ...]:
+        return tuple(str(c) for c in children)
+
+    def xy(self, children: list[Number]) -> tuple[float, float]:
+        return (children[0].value, children[1].value)
+
+    def xyz(self, children: list[Number]) -> tuple[float, float, float]:
+        return (children[0].value, children[1].value, children[2].value)
+
+    def with_vars(self, children: list[tuple[str, ...]]) -> tuple[str, ...]:
+        return children[0]
+
+    def timepoint(self, children: list[Token]) -> str:
+        return str(children[0])
+
+    # --- constraints --------------------------------------------------------------------
+    def const_term(self, children: list[Number]) -> Term:
+        return Term(children[0].value)
+
+    def var_term(self, children: list[Token]) -> Term:
+        return Term(1.0, Name(str(children[0]), self._pos(children[0])))
+
+    def scaled_term(self, children: list[Any]) -> Term:
+        return Term(children[0].value, Name(str(children[1]), self._pos(children[1])))
+
+    def neg_term(self, children: list[Term]) -> Term:
+        return Term(-children[0].coef, children[0].name)
+
+    def expr(self, children: list[Any]) -> Expr:
+        terms = [children[0]]
+        for op, term in zip(children[1::2], children[2::2], strict=True):
+            terms.append(term if str(op) == "+" else Term(-term.coef, term.name))
+        return Expr(tuple(terms))
+
+    def comparison(self, children: list[Any]) -> Comparison:
+        # At the operator: expressions may start with a constant, which keeps no position.
+        op: Token = children[1]
+        return Comparison(children[0], Cmp(str(op)), children[2], self._pos(op))
+
+    def membership(self, children: list[Any]) -> Membership:
+        var = Name(str(children[0]), self._pos(children[0]))
+        return Membership(var, children[1], var.pos)
+
+    def cons_ref(self, children: list[Token]) -> ConsRef:
+        return ConsRef(Name(str(children[0]), self._pos(children[0])))
+
+    def true_cons(self, children: list[Any]) -> None:
+        return None
+
+    def cons(self, children: list[Constraint | None]) -> tuple[Constraint, ...]:
+        # `true` is the neutral element (TALF: an omitted where is `where TRUE`).
+        return tuple(c for c in children if c is not None)
+
+    def where_clause(self, children: list[tuple[Constraint, ...]]) -> tuple[Constraint, ...]:
+        return children[0]
+
+    def cond(self, children: list[Any]) -> Condition:
+        negated, name, args = children
+        return Condition(str(name), args or (), negated is not None, None, self._pos(name))
+
+    # --- tasks --------------------------------------------------------------------------
+    def action(self, children: list[Any]) -> ActionTask:
+        return ActionTask(str(children[0]), children[1] or (), self._pos(children[0]))
+
+    def goal(self, children: list[Any]) -> GoalTask:
+        return GoalTask(str(children[0]), children[1] or (), self._pos(children[0]))
+
+    def call(self, children: list[Any]) -> CallTask:
+        return CallTask(str(children[0]), children[1] or (), self._pos(children[0]))
+
+    def sequence(self, children: list[TstDef]) -> SequenceTask:
+        return SequenceTask(tuple(children))
+
+    def concurrent(self, children: list[TstDef]) -> ConcurrentTask:
+        return ConcurrentTask(tuple(children))
+
+    @staticmethod
+    def _timed(cond: Condition, time: str | None) -> Condition:
+        return Condition(cond.name, cond.args, cond.negated, time, cond.pos)
+
+    def if_task(self, children: list[Any]) -> IfTask:
+        time, cond, then, orelse = children
+        return IfTask(self._timed(cond, time), then, orelse)
+
+    def while_task(self, children: list[Any]) -> WhileTask:
+        time, cond, body = children
+        return WhileTask(self._timed(cond, time), body)
+
+    def foreach_task(self, children: list[Any]) -> ForeachTask:
+        names, time, cond, body = children
+        return ForeachTask(names, self._timed(cond, time), body)
+
+    def _tst(self, children: list[Any]) -> TstDef:
+        name, params, with_vars, task, *rest = children
+        where = rest[0] if rest and rest[0] is not None else ()
+        return TstDef(str(name), params, with_vars or (), task, where, self._pos(name))
+
+    tst = _tst
+    child = _tst
+
+    # --- declarations -------------------------------------------------------------------
+    def world_decl(self, children: list[Token]) -> WorldDecl:
+        return WorldDecl(str(children[0]), self._pos(children[0]))
+
+    def agents_decl(self, children: list[Token]) -> AgentsDecl:
+        return AgentsDecl(tuple(str(c) for c in children), self._pos(children[0]))
+
+    def area_decl(self, children: list[Any]) -> AreaDecl:
+        return AreaDecl(str(children[0]), tuple(children[1:]), self._pos(children[0]))
+
+    def place_alt(self, children: list[Any]) -> tuple[str, float]:
+        return (str(children[0]), children[1].value)
+
+    def point_decl(self, children: list[Any]) -> PointDecl:
+        name, where, pos = str(children[0]), children[1], self._pos(children[0])
+        if isinstance(where[0], str):
+            return PointDecl(name, None, where[0], where[1], pos)
+        return PointDecl(name, where, None, 0.0, pos)
+
+    def path_decl(self, children: list[Token]) -> PathDecl:
+        return PathDecl(str(children[0]), tuple(str(c) for c in children[1:]), self._pos(children[0]))
+
+    def cons_def(self, children: list[Any]) -> ConsDef:
+        return ConsDef(str(children[0]), children[1], self._pos(children[0]))
+
+    def start(self, children: list[Any]) -> TstFile:
+        return TstFile(tuple(children))
+
+
+def _display(terminal: str) -> str:
+    """Show a literal terminal as its text (``';'``), a pattern terminal by its name."""
+    try:
+        pattern = lark_parser().get_terminal(terminal).pattern
+    except KeyError:
+        return terminal
+    if isinstance(pattern, lark.lexer.PatternStr):
+        return repr(pattern.value)
+    return terminal
+
+
+def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: str) -> Diagnostic:
+    line = int(getattr(exc, "line", 0) or 0)
+    column = int(getattr(exc, "column", 0) or 0)
+    names = getattr(exc, "expected", None) or getattr(exc, "allowed", None) or ()
+    expected = sorted({_display(name) for name in names})
+    if isinstance(exc, lark.exceptions.UnexpectedCharacters):
+        found = repr(text[exc.pos_in_stream]) if exc.pos_in_stream < len(text) else "end of file"
+    elif isinstance(exc, lark.exceptions.UnexpectedToken):
+        token: Token = exc.token
+        found = "end of file" if token.type == "$END" else repr(str(token))
+        if token.type == "$END":
+            line = text.count("\n") + 1
+            column = len(text) - text.rfind("\n")
+    else:
+        found = "end of file"
+    message = f"unexpected {found}"
+    if expected:
+        message += "; expected one of: " + ", ".join(expected[:16])
+    if "'where'" in expected and found in ("';'", "end of file"):
+        message += " (a composite child ends with a where clause, `where true` if none)"
+    return Diagnostic("E001", message, SourcePos(file, line, column))
+
+
+def parse_text(text: str, file: str = "<string>") -> ParseResult:
+    """Parse ``.tst`` text; syntax errors come back as diagnostics, never as exceptions."""
+    try:
+        tree = _Builder(file).transform(lark_parser().parse(text))
+    except lark.exceptions.UnexpectedInput as exc:
+        return ParseResult(ParseStatus.SYNTAX_ERROR, None, (_syntax_diagnostic(exc, file, text),))
+    except lark.exceptions.VisitError as exc:
+        # Only numbers too large for a float fail inside the builder.
+        diag = Diagnostic("E002", f"bad value: {exc.orig_exc}", SourcePos(file, 0, 0))
+        return ParseResult(ParseStatus.SYNTAX_ERROR, None, (diag,))
+    return ParseResult(ParseStatus.OK, tree, ())
+
+
+def parse_file(path: str | Path) -> ParseResult:
+    """Read and parse a ``.tst`` file; an unreadable file gives a diagnostic, not an exception."""
+    file = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        diag = Diagnostic("E000", f"cannot read file: {exc}", SourcePos(file, 0, 0))
+        return ParseResult(ParseStatus.UNREADABLE, None, (diag,))
+    return parse_text(text, file)

@@ -1,0 +1,289 @@
+"""Simple Temporal Network on a distance graph, with incremental propagation (section 6.3.1).
+
+Written here rather than taken from networkx: the network must (a) keep single-source distances
+from and to the mission origin ``Z`` up to date when one edge is added (mixed-initiative
+``set``), touching only the variables whose bounds change, (b) carry strict bounds (``TS < TE``
+in Example 6.2) exactly, and (c) name the constraints on a negative cycle. networkx recomputes
+from scratch (Bellman-Ford over the whole graph per query, far above the 1 ms target for a
+1,000-node tree) and has neither strictness nor undo.
+
+An edge ``u -> v`` with bound ``(w, s)`` means ``v - u <= w`` (``< w`` when ``s`` is -1).
+Bounds add with ``(w1 + w2, min(s1, s2))`` and compare lexicographically, so a cycle is
+inconsistent when its bound is below ``(0, 0)``: ``x - x < 0`` as well as ``x - x <= -1``.
+Every variable gets ``v - Z <= HORIZON`` and ``Z - v <= 0`` (all times after the origin), so
+every negative cycle is reachable from ``Z`` in both directions.
+"""
+
+from __future__ import annotations
+
+import math
+import heapq
+from dataclasses import dataclass
+
+Bound = tuple[float, int]
+"""(value, strictness): strictness -1 for ``<``, 0 for ``<=``."""
+
+ORIGIN = "Z"
+HORIZON = 1.0e9
+"""Seconds; a latest time beyond half the horizon is shown as unbounded."""
+_INF: Bound = (math.inf, 0)
+
+
+def _add(a: Bound, b: Bound) -> Bound:
+    return (a[0] + b[0], min(a[1], b[1]))
+
+
+@dataclass(frozen=True)
+class Edge:
+    """One distance-graph edge and the constraint it comes from."""
+
+    source: str
+    target: str
+    bound: Bound
+    label: str
+
+
+@dataclass(frozen=True)
+class Window:
+    """Earliest and latest time of a variable (open ends when strict)."""
+
+    earliest: float
+    latest: float
+    earliest_strict: bool = False
+    latest_strict: bool = False
+
+    def __str__(self) -> str:
+        lo = "(" if self.earliest_strict else "["
+        unbounded = self.latest >= HORIZON / 2
+        hi = ")" if self.latest_strict or unbounded else "]"
+        latest = "inf" if unbounded else f"{self.latest:g}"
+        return f"{lo}{self.earliest:g}, {latest}{hi}"
+
+
+class Inconsistent(Exception):  # noqa: N818 (an outcome, not an error: caught inside the package)
+    """A negative cycle: the edges on it name the conflicting constraints."""
+
+    def __init__(self, cycle: tuple[Edge, ...]) -> None:
+        super().__init__(", ".join(e.label for e in cycle))
+        self.cycle = cycle
+
+
+class SimpleTemporalNetwork:
+    """Time variables, difference constraints and the windows they leave."""
+
+    def __init__(self) -> None:
+        self._out: dict[str, dict[str, Edge]] = {ORIGIN: {}}
+        self._in: dict[str, dict[str, Edge]] = {ORIGIN: {}}
+        self._from: dict[str, Bound] = {ORIGIN: (0.0, 0)}
+        """Shortest distance Z -> v: the latest time of v."""
+        self._to: dict[str, Bound] = {ORIGIN: (0.0, 0)}
+        """Shortest distance v -> Z: minus the earliest time of v."""
+
+    @property
+    def variables(self) -> tuple[str, ...]:
+        """Every time variable except the origin."""
+        return tuple(v for v in self._out if v != ORIGIN)
+
+    @property
+    def edge_count(self) -> int:
+        """Edges of the distance graph (two per equality, one per bound)."""
+        return sum(len(e) for e in self._out.values())
+
+    def add_variable(self, name: str) -> None:
+        """A new time point in ``[0, HORIZON]``."""
+        if name in self._out:
+            return
+        self._out[name] = {}
+        self._in[name] = {}
+        self._from[name] = _INF
+        self._to[name] = _INF
+        self._store(Edge(ORIGIN, name, (HORIZON, 0), "horizon"))
+        self._store(Edge(name, ORIGIN, (0.0, 0), f"{name} >= 0"))
+
+    def _store(self, edge: Edge) -> bool:
+        old = self._out[edge.source].get(edge.target)
+        if old is not None and old.bound <= edge.bound:
+            return False
+        self._out[edge.source][edge.target] = edge
+        self._in[edge.target][edge.source] = edge
+        return True
+
+    def constrain(self, later: str, earlier: str, bound: float, strict: bool, label: str) -> None:
+        """Record ``later - earlier <= bound`` (``<`` when strict) without propagating."""
+        self._store(Edge(earlier, later, (bound, -1 if strict else 0), label))
+
+    # --- propagation --------------------------------------------------------------------
+    def order(self, names: list[str]) -> None:
+        """Sweep the variables in this order (the rest after them): for a TST, a node's start
+        before its children's variables and its end after them, so that earliest times flow
+        forward and latest times backward through one sweep each."""
+        ranked = dict.fromkeys([ORIGIN, *(n for n in names if n in self._out), *self._out])
+        self._out = {name: self._out[name] for name in ranked}
+
+    def propagate(self) -> None:
+        """Recompute every window from scratch (raises :class:`Inconsistent`).
+
+        Bellman-Ford with Yen's ordering: the variables in creation order (which follows the
+        tree, so most constraints point one way), each pass a forward sweep over the edges
+        going up that order and a backward sweep over those going down. A tree-shaped STN
+        settles in a few passes; a cycle in the predecessor graph is a negative cycle.
+        """
+        names = list(self._out)
+        self._from = self._sweeps(names, self._out, "target")
+        self._to = self._sweeps(names, self._in, "source")
+
+    def _sweeps(self, names: list[str], graph: dict[str, dict[str, Edge]], end: str) -> dict[str, Bound]:
+        index = {name: i for i, name in enumerate(names)}
+        n = len(names)
+        value = [math.inf] * n
+        strict = [0] * n
+        pred: list[Edge | None] = [None] * n
+        value[index[ORIGIN]] = 0.0
+        up: list[list[tuple[int, float, int, Edge]]] = [[] for _ in range(n)]
+        down: list[list[tuple[int, float, int, Edge]]] = [[] for _ in range(n)]
+        for name, edges in graph.items():
+            i = index[name]
+            for edge in edges.values():
+                j = index[getattr(edge, end)]
+                (up if j > i else down)[i].append((j, edge.bound[0], edge.bound[1], edge))
+        for _ in range(n + 1):
+            changed = False
+            for order, lists in ((range(n), up), (range(n - 1, -1, -1), down)):
+                for i in order:
+                    base = value[i]
+                    if base == math.inf:
+                        continue
+                    sbase = strict[i]
+                    for j, w, s, edge in lists[i]:
+                        cand = base + w
+                        cs = sbase if sbase < s else s
+                        if cand < value[j] or (cand == value[j] and cs < strict[j]):
+                            value[j], strict[j], pred[j] = cand, cs, edge
+                            changed = True
+            if not changed:
+                return {name: (value[i], strict[i]) for i, name in enumerate(names)}
+            cycle = self._pred_cycle(names, index, pred, end)
+            if cycle:
+                raise Inconsistent(cycle)
+        raise AssertionError("Bellman-Ford did not settle in n passes without a cycle")
+
+    @staticmethod
+    def _pred_cycle(
+        names: list[str], index: dict[str, int], pred: list[Edge | None], end: str
+    ) -> tuple[Edge, ...]:
+        """The edges of a cycle in the predecessor graph, if there is one."""
+        back = "source" if end == "target" else "target"
+        state = [0] * len(names)  # 0 unseen, 1 on the current walk, 2 done
+        for start in range(len(names)):
+            walk: list[int] = []
+            i = start
+            while state[i] == 0 and pred[i] is not None:
+                state[i] = 1
+                walk.append(i)
+                i = index[getattr(pred[i], back)]
+            if state[i] == 1:  # came back onto this walk: a cycle
+                cycle = walk[walk.index(i) :]
+                return tuple(sorted((pred[k] for k in cycle), key=lambda e: e.label))  # type: ignore[arg-type,return-value]
+            for k in walk:
+                state[k] = 2
+        return ()
+
+    def add(self, later: str, earlier: str, bound: float, strict: bool, label: str) -> None:
+        """Add ``later - earlier <= bound`` and update only what changes.
+
+        On a negative cycle nothing changes and :class:`Inconsistent` is raised.
+        """
+        self._add_undoable(Edge(earlier, later, (bound, -1 if strict else 0), label))
+
+    def fix(self, var: str, value: float, label: str) -> None:
+        """``var = value`` (two edges to the origin), all or nothing."""
+        first = self._add_undoable(Edge(ORIGIN, var, (value, 0), label))
+        try:
+            self._add_undoable(Edge(var, ORIGIN, (-value, 0), label))
+        except Inconsistent:
+            self._revert(first)
+            raise
+
+    _Undo = tuple[Edge, "Edge | None", dict[str, Bound], dict[str, Bound]]
+
+    def _add_undoable(self, edge: Edge) -> _Undo:
+        earlier, later = edge.source, edge.target
+        old = self._out[earlier].get(later)
+        undo: SimpleTemporalNetwork._Undo = (edge, old, {}, {})
+        if old is not None and old.bound <= edge.bound:
+            return undo
+        self._store(edge)
+        try:
+            if _add(self._from[earlier], edge.bound) < self._from[later]:
+                undo[2][later] = self._from[later]
+                self._from[later] = _add(self._from[earlier], edge.bound)
+                self._relax(self._from, self._out, "target", [later], undo[2])
+            if _add(self._to[later], edge.bound) < self._to[earlier]:
+                undo[3][earlier] = self._to[earlier]
+                self._to[earlier] = _add(self._to[later], edge.bound)
+                self._relax(self._to, self._in, "source", [earlier], undo[3])
+        except Inconsistent:
+            self._revert(undo)
+            raise
+        return undo
+
+    def _revert(self, undo: _Undo) -> None:
+        edge, old, undo_from, undo_to = undo
+        self._from.update(undo_from)
+        self._to.update(undo_to)
+        if old is None:
+            self._out[edge.source].pop(edge.target, None)
+            self._in[edge.target].pop(edge.source, None)
+        else:
+            self._out[edge.source][edge.target] = old
+            self._in[edge.target][edge.source] = old
+
+    def _relax(
+        self,
+        dist: dict[str, Bound],
+        graph: dict[str, dict[str, Edge]],
+        end: str,
+        start: list[str],
+        undo: dict[str, Bound],
+    ) -> None:
+        """Label-correcting shortest paths from ``start``, smallest label first (a heap, as
+        Dijkstra, re-inserting a node whose label a negative edge improves later). A node
+        improved more often than there are nodes lies on or behind a negative cycle."""
+        limit = len(dist)
+        count: dict[str, int] = {}
+        pred: dict[str, Edge] = {}
+        heap = [(dist[node], node) for node in start]
+        heapq.heapify(heap)
+        while heap:
+            base, node = heapq.heappop(heap)
+            if base != dist[node]:
+                continue  # a stale entry: the node was improved after it was pushed
+            for edge in graph[node].values():
+                nxt = getattr(edge, end)
+                cand = (base[0] + edge.bound[0], min(base[1], edge.bound[1]))
+                if cand < dist[nxt]:
+                    undo.setdefault(nxt, dist[nxt])
+                    dist[nxt] = cand
+                    pred[nxt] = edge
+                    count[nxt] = count.get(nxt, 0) + 1
+                    if count[nxt] > limit:
+                        raise Inconsistent(self._cycle(pred, nxt, end))
+                    heapq.heappush(heap, (cand, nxt))
+
+    @staticmethod
+    def _cycle(pred: dict[str, Edge], node: str, end: str) -> tuple[Edge, ...]:
+        back = "source" if end == "target" else "target"
+        for _ in range(len(pred) + 1):  # walk back into the cycle
+            node = getattr(pred[node], back)
+        cycle = [pred[node]]
+        cur = getattr(pred[node], back)
+        while cur != node:
+            cycle.append(pred[cur])
+            cur = getattr(pred[cur], back)
+        return tuple(sorted(cycle, key=lambda e: e.label))
+
+    # --- queries ------------------------------------------------------------------------
+    def window(self, name: str) -> Window:
+        """Earliest and latest time of ``name`` after the last propagation."""
+        lo, hi = self._to[name], self._from[name]
+        return Window(-lo[0] + 0.0, hi[0], lo[1] < 0, hi[1] < 0)
