@@ -378,7 +378,7 @@ class FlightCommandLayer:
         if event.name in FINAL_REPLIES:
             # a command of the server's previous run ended while it was down: its final reply
             # was held by the PFC's transport until this run subscribed
-            self._orphan(cid, "fcl")
+            self._orphan(cid, "fcl", now)
         if cur is None or cid not in cur.open_ids():
             return
         cur.heard = True
@@ -456,12 +456,11 @@ class FlightCommandLayer:
         """Put the Flight automaton back in Idle; the PFC is told to cancel (it then hovers)."""
         self.kernel.post(FCL[FclCommand.CANCEL].api_event, encode(self.ids.next()))
 
-    def _orphan(self, command_id: int, label: str) -> bool:
+    def _orphan(self, command_id: int, label: str, now: float) -> bool:
         """End a command of an earlier run of this server once; True if it was news."""
         if not command_id or self.ids.issued(command_id) or command_id in self.orphans:
             return False
         self.orphans.add(command_id)
-        now = self.kernel.status.now
         self.sink(CompletionEvent(command_id, label, EventKind.FAILED, RESTARTED_DRC, now))
         return True
 
@@ -483,7 +482,9 @@ class FlightCommandLayer:
         while a command runs has restarted (also when none of its events arrived yet).
         """
         command = _MODE_COMMANDS.get(sample.mode)
-        if self._orphan(sample.command_id, command.label if command is not None else "fcl"):
+        label = command.label if command is not None else "fcl"
+        now = max(self.kernel.status.now, sample.received)
+        if self._orphan(sample.command_id, label, now) and self.current is None:
             self._stop_pfc()
         if sample.mode == FlightMode.BOOT and self.current is not None:
             self._end_current(EventKind.FAILED, RESTARTED_PFC)

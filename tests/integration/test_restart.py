@@ -45,10 +45,28 @@ class Rig:
         self.states: list[Any] = []
         self.pfc: list[Any] = []
         self.status: Any = None
+        self.arrived: dict[str, list[float]] = {"platform_server": [], "control_kernel": []}
+        """Wall time of every Data Interface / PFC state sample: when each node was heard."""
+
+        def keep(samples: list[Any], arrivals: list[float]) -> Callable[[Any], None]:
+            def on_sample(msg: Any) -> None:
+                samples.append(msg)
+                arrivals.append(time.monotonic())
+
+            return on_sample
+
         self.node.create_subscription(
-            HelicopterState, f"/{AGENT}/helicopter_state", self.states.append, STATE_QOS
+            HelicopterState,
+            f"/{AGENT}/helicopter_state",
+            keep(self.states, self.arrived["platform_server"]),
+            STATE_QOS,
         )
-        self.node.create_subscription(PfcState, f"/{AGENT}/pfc/state", self.pfc.append, STATE_QOS)
+        self.node.create_subscription(
+            PfcState,
+            f"/{AGENT}/pfc/state",
+            keep(self.pfc, self.arrived["control_kernel"]),
+            STATE_QOS,
+        )
         self.node.create_subscription(LaunchStatus, STATUS_TOPIC, self._on_status, STATUS_QOS)
 
     def _on_status(self, msg: Any) -> None:
@@ -99,7 +117,11 @@ class Rig:
             self.process, self.node, AGENT, Switch.AUTONOMOUS, Switch.ON, CALL_TIMEOUT_S
         )
         assert code == SimResult.OK, reason
-        self.wait(lambda: bool(self.states) and self.states[-1].auto_flag, 60.0, "autonomy")
+        self.wait(
+            lambda: bool(self.pfc) and self.pfc[-1].mode == self.pfc[-1].MODE_GROUND_IDLE,
+            60.0,
+            "autonomous, idle on the ground",
+        )
         takeoff = self.fcl(FclTakeoff, "takeoff")
         assert takeoff.code == FclReturn.FCL_OK, takeoff.reason
         assert self.final(takeoff.command_id, 120.0).kind is EventKind.FINISHED
@@ -170,10 +192,12 @@ def _kill_mid_flyto(r: Rig, node: str, reason: str) -> None:
     restarted = time.monotonic()
     failed = r.final(flyto.command_id, 60.0)
     ended = time.monotonic()
+    r.wait(lambda: r.arrived[node][-1] > restarted, 60.0, f"output of the new {node}")
+    heard = next(t for t in r.arrived[node] if t > restarted)
     print(
-        f"kill -9 {node}: restarted after {restarted - killed:.2f} s, terminal event "
-        f"{ended - killed:.2f} s after the kill ({ended - restarted:.2f} s after the restart "
-        "was reported)"
+        f"kill -9 {node}: process restarted {restarted - killed:.2f} s after the kill, its first "
+        f"output {heard - killed:.2f} s after; terminal event {ended - killed:.2f} s after the "
+        f"kill = {ended - heard:+.2f} s from the new node's first output"
     )
     assert failed.kind is EventKind.FAILED and reason in failed.reason, failed
 

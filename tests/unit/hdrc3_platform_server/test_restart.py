@@ -75,6 +75,7 @@ def test_server_restart_ends_the_command_the_pfc_reports() -> None:
     assert [(e.kind, e.command, e.reason) for e in ended] == [
         (EventKind.FAILED, "fcl_traj3d_flyto", RESTARTED_DRC)
     ]
+    assert ended[0].time >= rig.t - 0.2  # stamped with the DRC clock of the report, not 0
     # the new server's cancel reached the PFC although it counts from 1 again
     assert rig.pfc.job is None and rig.pfc.mode is FlightMode.HOVER
     next_command_works(rig)
