@@ -63,6 +63,9 @@ class EstimatorConfig:
     attitude_timeout: float = 0.5
     frozen_count: int = 20
     """This many identical consecutive IMU samples mean a frozen IMU."""
+    coast_accel_sigma: float = 3.0
+    """Acceleration uncertainty while IMU samples repeat (a stuck IMU), m/s^2: the filter
+    coasts on a constant-velocity model and GPS and barometer carry the solution."""
 
     def __post_init__(self) -> None:
         """Reject non-positive noise figures and timeouts."""
@@ -159,6 +162,13 @@ class StateEstimator:
         )
         acc[2] -= G
         f, q, b = self._transition(dt)
+        if frozen:
+            # a repeated sample is no measurement (real IMU noise never repeats): integrating a
+            # stuck specific force diverges within seconds (an emergency landing on it hit the
+            # ground at 5 m/s); coast instead, with the uncertainty of a manoeuvring helicopter
+            acc = np.zeros(3)
+            q = q.copy()
+            q[0:6, 0:6] *= (self.config.coast_accel_sigma / self.config.accel_sigma) ** 2
         self._kf.F, self._kf.Q, self._kf.B = f, q, b
         self._kf.predict(u=acc)
 
