@@ -585,12 +585,15 @@ def test_world_sim_killed_mid_flight_resumes_its_checkpoint(hdrc3_cli, ros_conte
     last_old = max(_ns(m.header.stamp) for m in truth[:before])
     assert last_old < stamp <= saved + 500_000_000
     after = [m for m in truth[before:] if _ns(m.header.stamp) >= stamp]
-    first = after[0]
-    assert _ns(first.header.stamp) == stamp
+    first = after[0]  # the new process's first ticks can precede discovery of our reader
     assert not first.on_ground and first.engine_running and first.height_above_ground > 5.0
     old = {_ns(m.header.stamp): m for m in truth[:before]}
-    if saved in old:  # published by the old process right after it wrote the checkpoint
+    if saved in old and _ns(first.header.stamp) == stamp:  # the checkpoint's state, resumed
         assert math.dist(old[saved].position_enu, first.position_enu) < 0.01
-    assert math.dist(truth[before - 1].position_enu, first.position_enu) < 5.0
+    # near where it was: at most the motion (< 8 m/s) since the checkpoint, not back on its pad
+    moved_s = (_ns(first.header.stamp) - stamp + last_old - saved) / 1e9
+    assert math.dist(old[last_old].position_enu, first.position_enu) < 1.0 + 8.0 * moved_s
     assert not after[-1].on_ground and after[-1].rotor_rpm > 700.0
     launch.wait_for_line("world_sim: restarted (restart 1)")
+    # stopped by the launcher (SIGINT, then SIGTERM/SIGKILL): no world_sim outlives the test
+    assert launch.interrupt(timeout=30.0) == 0
