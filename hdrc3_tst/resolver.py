@@ -414,7 +414,12 @@ class _Resolver:
     def _lookup(self, name: Name, scope: _Scope) -> str | None:
         var = scope.find(name.id)
         if var is None:
-            self.error("E101", f"unknown variable {name.id!r} (not declared by this node or an ancestor)", name.pos)
+            self.error(
+                "E101",
+                f"unknown name {name.id!r}: not a variable of this node or an ancestor, nor a "
+                "declared agent, area, point or path",
+                name.pos,
+            )
         return var
 
     def _symbolic(self, var: str, op: Cmp, values: tuple[str, ...], other: str | None, pos: SourcePos, text: str) -> None:
@@ -524,7 +529,8 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
         resolver.tree = TaskTree(tsts[0].name)
         resolver.node(tsts[0], resolver.root_scope, None)
         resolver.constraints()
-        resolver.net.stn.order(temporal_order(resolver.tree))
+        if resolver.tree.root in resolver.tree.nodes:
+            resolver.net.stn.order(temporal_order(resolver.tree))
         for unused in tsts[1:]:
             resolver.error(
                 "E131",
