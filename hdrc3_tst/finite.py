@@ -107,8 +107,12 @@ class FiniteModel:
             return SolveResult(SolveStatus.CONSISTENT, witness)
         shared.numeric = used & self.numeric
         shared.domains = {v: d for v, d in self.domains.items() if v in used}
-        shared.linear += [c for v in used for c in single.get(v, ()) if isinstance(c, LinearConstraint)]
-        shared.symbolic += [c for v in used for c in single.get(v, ()) if isinstance(c, SymbolConstraint)]
+        shared.linear += [
+            c for v in used for c in single.get(v, ()) if isinstance(c, LinearConstraint)
+        ]
+        shared.symbolic += [
+            c for v in used for c in single.get(v, ()) if isinstance(c, SymbolConstraint)
+        ]
         result = shared.solve_with_cp_sat(time_limit)
         if result.status is SolveStatus.CONSISTENT:
             witness.update(result.witness)
@@ -158,9 +162,9 @@ class FiniteModel:
             return SolveResult(SolveStatus.CONSISTENT, witness)
         if status == cp_model.INFEASIBLE:
             core = solver.sufficient_assumptions_for_infeasibility()
-            index = {lit.index: i for i, lit in enumerate(literals)}
+            by_literal = {lit.index: i for i, lit in enumerate(literals)}
             return SolveResult(
-                SolveStatus.INCONSISTENT, {}, tuple(sorted(labels[index[c]] for c in core))
+                SolveStatus.INCONSISTENT, {}, tuple(sorted(labels[by_literal[c]] for c in core))
             )
         return SolveResult(SolveStatus.UNKNOWN)
 
@@ -171,7 +175,8 @@ def _one_variable(
     """Intersect the constraints over one variable: bounds for a number, a set for a name.
 
     A conflict names the constraints that leave nothing (the tightest bound of each side, or
-    every constraint of a name)."""
+    every constraint of a name).
+    """
     if domain is not None:  # a name (agent, area, point, path); a variable without possible
         allowed = set(domain)  # values stays open while nothing constrains it
         for sym in constraints:
@@ -179,7 +184,9 @@ def _one_variable(
             values = set(sym.values)
             allowed = allowed & values if sym.op is Cmp.EQ else allowed - values
         if not allowed:
-            return SolveResult(SolveStatus.INCONSISTENT, {}, tuple(sorted(c.label for c in constraints)))
+            return SolveResult(
+                SolveStatus.INCONSISTENT, {}, tuple(sorted(c.label for c in constraints))
+            )
         return SolveResult(SolveStatus.CONSISTENT, {var: min(allowed, key=domain.index)})
     step = 1.0 / SCALE
     lo, hi = (-float(LIMIT), ""), (float(LIMIT), "")
@@ -202,7 +209,9 @@ def _one_variable(
         if op is Cmp.NE:
             excluded.append((bound, lin.label))
     if lo[0] > hi[0] + 1e-12:
-        return SolveResult(SolveStatus.INCONSISTENT, {}, tuple(sorted(x for x in (lo[1], hi[1]) if x)))
+        return SolveResult(
+            SolveStatus.INCONSISTENT, {}, tuple(sorted(x for x in (lo[1], hi[1]) if x))
+        )
     value = lo[0]
     for bad, label in sorted(excluded):
         if abs(value - bad) < 1e-12:
@@ -213,7 +222,14 @@ def _one_variable(
     return SolveResult(SolveStatus.CONSISTENT, {var: value})
 
 
-_FLIP = {Cmp.LE: Cmp.GE, Cmp.LT: Cmp.GT, Cmp.GE: Cmp.LE, Cmp.GT: Cmp.LT, Cmp.EQ: Cmp.EQ, Cmp.NE: Cmp.NE}
+_FLIP = {
+    Cmp.LE: Cmp.GE,
+    Cmp.LT: Cmp.GT,
+    Cmp.GE: Cmp.LE,
+    Cmp.GT: Cmp.LT,
+    Cmp.EQ: Cmp.EQ,
+    Cmp.NE: Cmp.NE,
+}
 
 
 def _holds(left: float, op: Cmp, right: float) -> bool:

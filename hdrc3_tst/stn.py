@@ -60,7 +60,7 @@ class Window:
         return f"{lo}{self.earliest:g}, {latest}{hi}"
 
 
-class Inconsistent(Exception):  # noqa: N818 (an outcome, not an error: caught inside the package)
+class Inconsistent(Exception):
     """A negative cycle: the edges on it name the conflicting constraints."""
 
     def __init__(self, cycle: tuple[Edge, ...]) -> None:
@@ -114,9 +114,11 @@ class SimpleTemporalNetwork:
 
     # --- propagation --------------------------------------------------------------------
     def order(self, names: list[str]) -> None:
-        """Sweep the variables in this order (the rest after them): for a TST, a node's start
-        before its children's variables and its end after them, so that earliest times flow
-        forward and latest times backward through one sweep each."""
+        """Sweep the variables in this order (the rest after them).
+
+        For a TST: a node's start before its children's variables and its end after them, so
+        that earliest times flow forward and latest times backward through one sweep each.
+        """
         ranked = dict.fromkeys([ORIGIN, *(n for n in names if n in self._out), *self._out])
         self._out = {name: self._out[name] for name in ranked}
 
@@ -132,7 +134,9 @@ class SimpleTemporalNetwork:
         self._from = self._sweeps(names, self._out, "target")
         self._to = self._sweeps(names, self._in, "source")
 
-    def _sweeps(self, names: list[str], graph: dict[str, dict[str, Edge]], end: str) -> dict[str, Bound]:
+    def _sweeps(
+        self, names: list[str], graph: dict[str, dict[str, Edge]], end: str
+    ) -> dict[str, Bound]:
         index = {name: i for i, name in enumerate(names)}
         n = len(names)
         value = [math.inf] * n
@@ -182,8 +186,8 @@ class SimpleTemporalNetwork:
                 walk.append(i)
                 i = index[getattr(pred[i], back)]
             if state[i] == 1:  # came back onto this walk: a cycle
-                cycle = walk[walk.index(i) :]
-                return tuple(sorted((pred[k] for k in cycle), key=lambda e: e.label))  # type: ignore[arg-type,return-value]
+                edges = [e for k in walk[walk.index(i) :] if (e := pred[k]) is not None]
+                return tuple(sorted(edges, key=lambda e: e.label))
             for k in walk:
                 state[k] = 2
         return ()
@@ -246,13 +250,13 @@ class SimpleTemporalNetwork:
         edge: Edge,
         undo: dict[str, Bound],
     ) -> None:
-        """Propagate the improvement the new ``edge`` brought to its far end (FIFO label
-        correcting over the changed region only).
+        """Propagate what the new ``edge`` improved, over the changed region only (FIFO).
 
         The graph was consistent before, so a new negative cycle runs through ``edge``: it
         exists exactly when the propagation comes back and improves the edge's near end. That
         also catches zero-weight cycles with a strict edge, which never stop improving by an
-        amount a counter would notice."""
+        amount a counter would notice.
+        """
         back = "source" if end == "target" else "target"
         first, stop = getattr(edge, end), getattr(edge, back)
         pred: dict[str, Edge] = {first: edge}

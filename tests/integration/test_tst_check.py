@@ -16,9 +16,7 @@ def test_check_example_6_1_as_a_command(hdrc3_cli: Any) -> None:
     assert child.lines[-1].endswith("other constraints)")
 
 
-def test_check_reports_bad_input_with_exit_4(
-    hdrc3_cli: Any, tmp_path: Path
-) -> None:
+def test_check_reports_bad_input_with_exit_4(hdrc3_cli: Any, tmp_path: Path) -> None:
     bad = tmp_path / "bad.tst"
     bad.write_text("world revinge\nt(TS, TE) = scan-area(TS, TE, 3, Nowhere)\n")
     child = hdrc3_cli("tst", "check", str(bad))

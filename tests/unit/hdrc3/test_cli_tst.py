@@ -24,12 +24,19 @@ def test_check_prints_the_tree_with_time_windows(capsys: pytest.CaptureFixture[s
     ("text", "expected"),
     [
         ("t(TS, TE) = sequence", "bad.tst:1:21: error E001: unexpected end of file"),
-        ("t(TS, TE) = hover(TS, TE, 5) where P = uav0", "bad.tst:1:36: error E101: unknown name 'P'"),
+        (
+            "t(TS, TE) = hover(TS, TE, 5) where P = uav0",
+            "bad.tst:1:36: error E101: unknown name 'P'",
+        ),
         ("t(TS, TE) = hover(TS, TE, 5) where TE <= 3", "bad.tst:1:1: error E200: inconsistent"),
     ],
 )
 def test_invalid_input_exits_4_with_file_line_column(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], text: str, expected: str
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    text: str,
+    expected: str,
 ) -> None:
     monkeypatch.chdir(tmp_path)
     Path("bad.tst").write_text(text)

@@ -66,5 +66,7 @@ def test_a_name_without_values_and_without_constraints_stays_open() -> None:
 
 
 def test_strict_inequalities_resolve_to_one_step_of_the_scale() -> None:
-    result = model([lin(((1, "a"),), Cmp.GT, 2, "a>2"), lin(((1, "a"),), Cmp.LT, 2.002, "a<2.002")]).solve()
+    result = model(
+        [lin(((1, "a"),), Cmp.GT, 2, "a>2"), lin(((1, "a"),), Cmp.LT, 2.002, "a<2.002")]
+    ).solve()
     assert result.status is SolveStatus.CONSISTENT and result.witness["a"] == pytest.approx(2.001)

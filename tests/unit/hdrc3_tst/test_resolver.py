@@ -54,27 +54,29 @@ def test_structure_adds_talf_semantics_and_durations() -> None:
     [
         ("m(TS, TE) = jump(TS, TE)", "E110", "4:13", "unknown action type 'jump'"),
         ("m(TS, TE) = fly-to(TS, TE, 3, Nowhere)", "E102", "4:31", "unknown point 'Nowhere'"),
-        ("m(TS, TE) = fly-to(TS, TE, 3)", "E111", "4:13", "fly-to takes (TS, TE, speed, destination)"),
+        ("m(TS, TE) = fly-to(TS, TE, 3)", "E111", "4:13", "fly-to takes (TS, TE, speed, destination)"),  # noqa: E501
         ("m(TS, TE) = fly-to(TS, TE, Dest, Dest)", "E106", "4:28", "is a speed; Dest is a point"),
         ("m(TS, TE) = fly-to(TS, TE, 3, 4)", "E106", "4:31", "is a point, not a number"),
         ("m(TS, TE) = wait(TS, TE, 3) where X < 3", "E101", "4:35", "unknown name 'X'"),
         ("m(P, TS, TE) = wait(TS, TE, 3) where P = uav7", "E101", "4:42", "unknown name 'uav7'"),
-        ("m(TS, TE) = wait(TS, TE, 3) where cons_x", "E120", "4:35", "unknown constraint set 'cons_x'"),
+        ("m(TS, TE) = wait(TS, TE, 3) where cons_x", "E120", "4:35", "unknown constraint set 'cons_x'"),  # noqa: E501
         ("m(TS) = wait(TS, TS, 3)", "E107", "4:1", "(TS, TE) or (P, TS, TE)"),
-        ("m(TS, TE) = concurrent a(TS, TE) = land(TS, TE); a(TS, TE) = land(TS, TE)", "E105", "4:50", "used twice"),
+        ("m(TS, TE) = concurrent a(TS, TE) = land(TS, TE); a(TS, TE) = land(TS, TE)", "E105", "4:50", "used twice"),  # noqa: E501
         ("m(TS, TE) = call nothing(TS, TE)", "E112", "4:18", "unknown TST 'nothing'"),
-        ("lib(TS, TE) = call lib(TS, TE)\nm(TS, TE) = call lib(TS, TE)", "E113", "4:20", "recursive call"),
+        ("lib(TS, TE) = call lib(TS, TE)\nm(TS, TE) = call lib(TS, TE)", "E113", "4:20", "recursive call"),  # noqa: E501
         ("m(TS, TE) = wait(TS, TE, 3) where TS * 2 <= 3", "E001", "4:38", "unexpected '*'"),
         ("m(TS, TE) = with S wait(TS, TE, S) where 2 * TS - TE <= 3", "E122", "4:54", "difference"),
         ("m(P, TS, TE) = wait(TS, TE, 3) where P <= uav0", "E121", "4:40", "only take = and !="),
-        ("m(TS, TE) = wait(TS, TE, 3)\nn(TS, TE) = land(TS, TE)", "E131", "5:1", "neither the mission"),
-        ("area A = polygon((0, 0), (1, 1), (0, 1), (1, 0))\nm(TS, TE) = land(TS, TE)", "E103", "4:6", "not a simple polygon"),
-        ("area A = polygon((0, 0), (900, 0), (0, 900))\nm(TS, TE) = land(TS, TE)", "E103", "4:6", "leaves the world"),
-        ("point Q = nowhere at 3\nm(TS, TE) = land(TS, TE)", "E102", "4:7", "unknown place 'nowhere'"),
-        ("m(TS, TE) = with S sequence a(TS, TE) = fly-to(TS, TE, S, Dest); b(TS, TE) = wait(TS, TE, S)", "E106", "4:91", "S is a speed, used here as a duration"),
+        ("m(TS, TE) = wait(TS, TE, 3)\nn(TS, TE) = land(TS, TE)", "E131", "5:1", "neither the mission"),  # noqa: E501
+        ("area A = polygon((0, 0), (1, 1), (0, 1), (1, 0))\nm(TS, TE) = land(TS, TE)", "E103", "4:6", "not a simple polygon"),  # noqa: E501
+        ("area A = polygon((0, 0), (900, 0), (0, 900))\nm(TS, TE) = land(TS, TE)", "E103", "4:6", "leaves the world"),  # noqa: E501
+        ("point Q = nowhere at 3\nm(TS, TE) = land(TS, TE)", "E102", "4:7", "unknown place 'nowhere'"),  # noqa: E501
+        ("m(TS, TE) = with S sequence a(TS, TE) = fly-to(TS, TE, S, Dest); b(TS, TE) = wait(TS, TE, S)", "E106", "4:91", "S is a speed, used here as a duration"),  # noqa: E501
     ],
 )  # fmt: skip
-def test_bad_input_is_named_with_its_position(text: str, code: str, where: str, message: str) -> None:
+def test_bad_input_is_named_with_its_position(
+    text: str, code: str, where: str, message: str
+) -> None:
     result = load_text(HEAD + text, "t.tst")
     assert result.status in (CheckStatus.INVALID, CheckStatus.SYNTAX_ERROR)
     diag = result.diagnostics[0]
@@ -91,7 +93,8 @@ def test_an_unknown_world_is_reported() -> None:
 
 def test_inconsistent_constraints_are_rejected_with_the_conflicting_set() -> None:
     result = load_text(
-        HEAD + "m(TS, TE) = with A, B sequence\n  a(A, B) = hover(A, B, 100)\nwhere TE - TS <= 60\n",
+        HEAD
+        + "m(TS, TE) = with A, B sequence\n  a(A, B) = hover(A, B, 100)\nwhere TE - TS <= 60\n",
         "c.tst",
     )
     assert result.status is CheckStatus.INCONSISTENT
@@ -138,7 +141,11 @@ def test_calls_are_instantiated_under_the_call_node() -> None:
 def test_a_goal_node_expands_into_a_sequence() -> None:
     tst = ok("m(TS, TE) = with A, B concurrent g(A, B) = goal delivered(box1, Dest)\n")
     goal = tst.tree.node("g")
-    assert (goal.kind, goal.action, goal.goal_args) == (NodeKind.GOAL, "delivered", ("box1", "Dest"))
+    assert (goal.kind, goal.action, goal.goal_args) == (
+        NodeKind.GOAL,
+        "delivered",
+        ("box1", "Dest"),
+    )
     from hdrc3_tst.model import Node
 
     tst.tree.add(Node("g/1", NodeKind.ACTION, {}, NodeRef("uav0", "g"), action="fly-to"))
