@@ -79,7 +79,9 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
     {
         a.name: a
         for a in (
-            ActionSpec("take-off", "take off and hover at the take-off altitude", (), None, "takeoff"),
+            ActionSpec(
+                "take-off", "take off and hover at the take-off altitude", (), None, "takeoff"
+            ),
             ActionSpec(
                 "land",
                 "land with the given heading",

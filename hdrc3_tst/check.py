@@ -37,7 +37,9 @@ class CheckResult:
     diagnostics: tuple[Diagnostic, ...] = ()
 
 
-def _finish(tree: TstFile | None, diags: tuple[Diagnostic, ...], agents: tuple[str, ...], file: str) -> CheckResult:
+def _finish(
+    tree: TstFile | None, diags: tuple[Diagnostic, ...], agents: tuple[str, ...], file: str
+) -> CheckResult:
     if tree is None:
         return CheckResult(CheckStatus.SYNTAX_ERROR, None, diags)
     result = resolve(tree, agents, file)

@@ -71,7 +71,56 @@ class FiniteModel:
     symbolic: list[SymbolConstraint] = field(default_factory=list)
 
     def solve(self, time_limit: float = 5.0) -> SolveResult:
-        """Check consistency; on failure name the constraints that conflict."""
+        """Check consistency; on failure name the constraints that conflict.
+
+        Constraints over one variable only (bounds from the flight envelope, ``P = uav0``)
+        are intersected directly; the variables that share a constraint go to CP-SAT together.
+        """
+        for sym in self.symbolic:
+            for var in (sym.var, sym.other):
+                if var is not None and not self.domains[var]:
+                    return SolveResult(
+                        SolveStatus.INCONSISTENT, {}, (sym.label, f"{var} has no possible value")
+                    )
+        single: dict[str, list[LinearConstraint | SymbolConstraint]] = {}
+        shared = FiniteModel(set(), {}, [], [])
+        for lin in self.linear:
+            names = {v for _, v in lin.terms}
+            if len(names) == 1:
+                single.setdefault(lin.terms[0][1], []).append(lin)
+            else:
+                shared.linear.append(lin)
+        for sym in self.symbolic:
+            if sym.other is None:
+                single.setdefault(sym.var, []).append(sym)
+            else:
+                shared.symbolic.append(sym)
+        witness: dict[str, float | str] = {}
+        for var, constraints in single.items():
+            result = _one_variable(var, constraints, self.domains.get(var))
+            if result.status is not SolveStatus.CONSISTENT:
+                return result
+            witness.update(result.witness)
+        used = {v for lin in shared.linear for _, v in lin.terms}
+        used |= {v for sym in shared.symbolic for v in (sym.var, sym.other) if v is not None}
+        if not used:
+            return SolveResult(SolveStatus.CONSISTENT, witness)
+        shared.numeric = used & self.numeric
+        shared.domains = {v: d for v, d in self.domains.items() if v in used}
+        shared.linear += [
+            c for v in used for c in single.get(v, ()) if isinstance(c, LinearConstraint)
+        ]
+        shared.symbolic += [
+            c for v in used for c in single.get(v, ()) if isinstance(c, SymbolConstraint)
+        ]
+        result = shared.solve_with_cp_sat(time_limit)
+        if result.status is SolveStatus.CONSISTENT:
+            witness.update(result.witness)
+            return SolveResult(SolveStatus.CONSISTENT, witness)
+        return result
+
+    def solve_with_cp_sat(self, time_limit: float = 5.0) -> SolveResult:
+        """The whole model through CP-SAT, each constraint under an assumption literal."""
         model = cp_model.CpModel()
         ints = {v: model.new_int_var(-LIMIT * SCALE, LIMIT * SCALE, v) for v in self.numeric}
         syms = {
@@ -86,13 +135,6 @@ class FiniteModel:
             labels.append(label)
             return lit
 
-        # A name variable without possible values (no agents declared yet) stays open as long
-        # as nothing constrains it.
-        for sym in self.symbolic:
-            for var in (sym.var, sym.other):
-                if var is not None and not self.domains[var]:
-                    reason = f"{var} has no possible value"
-                    return SolveResult(SolveStatus.INCONSISTENT, {}, (sym.label, reason))
         for lin in self.linear:
             expr = sum(round(c * SCALE) * ints[v] for c, v in lin.terms)
             rhs = round(lin.constant * SCALE * SCALE)
@@ -120,11 +162,85 @@ class FiniteModel:
             return SolveResult(SolveStatus.CONSISTENT, witness)
         if status == cp_model.INFEASIBLE:
             core = solver.sufficient_assumptions_for_infeasibility()
-            index = {lit.index: i for i, lit in enumerate(literals)}
+            by_literal = {lit.index: i for i, lit in enumerate(literals)}
             return SolveResult(
-                SolveStatus.INCONSISTENT, {}, tuple(sorted(labels[index[c]] for c in core))
+                SolveStatus.INCONSISTENT, {}, tuple(sorted(labels[by_literal[c]] for c in core))
             )
         return SolveResult(SolveStatus.UNKNOWN)
+
+
+def _one_variable(
+    var: str, constraints: list[LinearConstraint | SymbolConstraint], domain: tuple[str, ...] | None
+) -> SolveResult:
+    """Intersect the constraints over one variable: bounds for a number, a set for a name.
+
+    A conflict names the constraints that leave nothing (the tightest bound of each side, or
+    every constraint of a name).
+    """
+    if domain is not None:  # a name (agent, area, point, path); a variable without possible
+        allowed = set(domain)  # values stays open while nothing constrains it
+        for sym in constraints:
+            assert isinstance(sym, SymbolConstraint)
+            values = set(sym.values)
+            allowed = allowed & values if sym.op is Cmp.EQ else allowed - values
+        if not allowed:
+            return SolveResult(
+                SolveStatus.INCONSISTENT, {}, tuple(sorted(c.label for c in constraints))
+            )
+        return SolveResult(SolveStatus.CONSISTENT, {var: min(allowed, key=domain.index)})
+    step = 1.0 / SCALE
+    lo, hi = (-float(LIMIT), ""), (float(LIMIT), "")
+    excluded: list[tuple[float, str]] = []
+    for lin in constraints:
+        assert isinstance(lin, LinearConstraint)
+        coef = lin.terms[0][0]
+        if coef == 0:
+            if not _holds(0.0, lin.op, lin.constant):
+                return SolveResult(SolveStatus.INCONSISTENT, {}, (lin.label,))
+            continue
+        bound = lin.constant / coef
+        op = _FLIP[lin.op] if coef < 0 else lin.op
+        if op in (Cmp.LE, Cmp.LT, Cmp.EQ):
+            cand = bound - (step if op is Cmp.LT else 0.0)
+            hi = min(hi, (cand, lin.label))
+        if op in (Cmp.GE, Cmp.GT, Cmp.EQ):
+            cand = bound + (step if op is Cmp.GT else 0.0)
+            lo = max(lo, (cand, lin.label))
+        if op is Cmp.NE:
+            excluded.append((bound, lin.label))
+    if lo[0] > hi[0] + 1e-12:
+        return SolveResult(
+            SolveStatus.INCONSISTENT, {}, tuple(sorted(x for x in (lo[1], hi[1]) if x))
+        )
+    value = lo[0]
+    for bad, label in sorted(excluded):
+        if abs(value - bad) < 1e-12:
+            value += step
+            if value > hi[0] + 1e-12:
+                labels = {lo[1], hi[1], label} - {""}
+                return SolveResult(SolveStatus.INCONSISTENT, {}, tuple(sorted(labels)))
+    return SolveResult(SolveStatus.CONSISTENT, {var: value})
+
+
+_FLIP = {
+    Cmp.LE: Cmp.GE,
+    Cmp.LT: Cmp.GT,
+    Cmp.GE: Cmp.LE,
+    Cmp.GT: Cmp.LT,
+    Cmp.EQ: Cmp.EQ,
+    Cmp.NE: Cmp.NE,
+}
+
+
+def _holds(left: float, op: Cmp, right: float) -> bool:
+    return {
+        Cmp.LE: left <= right,
+        Cmp.LT: left < right,
+        Cmp.GE: left >= right,
+        Cmp.GT: left > right,
+        Cmp.EQ: left == right,
+        Cmp.NE: left != right,
+    }[op]
 
 
 def _post(

@@ -30,15 +30,17 @@ def generated_mission(groups: int) -> str:
             times = ", ".join(f"X{g}_{i}_{k}, Y{g}_{i}_{k}" for k in range(4))
             head = f"s{g}_{i}(P{g}_{i}, {a}, {b})" if i else f"s{g}_{i}({a}, {b})"
             lines.append(f"    {head} = with {times} sequence")
-            lines.append(f"      f{g}_{i}(X{g}_{i}_0, Y{g}_{i}_0) = fly-to(X{g}_{i}_0, Y{g}_{i}_0, V{g}_{i}, Square);")
-            lines.append(f"      h{g}_{i}(X{g}_{i}_1, Y{g}_{i}_1) = hover(X{g}_{i}_1, Y{g}_{i}_1, 5);")
-            lines.append(f"      c{g}_{i}(X{g}_{i}_2, Y{g}_{i}_2) = scan-area(X{g}_{i}_2, Y{g}_{i}_2, W{g}_{i}, Field);")
-            lines.append(f"      w{g}_{i}(X{g}_{i}_3, Y{g}_{i}_3) = wait(X{g}_{i}_3, Y{g}_{i}_3, 2)")
+            t = [f"X{g}_{i}_{k}, Y{g}_{i}_{k}" for k in range(4)]
+            lines += [
+                f"      f{g}_{i}({t[0]}) = fly-to({t[0]}, V{g}_{i}, Square);",
+                f"      h{g}_{i}({t[1]}) = hover({t[1]}, 5);",
+                f"      c{g}_{i}({t[2]}) = scan-area({t[2]}, W{g}_{i}, Field);",
+                f"      w{g}_{i}({t[3]}) = wait({t[3]}, 2)",
+            ]
             extra = f" and P{g}_{i} = uav1" if i else ""
-            lines.append(
-                f"    where {b} - {a} <= 600 and Y{g}_{i}_2 - X{g}_{i}_2 >= 20 and V{g}_{i} <= 10{extra}"
-                + (";" if i == 0 else "")
-            )
+            scan = f"Y{g}_{i}_2 - X{g}_{i}_2 >= 20"
+            end = ";" if i == 0 else ""
+            lines.append(f"    where {b} - {a} <= 600 and {scan} and V{g}_{i} <= 10{extra}{end}")
         sep = ";" if g < groups - 1 else ""
         lines.append(f"  where E{g} - S{g} <= 900{sep}")
     lines.append(f"where P = uav0 and TS = 0 and TE <= {groups * 900 + 100}")

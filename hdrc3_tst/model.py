@@ -123,7 +123,12 @@ class TaskTree:
         while stack:
             depth, node = stack.pop()
             out.append((depth, node))
-            stack.extend((depth + 1, self.node(c.node_id)) for c in reversed(node.children))
+            # Children held by another agent's manager are not in this tree.
+            stack.extend(
+                (depth + 1, self.nodes[c.node_id])
+                for c in reversed(node.children)
+                if c.node_id in self.nodes
+            )
         return out
 
     def add(self, node: Node) -> None:

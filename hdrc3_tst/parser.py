@@ -221,7 +221,9 @@ class _Builder(Transformer[Token, Any]):
         return PointDecl(name, where, None, 0.0, pos)
 
     def path_decl(self, children: list[Token]) -> PathDecl:
-        return PathDecl(str(children[0]), tuple(str(c) for c in children[1:]), self._pos(children[0]))
+        return PathDecl(
+            str(children[0]), tuple(str(c) for c in children[1:]), self._pos(children[0])
+        )
 
     def cons_def(self, children: list[Any]) -> ConsDef:
         return ConsDef(str(children[0]), children[1], self._pos(children[0]))
@@ -247,7 +249,8 @@ def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: st
     names = getattr(exc, "expected", None) or getattr(exc, "allowed", None) or ()
     expected = sorted({_display(name) for name in names})
     if isinstance(exc, lark.exceptions.UnexpectedCharacters):
-        found = repr(text[exc.pos_in_stream]) if exc.pos_in_stream < len(text) else "end of file"
+        pos = exc.pos_in_stream or 0
+        found = repr(text[pos]) if pos < len(text) else "end of file"
     elif isinstance(exc, lark.exceptions.UnexpectedToken):
         token: Token = exc.token
         found = "end of file" if token.type == "$END" else repr(str(token))

@@ -21,7 +21,7 @@ import shapely
 from hdrc3_tst.actions import ACTIONS, ActionSpec, ParamSpec, ParamType
 from hdrc3_tst.diagnostics import Diagnostic
 from hdrc3_tst.finite import LinearConstraint, SymbolConstraint
-from hdrc3_tst.model import NodeKind, NodeRef, TaskTree, UNASSIGNED
+from hdrc3_tst.model import UNASSIGNED, NodeKind, NodeRef, TaskTree
 from hdrc3_tst.model import Node as TreeNode
 from hdrc3_tst.network import ConstraintNetwork, FixResult, FixStatus
 from hdrc3_tst.syntax import (
@@ -96,7 +96,9 @@ class ResolvedTst:
             return FixResult(FixStatus.UNKNOWN_VARIABLE, f"no node {node_id!r}")
         if param not in node.params:
             known = ", ".join(node.params)
-            return FixResult(FixStatus.UNKNOWN_VARIABLE, f"{node_id} has no parameter {param!r} ({known})")
+            return FixResult(
+                FixStatus.UNKNOWN_VARIABLE, f"{node_id} has no parameter {param!r} ({known})"
+            )
         return self.network.fix(node.params[param], value, f"set {node_id}.{param} = {value}")
 
     def agent_of(self, node_id: str) -> str:
@@ -159,7 +161,9 @@ class _Resolver:
             elif isinstance(item, PointDecl):
                 self._point(item)
             elif isinstance(item, PathDecl):
-                missing = [p for p in item.points if self.places.get(p, _NONE).kind is not ParamType.POINT]
+                missing = [
+                    p for p in item.points if self.places.get(p, _NONE).kind is not ParamType.POINT
+                ]
                 if missing:
                     self.error("E104", f"path {item.name}: unknown point {missing[0]!r}", item.pos)
                 coords = tuple(self.places[p].coords[0] for p in item.points if p not in missing)
@@ -191,13 +195,17 @@ class _Resolver:
                 return
             if item.place not in self.world_places:
                 known = ", ".join(sorted(self.world_places))
-                self.error("E102", f"unknown place {item.place!r} (the world has: {known})", item.pos)
+                self.error(
+                    "E102", f"unknown place {item.place!r} (the world has: {known})", item.pos
+                )
                 return
             xyz = (*self.world_places[item.place], item.altitude)
         else:
             assert item.xyz is not None
             xyz = item.xyz
-            if self.world_extent is not None and not self.world_extent.covers(shapely.Point(xyz[:2])):
+            if self.world_extent is not None and not self.world_extent.covers(
+                shapely.Point(xyz[:2])
+            ):
                 self.error("E103", f"point {item.name} lies outside the world", item.pos)
         self._place(item.name, Place(ParamType.POINT, (xyz,)), item.pos)
 
@@ -212,7 +220,9 @@ class _Resolver:
         if have is None:
             self.net.declare(found, kind, self._domain(kind))
         elif have is not kind:
-            self.error("E106", f"{node}: {name} is a {have.value}, used here as a {kind.value}", pos)
+            self.error(
+                "E106", f"{node}: {name} is a {have.value}, used here as a {kind.value}", pos
+            )
         return found
 
     def _domain(self, kind: ParamType) -> tuple[str, ...]:
@@ -232,12 +242,16 @@ class _Resolver:
             assert isinstance(value, float)
             self.net.finite.linear.append(LinearConstraint(((1.0, var),), Cmp.EQ, value, label))
         else:
-            self.net.finite.symbolic.append(SymbolConstraint(var, Cmp.EQ, (str(value),), None, label))
+            self.net.finite.symbolic.append(
+                SymbolConstraint(var, Cmp.EQ, (str(value),), None, label)
+            )
         self.net.values[var] = value
         return var
 
     # --- nodes --------------------------------------------------------------------------
-    def node(self, tst: TstDef, scope: _Scope, parent: TreeNode | None, prefix: str = "") -> TreeNode | None:
+    def node(
+        self, tst: TstDef, scope: _Scope, parent: TreeNode | None, prefix: str = ""
+    ) -> TreeNode | None:
         assert self.tree is not None
         node_id = prefix + tst.name
         if node_id in self.tree.nodes:
@@ -257,11 +271,17 @@ class _Resolver:
             elif parent is not None:
                 params[key] = parent.params[key]
             else:
-                params[key] = self.var(own, f"{prefix}P_{tst.name}", kind, tst.pos, tst.name)
+                params[key] = self.var(own, f"{prefix}{key}_{tst.name}", kind, tst.pos, tst.name)
         for name in tst.with_vars:
             own.vars[name] = prefix + name
-        kind = _KINDS[type(tst.task)]
-        node = TreeNode(node_id, kind, params, None if parent is None else NodeRef(UNASSIGNED, parent.node_id), pos=tst.pos)
+        node_kind = _KINDS[type(tst.task)]
+        node = TreeNode(
+            node_id,
+            node_kind,
+            params,
+            None if parent is None else NodeRef(UNASSIGNED, parent.node_id),
+            pos=tst.pos,
+        )
         self.tree.add(node)
         self._temporal_structure(node, parent)
         task = tst.task
@@ -269,7 +289,9 @@ class _Resolver:
             self._action(node, task, own)
         elif isinstance(task, GoalTask):
             node.action = task.name
-            node.goal_args = tuple(a.id if isinstance(a, Name) else f"{a.value:g}" for a in task.args)
+            node.goal_args = tuple(
+                a.id if isinstance(a, Name) else f"{a.value:g}" for a in task.args
+            )
         elif isinstance(task, CallTask):
             self._call(node, task, own, prefix)
         else:
@@ -287,9 +309,12 @@ class _Resolver:
                 if child is None:
                     continue
                 node.children.append(NodeRef(UNASSIGNED, child.node_id))
-                if kind is NodeKind.SEQUENCE and previous is not None:
+                if node_kind is NodeKind.SEQUENCE and previous is not None:
                     self.net.stn.constrain(
-                        previous.params["TE"], child.params["TS"], 0.0, False,
+                        previous.params["TE"],
+                        child.params["TS"],
+                        0.0,
+                        False,
                         f"{tst.pos}: sequence {node_id}: {previous.node_id} before {child.node_id}",
                     )
                 previous = child
@@ -302,7 +327,9 @@ class _Resolver:
         at = f"{node.pos}: {node.node_id}"
         stn.constrain(ts, te, 0.0, False, f"{at}: TS <= TE")
         if parent is not None and parent.params["TS"] != ts:
-            stn.constrain(parent.params["TS"], ts, 0.0, False, f"{at} starts within {parent.node_id}")
+            stn.constrain(
+                parent.params["TS"], ts, 0.0, False, f"{at} starts within {parent.node_id}"
+            )
         if parent is not None and parent.params["TE"] != te:
             stn.constrain(te, parent.params["TE"], 0.0, False, f"{at} ends within {parent.node_id}")
 
@@ -310,7 +337,9 @@ class _Resolver:
         node.action = task.name
         spec = ACTIONS.get(task.name)
         if spec is None:
-            self.error("E110", f"unknown action type {task.name!r} (known: {', '.join(ACTIONS)})", task.pos)
+            self.error(
+                "E110", f"unknown action type {task.name!r} (known: {', '.join(ACTIONS)})", task.pos
+            )
             return
         args = list(task.args)
         if not spec.required + 2 <= len(args) <= len(spec.params) + 2:
@@ -324,7 +353,9 @@ class _Resolver:
                 self.net.stn.constrain(var, node.params[key], 0.0, False, label)
                 self.net.stn.constrain(node.params[key], var, 0.0, False, label)
         for i, pspec in enumerate(spec.params):
-            arg = args[i + 2] if i + 2 < len(args) else Number(float(pspec.default or 0.0), task.pos)
+            arg = (
+                args[i + 2] if i + 2 < len(args) else Number(float(pspec.default or 0.0), task.pos)
+            )
             var = self._arg(node, arg, pspec, scope)
             if var is None:
                 continue
@@ -335,14 +366,23 @@ class _Resolver:
         lin = self.net.finite.linear
         for op, bound in ((Cmp.GE, pspec.minimum), (Cmp.LE, pspec.maximum)):
             if bound is not None and pspec.type is not ParamType.DURATION:
-                lin.append(LinearConstraint(((1.0, var),), op, bound, f"{node.node_id}: {pspec.name} {op.value} {bound:g} {pspec.unit} (RMAX)"))
+                lin.append(
+                    LinearConstraint(
+                        ((1.0, var),),
+                        op,
+                        bound,
+                        f"{node.node_id}: {pspec.name} {op.value} {bound:g} {pspec.unit} (RMAX)",
+                    )
+                )
         if spec.duration == pspec.name and var in self.net.values:
             d = float(self.net.values[var])
             label = f"{node.pos}: {node.node_id}: TE - TS = {spec.duration} {d:g} s"
             self.net.stn.constrain(node.params["TE"], node.params["TS"], d, False, label)
             self.net.stn.constrain(node.params["TS"], node.params["TE"], -d, False, label)
 
-    def _arg(self, node: TreeNode, arg: Name | Number, pspec: ParamSpec, scope: _Scope) -> str | None:
+    def _arg(
+        self, node: TreeNode, arg: Name | Number, pspec: ParamSpec, scope: _Scope
+    ) -> str | None:
         label = f"{node.node_id}.{pspec.name}"
         if isinstance(arg, Number):
             if not pspec.type.numeric:
@@ -354,7 +394,9 @@ class _Resolver:
         if arg.id in self.places or arg.id in self.agents:
             have = self.places[arg.id].kind if arg.id in self.places else ParamType.AGENT
             if have is not pspec.type:
-                self.error("E106", f"{label} is a {pspec.type.value}; {arg.id} is a {have.value}", arg.pos)
+                self.error(
+                    "E106", f"{label} is a {pspec.type.value}; {arg.id} is a {have.value}", arg.pos
+                )
                 return None
             return self.constant(arg.id, pspec.type, label)
         if not pspec.type.numeric:
@@ -372,7 +414,11 @@ class _Resolver:
             self.error("E113", f"recursive call of {task.name!r}", task.pos)
             return
         if len(task.args) != len(target.params):
-            self.error("E111", f"{task.name} takes {len(target.params)} arguments, got {len(task.args)}", task.pos)
+            self.error(
+                "E111",
+                f"{task.name} takes {len(target.params)} arguments, got {len(task.args)}",
+                task.pos,
+            )
             return
         # The instance's head variables are the call's arguments (its interface).
         inner = _Scope({}, self.root_scope)
@@ -380,7 +426,9 @@ class _Resolver:
             if isinstance(actual, Name) and scope.find(actual.id) is not None:
                 inner.vars[formal] = scope.find(actual.id)  # type: ignore[assignment]
             else:
-                self.error("E114", f"call {task.name}: argument {formal} must be a variable", task.pos)
+                self.error(
+                    "E114", f"call {task.name}: argument {formal} must be a variable", task.pos
+                )
                 return
         child = self.node(target, inner, node, f"{node.node_id}/")
         if child is not None:
@@ -391,7 +439,9 @@ class _Resolver:
         for cons, scope, node_id in self.pending:
             self._constraint(cons, scope, node_id, ())
 
-    def _constraint(self, cons: Constraint, scope: _Scope, node_id: str, seen: tuple[str, ...]) -> None:
+    def _constraint(
+        self, cons: Constraint, scope: _Scope, node_id: str, seen: tuple[str, ...]
+    ) -> None:
         if isinstance(cons, ConsRef):
             ref = self.cons_defs.get(cons.name.id)
             if ref is None or cons.name.id in seen:
@@ -414,13 +464,28 @@ class _Resolver:
     def _lookup(self, name: Name, scope: _Scope) -> str | None:
         var = scope.find(name.id)
         if var is None:
-            self.error("E101", f"unknown variable {name.id!r} (not declared by this node or an ancestor)", name.pos)
+            self.error(
+                "E101",
+                f"unknown name {name.id!r}: not a variable of this node or an ancestor, nor a "
+                "declared agent, area, point or path",
+                name.pos,
+            )
         return var
 
-    def _symbolic(self, var: str, op: Cmp, values: tuple[str, ...], other: str | None, pos: SourcePos, text: str) -> None:
+    def _symbolic(
+        self,
+        var: str,
+        op: Cmp,
+        values: tuple[str, ...],
+        other: str | None,
+        pos: SourcePos,
+        text: str,
+    ) -> None:
         kind = self.net.types[var]
         for value in values:
-            if self.places.get(value, _NONE).kind is not kind and not (kind is ParamType.AGENT and value in self.agents):
+            if self.places.get(value, _NONE).kind is not kind and not (
+                kind is ParamType.AGENT and value in self.agents
+            ):
                 self.error("E102", f"unknown {kind.value} {value!r}", pos)
                 return
         self.net.finite.symbolic.append(SymbolConstraint(var, op, values, other, text))
@@ -448,7 +513,11 @@ class _Resolver:
         kinds = {self.net.types[v] for v in terms}
         if symbols or any(not k.numeric for k in kinds):
             if len(terms) + len(symbols) != 2 or cons.op not in (Cmp.EQ, Cmp.NE) or len(terms) < 1:
-                self.error("E121", "names (agents, areas, points) only take = and != with one other name", cons.pos)
+                self.error(
+                    "E121",
+                    "names (agents, areas, points) only take = and != with one other name",
+                    cons.pos,
+                )
                 return
             var, *rest = terms
             self._symbolic(var, cons.op, tuple(symbols), rest[0] if rest else None, cons.pos, text)
@@ -456,13 +525,31 @@ class _Resolver:
         if ParamType.TIME in kinds:
             self._temporal(terms, cons.op, const, cons.pos, text, kinds)
             return
-        self.net.finite.linear.append(LinearConstraint(tuple((c, v) for v, c in terms.items()), cons.op, const, text))
+        self.net.finite.linear.append(
+            LinearConstraint(tuple((c, v) for v, c in terms.items()), cons.op, const, text)
+        )
 
-    def _temporal(self, terms: dict[str, float], op: Cmp, const: float, pos: SourcePos, text: str, kinds: set[ParamType]) -> None:
+    def _temporal(
+        self,
+        terms: dict[str, float],
+        op: Cmp,
+        const: float,
+        pos: SourcePos,
+        text: str,
+        kinds: set[ParamType],
+    ) -> None:
         plus = [v for v, c in terms.items() if c == 1.0]
         minus = [v for v, c in terms.items() if c == -1.0]
-        if kinds != {ParamType.TIME} or len(plus) > 1 or len(minus) > 1 or len(plus) + len(minus) != len(terms) or op is Cmp.NE:
-            self.error("E122", "a temporal constraint must be a difference X - Y OP c (or X OP c)", pos)
+        if (
+            kinds != {ParamType.TIME}
+            or len(plus) > 1
+            or len(minus) > 1
+            or len(plus) + len(minus) != len(terms)
+            or op is Cmp.NE
+        ):
+            self.error(
+                "E122", "a temporal constraint must be a difference X - Y OP c (or X OP c)", pos
+            )
             return
         x = plus[0] if plus else "Z"
         y = minus[0] if minus else "Z"
@@ -512,19 +599,23 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
             diags.append(Diagnostic("E100", f"world {world_decl.name!r}: {exc}", world_decl.pos))
         else:
             extent = shapely.box(*world.bounds)
-            named = (*world.places, *world.pads, *world.depots)
-            places = {p.name: (p.east, p.north) for p in named}
+            places = {p.name: (p.east, p.north) for p in world.places}
+            places.update({p.name: (p.east, p.north) for p in world.pads})
+            places.update({d.name: (d.east, d.north) for d in world.depots})
     resolver = _Resolver(tree, extent, places, all_agents, diags)
     resolver.declarations()
     tsts = mission_candidates(tree)
     if not tsts:
-        resolver.error("E130", "the file defines no TST that is not called by another", SourcePos(file, 1, 1))
+        resolver.error(
+            "E130", "the file defines no TST that is not called by another", SourcePos(file, 1, 1)
+        )
     else:
         resolver.mission = tsts[0].name
         resolver.tree = TaskTree(tsts[0].name)
         resolver.node(tsts[0], resolver.root_scope, None)
         resolver.constraints()
-        resolver.net.stn.order(temporal_order(resolver.tree))
+        if resolver.tree.root in resolver.tree.nodes:
+            resolver.net.stn.order(temporal_order(resolver.tree))
         for unused in tsts[1:]:
             resolver.error(
                 "E131",
@@ -534,11 +625,19 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
             )
     if resolver.diags or resolver.tree is None:
         return ResolveResult(ResolveStatus.INVALID, None, tuple(resolver.diags))
-    resolved = ResolvedTst(resolver.tree, resolver.net, all_agents, resolver.places, world_decl.name if world_decl else None)
+    resolved = ResolvedTst(
+        resolver.tree,
+        resolver.net,
+        all_agents,
+        resolver.places,
+        world_decl.name if world_decl else None,
+    )
     conflict = resolver.net.check()
     if conflict:
         message = "inconsistent constraints: " + "; ".join(conflict)
-        return ResolveResult(ResolveStatus.INCONSISTENT, resolved, (Diagnostic("E200", message, tsts[0].pos),))
+        return ResolveResult(
+            ResolveStatus.INCONSISTENT, resolved, (Diagnostic("E200", message, tsts[0].pos),)
+        )
     for var, value in _fixed_agents(resolver.net).items():
         resolver.net.values.setdefault(var, value)
     return ResolveResult(ResolveStatus.OK, resolved)

@@ -17,7 +17,7 @@ every negative cycle is reachable from ``Z`` in both directions.
 from __future__ import annotations
 
 import math
-import heapq
+from collections import deque
 from dataclasses import dataclass
 
 Bound = tuple[float, int]
@@ -60,7 +60,7 @@ class Window:
         return f"{lo}{self.earliest:g}, {latest}{hi}"
 
 
-class Inconsistent(Exception):  # noqa: N818 (an outcome, not an error: caught inside the package)
+class Inconsistent(Exception):
     """A negative cycle: the edges on it name the conflicting constraints."""
 
     def __init__(self, cycle: tuple[Edge, ...]) -> None:
@@ -114,9 +114,11 @@ class SimpleTemporalNetwork:
 
     # --- propagation --------------------------------------------------------------------
     def order(self, names: list[str]) -> None:
-        """Sweep the variables in this order (the rest after them): for a TST, a node's start
-        before its children's variables and its end after them, so that earliest times flow
-        forward and latest times backward through one sweep each."""
+        """Sweep the variables in this order (the rest after them).
+
+        For a TST: a node's start before its children's variables and its end after them, so
+        that earliest times flow forward and latest times backward through one sweep each.
+        """
         ranked = dict.fromkeys([ORIGIN, *(n for n in names if n in self._out), *self._out])
         self._out = {name: self._out[name] for name in ranked}
 
@@ -132,7 +134,9 @@ class SimpleTemporalNetwork:
         self._from = self._sweeps(names, self._out, "target")
         self._to = self._sweeps(names, self._in, "source")
 
-    def _sweeps(self, names: list[str], graph: dict[str, dict[str, Edge]], end: str) -> dict[str, Bound]:
+    def _sweeps(
+        self, names: list[str], graph: dict[str, dict[str, Edge]], end: str
+    ) -> dict[str, Bound]:
         index = {name: i for i, name in enumerate(names)}
         n = len(names)
         value = [math.inf] * n
@@ -182,8 +186,8 @@ class SimpleTemporalNetwork:
                 walk.append(i)
                 i = index[getattr(pred[i], back)]
             if state[i] == 1:  # came back onto this walk: a cycle
-                cycle = walk[walk.index(i) :]
-                return tuple(sorted((pred[k] for k in cycle), key=lambda e: e.label))  # type: ignore[arg-type,return-value]
+                edges = [e for k in walk[walk.index(i) :] if (e := pred[k]) is not None]
+                return tuple(sorted(edges, key=lambda e: e.label))
             for k in walk:
                 state[k] = 2
         return ()
@@ -217,11 +221,11 @@ class SimpleTemporalNetwork:
             if _add(self._from[earlier], edge.bound) < self._from[later]:
                 undo[2][later] = self._from[later]
                 self._from[later] = _add(self._from[earlier], edge.bound)
-                self._relax(self._from, self._out, "target", [later], undo[2])
+                self._relax(self._from, self._out, "target", edge, undo[2])
             if _add(self._to[later], edge.bound) < self._to[earlier]:
                 undo[3][earlier] = self._to[earlier]
                 self._to[earlier] = _add(self._to[later], edge.bound)
-                self._relax(self._to, self._in, "source", [earlier], undo[3])
+                self._relax(self._to, self._in, "source", edge, undo[3])
         except Inconsistent:
             self._revert(undo)
             raise
@@ -243,43 +247,45 @@ class SimpleTemporalNetwork:
         dist: dict[str, Bound],
         graph: dict[str, dict[str, Edge]],
         end: str,
-        start: list[str],
+        edge: Edge,
         undo: dict[str, Bound],
     ) -> None:
-        """Label-correcting shortest paths from ``start``, smallest label first (a heap, as
-        Dijkstra, re-inserting a node whose label a negative edge improves later). A node
-        improved more often than there are nodes lies on or behind a negative cycle."""
-        limit = len(dist)
-        count: dict[str, int] = {}
-        pred: dict[str, Edge] = {}
-        heap = [(dist[node], node) for node in start]
-        heapq.heapify(heap)
-        while heap:
-            base, node = heapq.heappop(heap)
-            if base != dist[node]:
-                continue  # a stale entry: the node was improved after it was pushed
-            for edge in graph[node].values():
-                nxt = getattr(edge, end)
-                cand = (base[0] + edge.bound[0], min(base[1], edge.bound[1]))
+        """Propagate what the new ``edge`` improved, over the changed region only (FIFO).
+
+        The graph was consistent before, so a new negative cycle runs through ``edge``: it
+        exists exactly when the propagation comes back and improves the edge's near end. That
+        also catches zero-weight cycles with a strict edge, which never stop improving by an
+        amount a counter would notice.
+        """
+        back = "source" if end == "target" else "target"
+        first, stop = getattr(edge, end), getattr(edge, back)
+        pred: dict[str, Edge] = {first: edge}
+        queue = deque([first])
+        queued = {first}
+        while queue:
+            node = queue.popleft()
+            queued.discard(node)
+            base = dist[node]
+            for out in graph[node].values():
+                nxt = getattr(out, end)
+                cand = (base[0] + out.bound[0], min(base[1], out.bound[1]))
                 if cand < dist[nxt]:
                     undo.setdefault(nxt, dist[nxt])
                     dist[nxt] = cand
-                    pred[nxt] = edge
-                    count[nxt] = count.get(nxt, 0) + 1
-                    if count[nxt] > limit:
-                        raise Inconsistent(self._cycle(pred, nxt, end))
-                    heapq.heappush(heap, (cand, nxt))
+                    pred[nxt] = out
+                    if nxt == stop:
+                        raise Inconsistent(self._back_to(pred, stop, first, back))
+                    if nxt not in queued:
+                        queued.add(nxt)
+                        queue.append(nxt)
 
     @staticmethod
-    def _cycle(pred: dict[str, Edge], node: str, end: str) -> tuple[Edge, ...]:
-        back = "source" if end == "target" else "target"
-        for _ in range(len(pred) + 1):  # walk back into the cycle
+    def _back_to(pred: dict[str, Edge], stop: str, first: str, back: str) -> tuple[Edge, ...]:
+        cycle = [pred[stop]]
+        node = getattr(pred[stop], back)
+        while node != stop:
+            cycle.append(pred[node])
             node = getattr(pred[node], back)
-        cycle = [pred[node]]
-        cur = getattr(pred[node], back)
-        while cur != node:
-            cycle.append(pred[cur])
-            cur = getattr(pred[cur], back)
         return tuple(sorted(cycle, key=lambda e: e.label))
 
     # --- queries ------------------------------------------------------------------------

@@ -24,10 +24,6 @@ class SourcePos:
 NOWHERE = SourcePos()
 
 
-def _pos() -> SourcePos:
-    return field(default=NOWHERE, compare=False, repr=False)  # type: ignore[no-any-return]
-
-
 # --- arguments and constraints ------------------------------------------------------------
 
 
@@ -36,7 +32,7 @@ class Name:
     """A variable or a declared value (area, point, agent), told apart by the resolver."""
 
     id: str
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -44,7 +40,7 @@ class Number:
     """A numeric literal (SI units of the parameter it is given to)."""
 
     value: float
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 Arg = Name | Number
@@ -83,7 +79,7 @@ class Comparison:
     left: Expr
     op: Cmp
     right: Expr
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -92,7 +88,7 @@ class Membership:
 
     var: Name
     values: tuple[Arg, ...]
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -113,7 +109,7 @@ class Condition:
     args: tuple[Arg, ...]
     negated: bool = False
     time: str | None = None
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 # --- tasks ----------------------------------------------------------------------------------
@@ -125,7 +121,7 @@ class ActionTask:
 
     name: str
     args: tuple[Arg, ...]
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -134,7 +130,7 @@ class GoalTask:
 
     name: str
     args: tuple[Arg, ...]
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -143,7 +139,7 @@ class CallTask:
 
     name: str
     args: tuple[Arg, ...]
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -200,7 +196,7 @@ class TstDef:
     with_vars: tuple[str, ...]
     task: Task
     where: tuple[Constraint, ...] = ()
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
     def children(self) -> tuple[TstDef, ...]:
         """The child TSTs written inside this one, in order."""
@@ -222,7 +218,7 @@ class WorldDecl:
     """``world NAME``: places are resolved against this world (``sim/worlds``)."""
 
     name: str
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -230,7 +226,7 @@ class AgentsDecl:
     """``agents a, b``: the agents nodes may be assigned to."""
 
     names: tuple[str, ...]
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -239,7 +235,7 @@ class AreaDecl:
 
     name: str
     vertices: tuple[tuple[float, float], ...]
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -250,7 +246,7 @@ class PointDecl:
     xyz: tuple[float, float, float] | None = None
     place: str | None = None
     altitude: float = 0.0
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -259,7 +255,7 @@ class PathDecl:
 
     name: str
     points: tuple[str, ...]
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -268,7 +264,7 @@ class ConsDef:
 
     name: str
     constraints: tuple[Constraint, ...]
-    pos: SourcePos = _pos()
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 Item = WorldDecl | AgentsDecl | AreaDecl | PointDecl | PathDecl | ConsDef | TstDef

@@ -18,6 +18,7 @@ LAYERS: dict[str, int] = {
     "hdrc3_interfaces": 0,  # generated messages, importable by every node adapter
     "hdrc3_hcsm": 1,
     "hdrc3_dyknow": 1,
+    "hdrc3_tst": 1,  # the pure TST core needs only hdrc3_base (and world files); see its README
     "sim": 1,
     "hdrc3_control": 2,
     "hdrc3_platform_server": 3,

@@ -32,7 +32,11 @@ def test_example_6_2_parses_as_written_in_the_chapter() -> None:
     result = parse_file(EXAMPLES / "example_6_2.tst")
     assert result.status is ParseStatus.OK and result.tree is not None
     tau0 = result.tree.tsts()[0]
-    assert (tau0.name, tau0.params, tau0.with_vars) == ("tau0", ("TS0", "TE0"), ("TS1", "TE1", "TS4", "TE4"))
+    assert (tau0.name, tau0.params, tau0.with_vars) == (
+        "tau0",
+        ("TS0", "TE0"),
+        ("TS1", "TE1", "TS4", "TE4"),
+    )
     assert isinstance(tau0.task, SequenceTask)
     tau1, tau4 = tau0.task.children
     assert isinstance(tau1.task, ConcurrentTask)
@@ -54,7 +58,8 @@ def test_example_6_2_parses_as_written_in_the_chapter() -> None:
 def test_every_construct() -> None:
     text = """
     m(P, TS, TE) = with A, B sequence
-      c(TS, TE) = if [TS] not low(P, 3) then x(TS, TE) = wait(TS, TE, 1) else y(TS, TE) = goal g(a, -2)
+      c(TS, TE) = if [TS] not low(P, 3) then x(TS, TE) = wait(TS, TE, 1)
+      else y(TS, TE) = goal g(a, -2)
       where true;
       w(TS, TE) = while ok() z(TS, TE) = call lib(TS, TE) where TE - TS <= 2 * A + -1;
       f(TS, TE) = foreach V, W where [TS] seen(V, W) do conc v(TS, TE) = hover(TS, TE, 1.5e1)
@@ -82,7 +87,7 @@ def test_every_construct() -> None:
     assert goal.args == (Name("a"), Number(-2.0))  # type: ignore[union-attr]
 
 
-def Expr_(*terms: Term):  # noqa: N802
+def Expr_(*terms: Term):
     from hdrc3_tst.syntax import Expr
 
     return Expr(terms)
@@ -95,7 +100,7 @@ def Expr_(*terms: Term):  # noqa: N802
         ("t(TS, TE) = fly-to(TS, $)", "1:24", "unexpected '$'"),
         ("t(TS TE) = wait(TS, TE, 1)", "1:6", "unexpected 'TE'; expected one of: ')'"),
         (
-            "t(TS, TE) = sequence\n a(TS, TE) = sequence b(TS, TE) = wait(TS, TE, 1);\n c(TS, TE) = wait(TS, TE, 1)",
+            "t(TS, TE) = sequence\n a(TS, TE) = sequence b(TS, TE) = wait(TS, TE, 1);\n c(TS, TE) = wait(TS, TE, 1)",  # noqa: E501
             "3:29",
             "expected one of: 'where' (a composite child ends with a where clause",
         ),
@@ -136,7 +141,9 @@ def test_the_grammar_has_no_lalr_conflicts(caplog: pytest.LogCaptureFixture) -> 
 
 
 def test_tstdef_children_in_order() -> None:
-    result = parse_text("t(TS, TE) = concurrent a(TS, TE) = wait(TS, TE, 1); b(TS, TE) = land(TS, TE)")
+    result = parse_text(
+        "t(TS, TE) = concurrent a(TS, TE) = wait(TS, TE, 1); b(TS, TE) = land(TS, TE)"
+    )
     assert result.tree is not None
     t = result.tree.tsts()[0]
     assert [c.name for c in t.children()] == ["a", "b"]
