@@ -474,6 +474,13 @@ class FlightCommandLayer:
             self._end_current(EventKind.FAILED, RESTARTED_PFC)
             self._stop_pfc()
 
+    def on_world_reset(self, reason: str, now: float) -> None:
+        """The simulated world started over (sim/WORLD_SIM.md): the running command ends FAILED."""
+        if self.current is not None:
+            self._end_current(EventKind.FAILED, f"simulation reset: {reason}")
+            self._stop_pfc()
+            self.kernel.step(now)
+
     def resync(self, sample: PfcSample) -> None:
         """Compare the PFC's report (mode, command id) with the command this server runs.
 

@@ -34,6 +34,7 @@ from hdrc3_interfaces.msg import (
     PfcState,
     PlatformEvent,
     PowerStatus,
+    SimRun,
 )
 from hdrc3_interfaces.srv import (
     PpclControl,
@@ -61,6 +62,13 @@ the terminal events of the commands accepted before the restart before its clien
 its new publisher: with a volatile publisher they would be lost (readers with this QoS get them)."""
 STATE_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 """Deep enough that a 50 Hz state stream at 10x real time survives a 200 ms stall of a reader."""
+RUN_QOS = QoSProfile(
+    reliability=ReliabilityPolicy.RELIABLE,
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+)
+"""``/world_sim/run`` is latched: a server that starts later learns the world's run id at once."""
 TICK_PERIOD_S = 0.02
 """Wall-clock period of the DRC loop when no PFC data drives it (replies, timeouts)."""
 
@@ -106,6 +114,8 @@ class PlatformServerNode(Node):
         self.create_subscription(PfcState, "pfc/state", self._on_pfc, STATE_QOS)
         self.create_subscription(CameraState, "ppc/camera_state", self._on_camera, STATE_QOS)
         self.create_subscription(PowerStatus, "sensors/power", self._on_power, STATE_QOS)
+        self._run_id: str | None = None
+        self.create_subscription(SimRun, "/world_sim/run", self._on_world_run, RUN_QOS)
         for spec in FCL.values():
             name = f"fcl/{spec.command.value}"
             self._service(spec.service_type(), name, self._fcl_handler(spec))
@@ -186,6 +196,13 @@ class PlatformServerNode(Node):
 
     def _on_power(self, msg: Any) -> None:
         self.core.status.power_status = int(msg.status)
+
+    def _on_world_run(self, msg: Any) -> None:
+        # RESET with a world this server has not seen: commands on the old world fail. The first
+        # message a server gets tells it only which world it joins (sim/WORLD_SIM.md).
+        known, self._run_id = self._run_id, str(msg.run_id)
+        if msg.kind == SimRun.RESET and known is not None and known != self._run_id:
+            self.core.on_world_reset(str(msg.reason) or "the world started over", self._now())
 
     def _tick(self) -> None:
         self.core.tick(self._now())

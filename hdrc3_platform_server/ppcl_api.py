@@ -253,6 +253,13 @@ class PayloadCommandLayer:
     def after_step(self, now: float) -> None:
         """Nothing to do: PPCL outcomes come with the events."""
 
+    def on_world_reset(self, reason: str, now: float) -> None:
+        """The simulated world started over: every pending command ends FAILED."""
+        for cid, (command, _) in sorted(self.pending.items()):
+            self._emit(cid, command, EventKind.FAILED, f"simulation reset: {reason}")
+        self.pending.clear()
+        self.activity = PtuActivity.IDLE
+
     def on_restart(self, computer: str, now: float) -> None:
         """Nothing yet (README, "Restarts").
 

@@ -74,6 +74,11 @@ class PlatformServerCore:
             sample, self.frame, sample.received, ppc_time, self.status.power_status
         )
 
+    def on_world_reset(self, reason: str, now: float) -> None:
+        """world_sim started the world over (``/world_sim/run`` RESET): running commands fail."""
+        self.fcl.on_world_reset(reason, now)
+        self.ppcl.on_world_reset(reason, now)
+
     def on_camera(self, sample: CameraSample) -> None:
         """Take a PPC camera report."""
         self.status.update_camera(sample)

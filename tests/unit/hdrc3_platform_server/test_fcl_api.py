@@ -253,3 +253,15 @@ def test_a_pfc_failsafe_is_its_own_platform_event(state: str) -> None:
     assert [(e.command_id, e.command, e.kind) for e in announced] == [
         (0, "pfc_failsafe", EventKind.INFO)
     ]
+
+
+def test_a_world_reset_fails_the_running_commands_once() -> None:
+    rig = rig_in("busy")
+    running = rig.core.fcl.current
+    assert running is not None
+    rig.core.on_world_reset("world_sim restarted without a usable checkpoint", rig.t)
+    rig.run(0.5)
+    assert [
+        (e.kind, e.reason) for e in rig.log.of(running.command_id) if e.kind is not EventKind.INFO
+    ] == [(EventKind.FAILED, "simulation reset: world_sim restarted without a usable checkpoint")]
+    assert rig.core.fcl.current is None and rig.core.kernel.flight() is FlightState.IDLE

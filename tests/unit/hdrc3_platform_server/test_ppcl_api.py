@@ -252,3 +252,15 @@ def test_scan_area_sequence_of_section_6_2_3() -> None:
     assert ppcl.control(Resource.PTU, False, "scan").code is PpclCode.OK
     assert ppcl.control(Resource.CAMERA, False, "scan").code is PpclCode.OK
     assert not ppcl.owners
+
+
+def test_a_world_reset_fails_the_pending_commands_once() -> None:
+    r = rig(Resource.PTU)
+    turn = r.core.ppcl.submit(P.TURN_TO, VALID[P.TURN_TO], r.t)
+    r.core.on_world_reset("no usable checkpoint", r.t)
+    r.run(0.5)
+    final = [e for e in r.log.of(turn.command_id) if e.kind is not EventKind.INFO]
+    assert [(e.kind, e.reason) for e in final] == [
+        (EventKind.FAILED, "simulation reset: no usable checkpoint")
+    ]
+    assert r.core.ppcl.activity is PtuActivity.IDLE and r.core.ppcl.pending == {}
