@@ -106,10 +106,10 @@ def test_logistics_plan_validates(planner_client: tuple[Any, Any]) -> None:
         ({"domain": "domain d", "problem": "problem p for d", "timeout": float("nan")}, "timeout"),
         (
             {
-                "domain": "(define (domain d) (:requirements :fluents))",
+                "domain": "(define (domain d) (:requirements :timed-initial-literals))",
                 "problem": "(define (problem p) (:domain d))",
             },
-            ":fluents",
+            ":timed-initial-literals",
         ),
     ],
 )
