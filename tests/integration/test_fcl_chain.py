@@ -40,7 +40,7 @@ class Chain:
     """The test's side of the chain: FCL client, Data Interface and ground-truth readers."""
 
     def __init__(self, process: Any) -> None:
-        from hdrc3_interfaces.msg import HelicopterState, TruthState
+        from hdrc3_interfaces.msg import HelicopterState, PfcState, TruthState
         from hdrc3_platform_server.client import PlatformClient
         from hdrc3_platform_server.geo_frame import frame_from_world
         from hdrc3_platform_server.node import STATE_QOS
@@ -51,15 +51,29 @@ class Chain:
         self.node: Any = self.client.node  # rclpy is untyped
         self.states: list[Any] = []
         self.truth: list[Any] = []
+        self.pfc: list[Any] = []
         self.node.create_subscription(
             HelicopterState, f"/{AGENT}/helicopter_state", self.states.append, STATE_QOS
         )
+        self.node.create_subscription(PfcState, f"/{AGENT}/pfc/state", self.pfc.append, STATE_QOS)
         self.node.create_subscription(
             TruthState, f"/{AGENT}/ground_truth/state", self.truth.append, 50
         )
 
     def wait(self, done: Callable[[], bool], timeout: float, what: str) -> None:
         assert self.process.spin_until(done, timeout), f"not within {timeout} s: {what}"
+
+    def ready_for_takeoff(self) -> None:
+        """Wait until the PFC reports autonomous ground idle (its Mode Switch left Start)."""
+        self.wait(
+            lambda: (
+                bool(self.pfc)
+                and self.pfc[-1].auto_flag
+                and self.pfc[-1].mode == self.pfc[-1].MODE_GROUND_IDLE
+            ),
+            60.0,
+            "the PFC in autonomous ground idle",
+        )
 
     def fcl(self, srv: Any, name: str, **fields: Any) -> Any:
         """Call ``fcl/<name>``; the immediate FclReturn."""
@@ -162,6 +176,7 @@ def test_fcl_flight_through_the_whole_chain(chain: Chain) -> None:
     code, reason = set_rc(c.process, c.node, AGENT, Switch.AUTONOMOUS, Switch.ON, CALL_TIMEOUT_S)
     assert code == SimResult.OK, reason
     c.wait(lambda: c.states[-1].auto_flag, 60.0, "auto_flag in the Data Interface")
+    c.ready_for_takeoff()
 
     # take-off: accepted at once, finished airborne
     takeoff = c.fcl(FclTakeoff, "takeoff")
@@ -326,6 +341,7 @@ def airborne(c: Chain) -> tuple[float, float, float]:
     code, reason = set_rc(c.process, c.node, AGENT, Switch.AUTONOMOUS, Switch.ON, CALL_TIMEOUT_S)
     assert code == SimResult.OK, reason
     c.wait(lambda: c.states[-1].auto_flag, 60.0, "auto_flag in the Data Interface")
+    c.ready_for_takeoff()
     takeoff = c.fcl(FclTakeoff, "takeoff")
     assert takeoff.code == FclReturn.FCL_OK, takeoff.reason
     done = c.final(takeoff.command_id, 120.0)
