@@ -417,7 +417,7 @@ def test_imu_freeze_fails_the_flyto_and_lands_as_announced(chain: Chain) -> None
 
 
 @pytest.mark.slow
-def test_gps_loss_short_is_flown_through_longer_holds_and_hovers_when_back(chain: Chain) -> None:
+def test_gps_loss_holds_and_hovers_when_back(chain: Chain) -> None:
     from hdrc3_interfaces.msg import HelicopterState
     from hdrc3_interfaces.srv import SimInjectFault
     from hdrc3_platform_server.codes import EventKind
@@ -426,18 +426,11 @@ def test_gps_loss_short_is_flown_through_longer_holds_and_hovers_when_back(chain
     drop, restore = SimInjectFault.Request.MODE_DROP, SimInjectFault.Request.MODE_NONE
     pad = airborne(c)
 
-    # 2 s without GPS (tolerance 3 s): the fly-to goes on and finishes, no failsafe
-    target = (pad[0] + 60.0, pad[1], ALTITUDE)
-    cid = flyto(c, target)
-    set_fault(c, "gps", drop)
-    c.state_at(stamp_s(c.states[-1].pfc_time) + 2.0)
-    set_fault(c, "gps", restore)
-    done = c.final(cid, 120.0)
-    assert done.kind is EventKind.FINISHED, done
-    assert not failsafe_events(c)
-
+    # A dropout shorter than the 3 s tolerance is ridden through: that is tested on the kernel
+    # harness in sim time (test_kernel.py), since here the outage's length in sim time would be
+    # the wall-clock latency of two service calls at --speed max (once over 3 s at load 12).
     # GPS lost for longer: the fly-to fails with the failsafe's reason, brake + hover (HOLD)
-    cid = flyto(c, (target[0] - 60.0, target[1], ALTITUDE))
+    cid = flyto(c, (pad[0] + 60.0, pad[1], ALTITUDE))
     set_fault(c, "gps", drop)
     failed = c.final(cid, 60.0)
     assert failed.kind is EventKind.FAILED, failed
