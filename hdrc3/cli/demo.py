@@ -24,7 +24,7 @@ from hdrc3.safety_pilot import Switch, set_rc
 from hdrc3.survey import SurveyArea, lawn_mower
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import RosProcess
-from hdrc3_interfaces.msg import SimResult
+from hdrc3_interfaces.msg import PfcState, SimResult
 from hdrc3_platform_server.client import PlatformClient
 from hdrc3_platform_server.geo_frame import frame_from_world
 
@@ -98,6 +98,16 @@ def _safety_pilot_engages_autonomy(client: PlatformClient) -> None:
     if code != SimResult.OK:
         raise MissionError(f"the simulated RC did not accept engine on + autonomous: {reason}")
     print("  safety pilot: engine on, RC switch to autonomous")
+    # Take-off is taken once the PFC reports autonomous ground idle: until then the DRC refuses
+    # it ("RC switch manual") or the PFC rejects it (its Mode Switch is still leaving Start).
+    ready: list[bool] = []
+
+    def on_pfc(msg: PfcState) -> None:
+        ready.append(bool(msg.auto_flag) and msg.mode == PfcState.MODE_GROUND_IDLE)
+
+    client.node.create_subscription(PfcState, f"/{AGENT}/pfc/state", on_pfc, 10)
+    if not client.process.spin_until(lambda: bool(ready) and ready[-1], 60.0):
+        raise MissionError("the control kernel did not report autonomous ground idle in 60 s")
 
 
 def run(args: argparse.Namespace) -> int:
