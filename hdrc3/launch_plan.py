@@ -81,6 +81,13 @@ CATALOG: tuple[NodeKind, ...] = (
         world_params=True,
     ),
     NodeKind(
+        "tst_manager",
+        "hdrc3-tst-manager",
+        Scope.AGENT,
+        "TST factory and executors: missions as task specification trees (chapter 6.3)",
+        world_params=True,
+    ),
+    NodeKind(
         "dyknow",
         "hdrc3-dyknow",
         Scope.AGENT,

@@ -12,7 +12,7 @@ from rclpy.node import Node
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import RosProcess
-from hdrc3_interfaces.msg import SimResult
+from hdrc3_interfaces.msg import PfcState, SimResult
 from hdrc3_interfaces.srv import SimSetRc
 
 SERVICE_WAIT_S = 5.0
@@ -62,3 +62,31 @@ def set_rc(
         raise ConfigError(f"/{agent}/rc/set did not answer within {timeout_s} s")
     result: SimResult = future.result().result
     return int(result.code), str(result.reason)
+
+
+def hand_over(process: RosProcess, node: Node, agent: str, timeout_s: float = 60.0) -> None:
+    """Act as the safety pilot: engine on, switch to autonomous, until the PFC takes over (§6.1.1).
+
+    Returns once the control kernel reports autonomous ground idle: until then the DRC refuses a
+    take-off ("RC switch manual") or the PFC rejects it (its Mode Switch is still leaving Start).
+
+    Raises:
+        ConfigError: world_sim refused the switches, or the PFC did not take over in time.
+    """
+    code, reason = set_rc(process, node, agent, Switch.AUTONOMOUS, Switch.ON, timeout_s=10.0)
+    if code != SimResult.OK:
+        raise ConfigError(f"the simulated RC of {agent} refused engine on + autonomous: {reason}")
+    ready: list[bool] = []
+
+    def on_pfc(msg: PfcState) -> None:
+        ready.append(bool(msg.auto_flag) and msg.mode == PfcState.MODE_GROUND_IDLE)
+
+    subscription = node.create_subscription(PfcState, f"/{agent}/pfc/state", on_pfc, 10)
+    try:
+        if not process.spin_until(lambda: bool(ready) and ready[-1], timeout_s):
+            raise ConfigError(
+                f"the control kernel of {agent} did not report autonomous ground idle "
+                f"in {timeout_s:g} s"
+            )
+    finally:
+        node.destroy_subscription(subscription)

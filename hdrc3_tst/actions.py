@@ -47,6 +47,8 @@ class ParamSpec:
     minimum: float | None = None
     maximum: float | None = None
     """Bounds the platform imposes (the RMAX flight envelope), added as constraints."""
+    preferred: float | None = None
+    """The value an executor binds an open parameter to when the network allows it."""
 
 
 @dataclass(frozen=True)
@@ -71,7 +73,7 @@ class ActionSpec:
         return sum(p.default is None for p in self.params)
 
 
-_SPEED = ParamSpec("speed", ParamType.SPEED, "m/s", None, 0.5, 15.0)
+_SPEED = ParamSpec("speed", ParamType.SPEED, "m/s", None, 0.5, 15.0, preferred=5.0)
 _ALT = ParamSpec("altitude", ParamType.LENGTH, "m above ground", 30.0, 5.0, 150.0)
 _DURATION = ParamSpec("duration", ParamType.DURATION, "s", None, 0.0, None)
 

@@ -11,24 +11,19 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
-import signal
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 from hdrc3.demo_mission import MissionError, SurveyMission
 from hdrc3.flight_report import build_report, plot_report
-from hdrc3.safety_pilot import Switch, set_rc
+from hdrc3.launched_system import LaunchedSystem
+from hdrc3.safety_pilot import hand_over
 from hdrc3.survey import SurveyArea, lawn_mower
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import RosProcess
-from hdrc3_interfaces.msg import PfcState, SimResult
 from hdrc3_platform_server.client import PlatformClient
 from hdrc3_platform_server.geo_frame import frame_from_world
 
-READY_TIMEOUT_S = 120.0
 AGENT = "uav0"
 WORLD = "revinge"
 # Open fields west of the town, clear of buildings; legs run south, turns to the east.
@@ -68,46 +63,8 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.set_defaults(handler=run)
 
 
-def _wait_ready(launch: subprocess.Popen[str]) -> None:
-    assert launch.stdout is not None
-    deadline = time.monotonic() + READY_TIMEOUT_S
-    for line in launch.stdout:
-        print(f"  | {line.rstrip()}", flush=True)
-        if "READY" in line:
-            return
-        if time.monotonic() > deadline:
-            break
-    launch.kill()
-    raise ConfigError("the system did not come up; see the launcher output above")
-
-
-def _stop(launch: subprocess.Popen[str]) -> int:
-    if launch.poll() is None:
-        launch.send_signal(signal.SIGINT)
-    remaining, _ = launch.communicate(timeout=30)
-    for line in remaining.splitlines():
-        print(f"  | {line}")
-    return launch.returncode
-
-
-def _safety_pilot_engages_autonomy(client: PlatformClient) -> None:
-    """Act as the safety pilot on the simulated RC: engine on, switch to autonomous (§6.1.1)."""
-    code, reason = set_rc(
-        client.process, client.node, AGENT, Switch.AUTONOMOUS, Switch.ON, timeout_s=10.0
-    )
-    if code != SimResult.OK:
-        raise MissionError(f"the simulated RC did not accept engine on + autonomous: {reason}")
-    print("  safety pilot: engine on, RC switch to autonomous")
-    # Take-off is taken once the PFC reports autonomous ground idle: until then the DRC refuses
-    # it ("RC switch manual") or the PFC rejects it (its Mode Switch is still leaving Start).
-    ready: list[bool] = []
-
-    def on_pfc(msg: PfcState) -> None:
-        ready.append(bool(msg.auto_flag) and msg.mode == PfcState.MODE_GROUND_IDLE)
-
-    client.node.create_subscription(PfcState, f"/{AGENT}/pfc/state", on_pfc, 10)
-    if not client.process.spin_until(lambda: bool(ready) and ready[-1], 60.0):
-        raise MissionError("the control kernel did not report autonomous ground idle in 60 s")
+def _echo(line: str) -> None:
+    print(line, flush=True)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -118,32 +75,19 @@ def run(args: argparse.Namespace) -> int:
     plot = out / "flight.png"
     frame = frame_from_world(WORLD)
     survey = lawn_mower(SHORT_SURVEY if args.short else SURVEY, leg_speed=8.0, turn_speed=3.0)
-    os.environ["ROS_DOMAIN_ID"] = str(args.domain_id)
-    hdrc3 = str(Path(sys.executable).parent / "hdrc3")
-    command = [hdrc3, "launch", "--agents", AGENT, "--world", WORLD, "--speed", args.speed]
-    command += ["--record", str(recording), "--domain-id", str(args.domain_id)]
-    print(f"$ {' '.join(command)}", flush=True)
-    launch = subprocess.Popen(
-        command,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        env=dict(os.environ, PYTHONUNBUFFERED="1"),
-    )
     failure = ""
-    try:
-        _wait_ready(launch)
-        with RosProcess() as process:
-            client = PlatformClient(process, AGENT)
-            mission = SurveyMission(client, frame, survey, log=lambda s: print(f"  {s}"))
-            try:
-                _safety_pilot_engages_autonomy(client)
-                mission.run()
-            except MissionError as exc:
-                failure = str(exc)
-            client.node.destroy_node()
-    finally:
-        code = _stop(launch)
+    system = LaunchedSystem([AGENT], WORLD, args.speed, args.domain_id, record=recording, log=_echo)
+    with system, RosProcess() as process:
+        client = PlatformClient(process, AGENT)
+        mission = SurveyMission(client, frame, survey, log=lambda s: print(f"  {s}"))
+        try:
+            hand_over(process, client.node, AGENT)
+            print("  safety pilot: engine on, RC switch to autonomous", flush=True)
+            mission.run()
+        except (MissionError, ConfigError) as exc:
+            failure = str(exc)
+        client.node.destroy_node()
+    code = system.returncode
     report = build_report(recording, AGENT, (frame.latitude, frame.longitude, frame.altitude))
     path_events = [e.time for e in report.events if e.command == "fcl_traj3d"]
     if path_events:

@@ -2,23 +2,47 @@
 
 ``check FILE`` parses the file, resolves it against its world and agents and propagates its
 constraint network, then prints the tree with each node's earliest/latest start and end.
-Exit codes: 0 ok, 4 invalid input (syntax, unknown names, inconsistent constraints).
+``run FILE`` creates the mission on the TST manager of every agent it names, executes its root
+and prints one line per node state change until the root ends; with ``--launch`` it starts the
+system first (recorded to ``--out``) and hands every aircraft to autonomous mode the way
+``hdrc3 demo`` does. ``abort`` and ``set`` act on a running mission on every agent given.
+
+Exit codes: 0 ok (run: the mission succeeded), 1 the mission failed or was aborted (the failing
+node and its reason are printed), 3 a TST manager refused or could not be reached, 4 invalid
+input (syntax, unknown names, inconsistent constraints; errors as FILE:LINE:COLUMN).
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
+import math
+import time
+from pathlib import Path
+from typing import Any
 
+from rich.console import Console
+
+from hdrc3.launch_plan import CATALOG
+from hdrc3.launched_system import LaunchedSystem
+from hdrc3.safety_pilot import hand_over
 from hdrc3_base.agents import parse_agents
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import RosProcess
 from hdrc3_tst.check import CheckStatus, load_file, tree_lines
+from hdrc3_tst.mission_client import Created, Reply, TstClient
+from hdrc3_tst.model import NodeState
 
 EXIT_OK = 0
+EXIT_FAILED = 1
+EXIT_REFUSED = 3
 EXIT_INVALID = 4
+ABORT_WAIT_S = 30.0
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``tst`` subcommand."""
-    parser = subparsers.add_parser("tst", help="task specification trees: check")
+    parser = subparsers.add_parser("tst", help="task specification trees: check, run, abort, set")
     actions = parser.add_subparsers(dest="tst_action", metavar="ACTION", required=True)
     check = actions.add_parser(
         "check",
@@ -30,6 +54,38 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         "--agents", default=None, help="agents in addition to the file's own, e.g. uav0,uav1"
     )
     check.set_defaults(handler=_check)
+
+    run = actions.add_parser(
+        "run",
+        help="execute a mission on the agents' TST managers, one line per node state change",
+        description=__doc__.split("\n\n")[-1] if __doc__ else None,
+    )
+    run.add_argument("file", help="a .tst file (examples/tst/)")
+    run.add_argument("--agents", default=None, help="agents, e.g. uav0,uav1 (default: the file's)")
+    run.add_argument("--mission", default=None, help="mission id (default: FILE stem + time)")
+    run.add_argument("--launch", action="store_true", help="start the system first")
+    run.add_argument("--world", default=None, help="with --launch: world (default: the file's)")
+    run.add_argument("--speed", default="max", help="with --launch: real-time factor or 'max'")
+    run.add_argument("--domain-id", type=int, default=43, help="with --launch: ROS domain")
+    run.add_argument("--out", default=None, help="directory for run.mcap and timeline.csv")
+    run.add_argument(
+        "--timeout", type=float, default=3600.0, help="wall seconds to wait for the root"
+    )
+    run.set_defaults(handler=_run)
+
+    abort = actions.add_parser("abort", help="abort a running mission: every aircraft hovers")
+    abort.add_argument("mission", help="the mission id `hdrc3 tst run` printed")
+    abort.add_argument("--agents", required=True, help="the mission's agents, e.g. uav0,uav1")
+    abort.add_argument("--reason", default="aborted by the operator")
+    abort.set_defaults(handler=_abort)
+
+    setp = actions.add_parser("set", help="fix an open parameter of a mission's node")
+    setp.add_argument("mission")
+    setp.add_argument("node")
+    setp.add_argument("param")
+    setp.add_argument("value", help="a number in the parameter's unit, or a name")
+    setp.add_argument("--agents", required=True, help="the mission's agents, e.g. uav0,uav1")
+    setp.set_defaults(handler=_set)
 
 
 def _check(args: argparse.Namespace) -> int:
@@ -50,4 +106,150 @@ def _check(args: argparse.Namespace) -> int:
         f"variables, {net.stn.edge_count} temporal and {n_cons} other constraints)",
         flush=True,
     )
+    return EXIT_OK
+
+
+def _replies(console: Console, replies: list[Reply] | tuple[Reply, ...]) -> bool:
+    for reply in replies:
+        word = "ok" if reply.ok else f"refused (code {reply.code})"
+        console.print(f"{reply.agent}: {word} {reply.reason}".rstrip())
+        for line in reply.conflict:
+            console.print(f"  conflict: {line}")
+    return all(r.ok for r in replies)
+
+
+def _abort(args: argparse.Namespace) -> int:
+    console = Console(highlight=False)
+    with RosProcess() as process:
+        client = TstClient(process)
+        ok = _replies(console, client.abort(args.mission, parse_agents(args.agents), args.reason))
+    return EXIT_OK if ok else EXIT_REFUSED
+
+
+def _set(args: argparse.Namespace) -> int:
+    console = Console(highlight=False)
+    with RosProcess() as process:
+        client = TstClient(process)
+        replies = client.set(
+            args.mission, parse_agents(args.agents), args.node, args.param, args.value
+        )
+        ok = _replies(console, replies)
+    return EXIT_OK if ok else EXIT_INVALID
+
+
+def _status_line(msg: Any) -> str:
+    times = "" if math.isnan(msg.start) else f" TS {msg.start:.1f} s"
+    times += "" if math.isnan(msg.end) else f" TE {msg.end:.1f} s"
+    reason = f": {msg.reason}" if msg.reason else ""
+    return f"{msg.agent}/{msg.node_id} {msg.kind} {msg.state}{times}{reason}"
+
+
+def _culprit(latest: dict[str, Any]) -> Any | None:
+    """The failed node deepest in the tree (the one whose reason explains the others)."""
+    failed = [m for m in latest.values() if m.state == NodeState.FAILED.value]
+    parents = {m.parent.partition("/")[2] for m in failed}
+    leaves = [m for m in failed if m.node_id not in parents]
+    return leaves[0] if leaves else (failed[0] if failed else None)
+
+
+def _write_timeline(path: Path, latest: dict[str, Any]) -> None:
+    with path.open("w", newline="", encoding="utf-8") as out:
+        writer = csv.writer(out)
+        writer.writerow(["node", "agent", "parent", "kind", "state", "start_s", "end_s", "reason"])
+        for m in latest.values():
+            writer.writerow(
+                [m.node_id, m.agent, m.parent, m.kind, m.state, m.start, m.end, m.reason]
+            )
+
+
+def _run(args: argparse.Namespace) -> int:
+    console = Console(highlight=False)
+    path = Path(args.file)
+    check = load_file(path, parse_agents(args.agents) if args.agents else ())
+    for diag in check.diagnostics:
+        console.print(str(diag))
+    if check.status is not CheckStatus.OK or check.tst is None:
+        console.print(f"{path}: {check.status.value}")
+        return EXIT_INVALID
+    agents = parse_agents(args.agents) if args.agents else check.tst.agents
+    mission = args.mission or f"{path.stem}-{int(time.time())}"
+    out = Path(args.out) if args.out else None
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+    if not args.launch:
+        return _execute(console, path, mission, agents, out, args.timeout)
+    world = args.world or check.tst.world
+    if world is None:
+        raise ConfigError("--launch needs a world: the file declares none; give --world")
+    nodes = [k.name for k in CATALOG if k.default] + ["task_planner"]
+    record = out / "run.mcap" if out is not None else None
+    system = LaunchedSystem(
+        agents, world, args.speed, args.domain_id, record, nodes, log=console.print
+    )
+    with system:
+        code = _execute(console, path, mission, agents, out, args.timeout, hand_over_first=True)
+    if record is not None:
+        console.print(f"recording: {record}")
+    return code
+
+
+def _execute(
+    console: Console,
+    path: Path,
+    mission: str,
+    agents: tuple[str, ...],
+    out: Path | None,
+    timeout: float,
+    hand_over_first: bool = False,
+) -> int:
+    with RosProcess() as process:
+        client = TstClient(process, on_status=lambda m: console.print(_status_line(m)))
+        if hand_over_first:
+            for agent in agents:
+                hand_over(process, client.node, agent)
+                console.print(f"safety pilot: {agent} engine on, RC switch to autonomous")
+        created = client.create(mission, path.read_text(encoding="utf-8"), str(path), agents)
+        code = _created(console, created)
+        if code != EXIT_OK:
+            return code
+        console.print(
+            f"mission {mission} on {', '.join(created.involved)} "
+            f"(abort: hdrc3 tst abort {mission} --agents {','.join(created.involved)})"
+        )
+        started = client.execute(mission, created.root_agent, created.root)
+        if not _replies(console, [started]):
+            return EXIT_REFUSED
+
+        def root_done() -> bool:
+            return client.finished(mission, created.root) is not None
+
+        if not process.spin_until(root_done, timeout):
+            reason = "operator stop (Ctrl-C)" if process.stop_requested.is_set() else "timeout"
+            console.print(f"aborting mission {mission}: {reason}")
+            process.stop_requested.clear()
+            client.abort(mission, created.involved, reason)
+            process.spin_until(root_done, ABORT_WAIT_S)
+        latest = client.latest(mission)
+    if out is not None:
+        _write_timeline(out / "timeline.csv", latest)
+        console.print(f"timeline: {out / 'timeline.csv'}")
+    root = latest.get(created.root)
+    if root is not None and root.state == NodeState.SUCCEEDED.value:
+        console.print(f"mission {mission} succeeded in {root.end - root.start:.1f} s")
+        return EXIT_OK
+    culprit = _culprit(latest)
+    what = _status_line(culprit) if culprit is not None else "the root did not end"
+    console.print(f"MISSION FAILED: {what}")
+    return EXIT_FAILED
+
+
+def _created(console: Console, created: Created) -> int:
+    for diag in created.check.diagnostics:
+        console.print(str(diag))
+    if created.check.status is not CheckStatus.OK:
+        return EXIT_INVALID
+    if created.fixed:
+        console.print(f"bound: {', '.join(created.fixed)}")
+    if not _replies(console, created.replies):
+        return EXIT_REFUSED
     return EXIT_OK

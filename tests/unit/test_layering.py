@@ -18,11 +18,11 @@ LAYERS: dict[str, int] = {
     "hdrc3_interfaces": 0,  # generated messages, importable by every node adapter
     "hdrc3_hcsm": 1,
     "hdrc3_dyknow": 1,
-    "hdrc3_tst": 1,  # the pure TST core needs only hdrc3_base (and world files); see its README
     "sim": 1,
     "hdrc3_control": 2,
     "hdrc3_platform_server": 3,
     "hdrc3_deliberative": 4,
+    "hdrc3_tst": 5,  # executors call the Platform Server; goal nodes use TALplanner's domains
     "hdrc3": 9,  # the CLI, launcher and demo: the top, imported by nobody
 }
 """Layer of each top-level package; the architecture of ../shared/DESIGN.md, bottom up."""

@@ -1,0 +1,585 @@
+"""Executing the nodes one agent's TST manager holds (sections 6.3, 9.4): the control semantics.
+
+The engine owns every node's lifecycle: it starts a node no earlier than its earliest start,
+fixes its T_S and T_E in the constraint network when it starts and ends (so later windows
+follow what happened, and a start or end the constraints forbid fails the node with the
+conflicting constraints), binds open parameters when an action starts, fails a node whose latest
+end passes, and applies the control semantics:
+
+- **sequence** runs its children in order and fails with the first that fails;
+- **concurrent** starts all children and succeeds when all have; when one fails, the others are
+  aborted and the node fails;
+- **if** asks its query once and runs the chosen branch; **while** asks before every round;
+  **foreach** binds the loop variables to the single answer (several concurrent instances of one
+  body are not supported yet: the node fails saying so); queries go to ``queries.py``;
+- **call** runs the instantiated library tree; **goal** asks the planner, attaches the plan's
+  nodes and then acts as a sequence.
+
+A child on another agent is started through :class:`EngineSink.start_remote` and followed
+through :meth:`ExecutionEngine.on_remote_status`. ``tick`` is called with the sim time; the
+engine never blocks and never reads a wall clock.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Protocol
+
+from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_tst.actions import ACTIONS, ParamSpec, ParamType
+from hdrc3_tst.executor import ActionContext, ActionExecutor, Progress, Status, Stepper
+from hdrc3_tst.finite import SolveStatus
+from hdrc3_tst.goal_planning import (
+    GoalPlannerPort,
+    PlanHandle,
+    PlannedStep,
+    StepsStatus,
+    domain_text,
+    goal_problem,
+    here,
+    plan_steps,
+)
+from hdrc3_tst.model import Node, NodeKind, NodeRef, NodeState
+from hdrc3_tst.network import FixStatus
+from hdrc3_tst.platform_port import PlatformPort
+from hdrc3_tst.queries import Answer, ask
+from hdrc3_tst.resolver import Place, ResolvedTst
+from hdrc3_tst.stn import Inconsistent
+
+
+@dataclass
+class NodeRecord:
+    """What happened to one node: its state, mission times and reason."""
+
+    node_id: str
+    agent: str
+    state: NodeState = NodeState.CREATED
+    start: float = math.nan
+    end: float = math.nan
+    reason: str = ""
+    # runtime of the control semantics
+    stepper: Stepper | None = None
+    cursor: int = 0
+    started_children: set[str] = field(default_factory=set)
+    chosen: str = ""
+    rounds: int = 0
+    plan: PlanHandle | None = None
+    remote_requested: bool = False
+
+
+class EngineSink(Protocol):
+    """Where the engine's outputs go (the node publishes and calls; tests record)."""
+
+    def status(self, record: NodeRecord) -> None:
+        """A node this agent holds changed state."""
+
+    def flag(self, node_id: str, action: str, executing: bool) -> None:
+        """An action's executor started (True) or stopped (False)."""
+
+    def start_remote(self, ref: NodeRef, epoch: float) -> None:
+        """Ask ``ref.agent``'s manager to execute ``ref.node_id``."""
+
+    def abort_remote(self, ref: NodeRef, reason: str) -> None:
+        """Ask ``ref.agent``'s manager to abort ``ref.node_id``."""
+
+
+@dataclass
+class EngineContext:
+    """The ports one agent's engine works with."""
+
+    agent: str
+    platform: PlatformPort
+    planner: GoalPlannerPort
+    sink: EngineSink
+    frame: WorldFrame
+    executors: Mapping[str, type[ActionExecutor]]
+
+
+class ExecutionEngine:
+    """One mission's nodes on one agent."""
+
+    def __init__(self, mission: str, tst: ResolvedTst, ctx: EngineContext) -> None:
+        """Hold every node of ``tst`` whose agent is ``ctx.agent``; follow the others."""
+        self.mission = mission
+        self.tst = tst
+        self.ctx = ctx
+        self.epoch = math.nan
+        self.now = 0.0
+        self.records: dict[str, NodeRecord] = {
+            n.node_id: NodeRecord(n.node_id, tst.agent_of(n.node_id))
+            for n in tst.tree.nodes.values()
+        }
+        self._running: list[str] = []
+        self._advancing: set[str] = set()
+        self._stopping: set[str] = set()
+        """Nodes whose subtree is being aborted: their children's endings do not advance them."""
+
+    # --- queries ------------------------------------------------------------------------
+    def holds(self, node_id: str) -> bool:
+        """True if this agent's manager holds the node."""
+        rec = self.records.get(node_id)
+        return rec is not None and rec.agent == self.ctx.agent
+
+    def local_records(self) -> list[NodeRecord]:
+        """The records of the nodes this agent holds, in tree order."""
+        order = [n.node_id for _, n in self.tst.tree.walk()]
+        order += [i for i in self.records if i not in order]
+        return [self.records[i] for i in order if self.holds(i)]
+
+    @property
+    def finished(self) -> bool:
+        """No node of this agent runs."""
+        return not self._running
+
+    # --- commands -----------------------------------------------------------------------
+    def execute(self, node_id: str, epoch: float, now: float) -> str:
+        """Start a node this agent holds; "" or why not."""
+        if not self.holds(node_id):
+            return f"{self.ctx.agent} does not hold node {node_id!r}"
+        rec = self.records[node_id]
+        if rec.state is not NodeState.CREATED:
+            return f"node {node_id} is {rec.state.value}"
+        if math.isnan(self.epoch):
+            self.epoch = epoch
+        self.now = now - self.epoch
+        rec.state = NodeState.RUNNING  # waits for its earliest start inside _advance
+        rec.start = math.nan
+        self._running.append(node_id)
+        self.tick(now)
+        return ""
+
+    def abort(self, reason: str, node_id: str | None = None) -> list[str]:
+        """Abort running nodes (all, or the subtree of ``node_id``); the ids aborted."""
+        targets = [n for n in self._running if node_id is None or self._under(n, node_id)]
+        for nid in targets:
+            self._abort(nid, reason)
+        return targets
+
+    def set(
+        self, node_id: str, param: str, value: float | str
+    ) -> tuple[FixStatus, str, tuple[str, ...]]:
+        """Mixed initiative: fix a parameter (refused when it conflicts or already passed)."""
+        rec = self.records.get(node_id)
+        if rec is not None and rec.state.finished:
+            return FixStatus.BAD_VALUE, f"node {node_id} has already {rec.state.value}", ()
+        result = self.tst.set(node_id, param, value)
+        return result.status, result.reason, result.conflict
+
+    def on_remote_status(
+        self, node_id: str, state: NodeState, start: float, end: float, reason: str
+    ) -> None:
+        """A node another agent holds changed state (its manager's status topic)."""
+        rec = self.records.get(node_id)
+        if rec is None or self.holds(node_id):
+            return
+        rec.state, rec.reason = state, reason
+        node = self.tst.tree.nodes.get(node_id)
+        # The holder is authoritative: its times go into this replica of the network when
+        # they fit (a replica's own fixes may differ by a tick; then the holder's are kept).
+        for param, t in (("TS", start), ("TE", end)):
+            if (
+                node is not None
+                and math.isfinite(t)
+                and node.params[param] not in self.tst.network.values
+            ):
+                self.tst.network.fix(
+                    node.params[param], t, f"{node_id}.{param} reported by {rec.agent}"
+                )
+        rec.start, rec.end = start, end
+
+    def on_remote_failure(self, node_id: str, reason: str) -> None:
+        """The other agent's manager could not be asked to execute a child."""
+        rec = self.records.get(node_id)
+        if rec is not None and not rec.state.finished:
+            rec.state, rec.reason = NodeState.FAILED, reason
+
+    # --- the loop -----------------------------------------------------------------------
+    def tick(self, now: float) -> None:
+        """Advance every running node to sim time ``now``."""
+        if math.isnan(self.epoch):
+            return
+        self.now = now - self.epoch
+        for node_id in list(self._running):
+            if self.records[node_id].state is NodeState.RUNNING:
+                self._advance(node_id)
+
+    def _advance(self, node_id: str) -> None:
+        # a child ending inside its parent's advance re-enters here: the outer call goes on
+        if node_id in self._advancing:
+            return
+        self._advancing.add(node_id)
+        try:
+            self._advance_once(node_id)
+        finally:
+            self._advancing.discard(node_id)
+
+    def _advance_once(self, node_id: str) -> None:
+        rec = self.records[node_id]
+        node = self.tst.tree.node(node_id)
+        if math.isnan(rec.start) and not self._begin(node, rec):
+            return
+        latest_end = self.tst.network.window(node.params["TE"]).latest
+        if self.now > latest_end and node.params["TE"] not in self.tst.network.values:
+            self._fail_running(
+                node_id, f"deadline: not done at {self.now:.1f} s, latest end {latest_end:.1f} s"
+            )
+            return
+        kind = node.acts_as
+        if kind is NodeKind.ACTION:
+            self._advance_action(node, rec)
+        elif kind is NodeKind.GOAL:
+            self._advance_goal(node, rec)
+        elif kind in (NodeKind.SEQUENCE, NodeKind.CALL):
+            self._advance_sequence(node, rec)
+        elif kind is NodeKind.CONCURRENT:
+            self._advance_concurrent(node, rec)
+        else:
+            self._advance_conditional(node, rec)
+
+    def _begin(self, node: Node, rec: NodeRecord) -> bool:
+        """Start the node once its earliest start has come; False while it waits."""
+        ts = node.params["TS"]
+        window = self.tst.network.window(ts)
+        if self.now < window.earliest:
+            return False
+        if ts not in self.tst.network.values:
+            fixed = self.tst.network.fix(
+                ts, self.now, f"{node.node_id} started at {self.now:.3f} s"
+            )
+            if fixed.status is not FixStatus.OK:
+                self._finish(
+                    rec, NodeState.FAILED, _conflict(f"started at {self.now:.1f} s", fixed.conflict)
+                )
+                return False
+        rec.start = self.now
+        if node.kind is NodeKind.ACTION:
+            reason = self._start_action(node, rec)
+            if reason:
+                self._finish(rec, NodeState.FAILED, reason)
+                return False
+        self.ctx.sink.status(rec)
+        return True
+
+    # --- elementary actions -------------------------------------------------------------
+    def _start_action(self, node: Node, rec: NodeRecord) -> str:
+        spec = ACTIONS[node.action]
+        executor = self.ctx.executors.get(node.action)
+        if executor is None:
+            return f"{self.ctx.agent} has no executor for {node.action}"
+        args: dict[str, float | str] = {}
+        for pspec in spec.params:
+            value, reason = self._bind(node, pspec)
+            if value is None:
+                return reason
+            args[pspec.name] = value
+        points = {name: place.coords for name, place in self.tst.places.items()}
+        action_ctx = ActionContext(
+            node.node_id,
+            self.ctx.agent,
+            spec,
+            args,
+            points,
+            self.ctx.platform,
+            self.ctx.frame,
+            self.now,
+        )
+        rec.stepper = Stepper(executor(), action_ctx)
+        self.ctx.sink.flag(node.node_id, node.action, True)
+        return ""
+
+    def _bind(self, node: Node, pspec: ParamSpec) -> tuple[float | str | None, str]:
+        """The parameter's value, binding an open one (preferred value, else a solution)."""
+        var = node.params[pspec.name]
+        net = self.tst.network
+        if var in net.values:
+            return net.values[var], ""
+        candidates: list[float | str] = []
+        if pspec.preferred is not None:
+            candidates.append(pspec.preferred)
+        solution = net.finite.solve()
+        if solution.status is SolveStatus.CONSISTENT and var in solution.witness:
+            candidates.append(solution.witness[var])
+        for value in candidates:
+            if (
+                net.fix(var, value, f"{node.node_id}.{pspec.name} bound at start").status
+                is FixStatus.OK
+            ):
+                return value, ""
+        return None, f"no value of {node.node_id}.{pspec.name} satisfies the constraints"
+
+    def _advance_action(self, node: Node, rec: NodeRecord) -> None:
+        assert rec.stepper is not None
+        try:
+            status = rec.stepper.step(self.now)
+        except Exception as exc:  # an executor bug fails its node, never the manager
+            status = Status(Progress.FAILED, f"executor error: {exc!r}")
+        if status.progress is Progress.RUNNING:
+            return
+        self.ctx.sink.flag(node.node_id, node.action, False)
+        if status.progress is Progress.SUCCEEDED:
+            self._succeed(rec)
+        else:
+            self._finish(rec, NodeState.FAILED, status.reason)
+
+    # --- control nodes ------------------------------------------------------------------
+    def _child(self, ref: NodeRef) -> NodeRecord:
+        return self.records[ref.node_id]
+
+    def _start_child(self, parent: NodeRecord, child_id: str) -> None:
+        rec = self.records[child_id]
+        parent.started_children.add(child_id)
+        if self.holds(child_id):
+            if rec.state is NodeState.CREATED:
+                rec.state = NodeState.RUNNING
+                rec.start = math.nan
+                self._running.append(child_id)
+                self._advance(child_id)
+            return
+        if not rec.remote_requested:
+            rec.remote_requested = True
+            self.ctx.sink.start_remote(NodeRef(rec.agent, child_id), self.epoch)
+
+    def _advance_sequence(self, node: Node, rec: NodeRecord) -> None:
+        children = [c.node_id for c in node.children]
+        while rec.cursor < len(children):
+            child_id = children[rec.cursor]
+            child = self.records[child_id]
+            if child_id not in rec.started_children:
+                self._start_child(rec, child_id)
+            if child.state is NodeState.SUCCEEDED:
+                rec.cursor += 1
+                continue
+            if child.state.finished:
+                self._finish(
+                    rec, NodeState.FAILED, f"{child_id} {child.state.value}: {child.reason}"
+                )
+            return
+        self._succeed(rec)
+
+    def _advance_concurrent(self, node: Node, rec: NodeRecord) -> None:
+        children = [c.node_id for c in node.children]
+        for child_id in children:
+            if child_id not in rec.started_children:
+                self._start_child(rec, child_id)
+        failed = [
+            c for c in children if self.records[c].state in (NodeState.FAILED, NodeState.ABORTED)
+        ]
+        if failed:
+            first = self.records[failed[0]]
+            reason = f"{first.node_id} {first.state.value}: {first.reason}"
+            for child_id in children:
+                self._abort_child(child_id, f"sibling {reason}")
+            self._finish(rec, NodeState.FAILED, reason)
+        elif all(self.records[c].state is NodeState.SUCCEEDED for c in children):
+            self._succeed(rec)
+
+    def _advance_conditional(self, node: Node, rec: NodeRecord) -> None:
+        assert node.condition is not None
+        if rec.chosen:
+            child = self.records[rec.chosen]
+            if not child.state.finished:
+                return
+            if child.state is not NodeState.SUCCEEDED:
+                self._finish(
+                    rec, NodeState.FAILED, f"{child.node_id} {child.state.value}: {child.reason}"
+                )
+                return
+            if node.kind is not NodeKind.WHILE:
+                self._succeed(rec)
+                return
+            self._reset(child.node_id)
+            rec.chosen = ""
+            rec.rounds += 1
+        # variables are named by their source names (call instances by a prefix)
+        values = self.tst.network.values
+        answer = ask(node.condition, self.ctx.agent, values, self.ctx.platform.state())
+        if answer.answer is Answer.UNKNOWN:
+            self._finish(rec, NodeState.FAILED, answer.reason)
+            return
+        holds = answer.answer is Answer.TRUE
+        children = [c.node_id for c in node.children]
+        if node.kind is NodeKind.IF:
+            rec.chosen = children[0] if holds else children[1]
+        elif not holds:
+            self._succeed(rec)
+            return
+        elif node.kind is NodeKind.FOREACH:
+            self._finish(
+                rec,
+                NodeState.FAILED,
+                "foreach: the query answers yes/no only; concurrent instances of one body "
+                "over several answers are not supported yet",
+            )
+            return
+        else:
+            rec.chosen = children[0]
+        rec.started_children.discard(rec.chosen)
+        self._start_child(rec, rec.chosen)
+
+    def _reset(self, node_id: str) -> None:
+        """Make a loop body runnable again (its times are fixed per round only in the record)."""
+        for _, sub in self.tst.tree.walk(node_id):
+            r = self.records[sub.node_id]
+            self.records[sub.node_id] = NodeRecord(sub.node_id, r.agent)
+
+    # --- goals --------------------------------------------------------------------------
+    def _advance_goal(self, node: Node, rec: NodeRecord) -> None:
+        if rec.plan is None:
+            state = self.ctx.platform.state()
+            if state is None:
+                return
+            position = (state.east, state.north, state.up)
+            points = {
+                n: p.coords[0] for n, p in self.tst.places.items() if p.kind is ParamType.POINT
+            }
+            problem = goal_problem(node, self.ctx.agent, position, points)
+            self.tst.places.setdefault(here(self.ctx.agent), Place(ParamType.POINT, (position,)))
+            rec.plan = self.ctx.planner.request(domain_text(), problem)
+            return
+        if not rec.plan.done:
+            return
+        if not rec.plan.solved:
+            self._finish(rec, NodeState.FAILED, f"planning {node.action}: {rec.plan.reason}")
+            return
+        steps = plan_steps(rec.plan.labels, rec.plan.agents, rec.plan.starts, rec.plan.durations)
+        if steps.status is not StepsStatus.OK:
+            self._finish(rec, NodeState.FAILED, steps.reason)
+            return
+        try:
+            self._attach(node, steps.steps)
+        except Inconsistent as exc:
+            self._finish(
+                rec, NodeState.FAILED, _conflict("the plan", tuple(e.label for e in exc.cycle))
+            )
+            return
+        self._advance_sequence(node, rec)
+
+    def _attach(self, goal: Node, steps: tuple[PlannedStep, ...]) -> None:
+        """Add the plan's steps as this goal's children (a sequence on this agent)."""
+        net = self.tst.network
+        refs: list[NodeRef] = []
+        previous_te: str | None = None
+        for index, step in enumerate(steps):
+            node_id = f"{goal.node_id}/{index + 1}"
+            params: dict[str, str] = {"P": goal.params["P"]}
+            for key in ("TS", "TE"):
+                params[key] = f"{node_id}.{key}"
+                net.declare(params[key], ParamType.TIME)
+            stn = net.stn
+            label = f"{node_id}: planned for goal {goal.node_id}"
+            stn.add(params["TS"], params["TE"], 0.0, False, f"{label}: TS <= TE")
+            stn.add(goal.params["TS"], params["TS"], 0.0, False, f"{label}: starts within")
+            stn.add(params["TE"], goal.params["TE"], 0.0, False, f"{label}: ends within")
+            if previous_te is not None:
+                stn.add(previous_te, params["TS"], 0.0, False, f"{label}: after the previous step")
+            for pspec in ACTIONS[step.action].params:
+                var = f"{node_id}.{pspec.name}"
+                net.declare(
+                    var,
+                    pspec.type,
+                    tuple(n for n, p in self.tst.places.items() if p.kind is pspec.type),
+                )
+                params[pspec.name] = var
+                if pspec.name in step.args:
+                    net.values[var] = step.args[pspec.name]
+            self.tst.tree.add(
+                Node(
+                    node_id,
+                    NodeKind.ACTION,
+                    params,
+                    NodeRef(step.agent, goal.node_id),
+                    action=step.action,
+                )
+            )
+            self.records[node_id] = NodeRecord(node_id, step.agent)
+            refs.append(NodeRef(step.agent, node_id))
+            previous_te = params["TE"]
+        self.tst.tree.expand_goal(goal.node_id, NodeKind.SEQUENCE, refs)
+
+    # --- endings ------------------------------------------------------------------------
+    def _succeed(self, rec: NodeRecord) -> None:
+        node = self.tst.tree.node(rec.node_id)
+        te = node.params["TE"]
+        if te not in self.tst.network.values:
+            fixed = self.tst.network.fix(te, self.now, f"{rec.node_id} ended at {self.now:.3f} s")
+            if fixed.status is not FixStatus.OK:
+                self._finish(
+                    rec, NodeState.FAILED, _conflict(f"ended at {self.now:.1f} s", fixed.conflict)
+                )
+                return
+        self._finish(rec, NodeState.SUCCEEDED, "")
+
+    def _finish(self, rec: NodeRecord, state: NodeState, reason: str) -> None:
+        if rec.state.finished:
+            return
+        rec.state, rec.reason, rec.end = state, reason, self.now
+        if math.isnan(rec.start):
+            rec.start = self.now
+        rec.stepper = None
+        if rec.node_id in self._running:
+            self._running.remove(rec.node_id)
+        self.ctx.sink.status(rec)
+        # the parent reacts in the same tick (a sequence starts the next child at once)
+        parent = self.tst.tree.nodes[rec.node_id].parent
+        if (
+            parent is not None
+            and parent.node_id in self._running
+            and parent.node_id not in self._stopping
+        ):
+            self._advance(parent.node_id)
+
+    def _fail_running(self, node_id: str, reason: str) -> None:
+        self._stop(node_id, NodeState.FAILED, reason)
+
+    def _abort(self, node_id: str, reason: str) -> None:
+        self._stop(node_id, NodeState.ABORTED, reason)
+
+    def _stop(self, node_id: str, state: NodeState, reason: str) -> None:
+        rec = self.records[node_id]
+        if rec.state.finished:
+            return
+        self._stopping.add(node_id)
+        try:
+            self._abort_subtree(node_id, reason)
+        finally:
+            self._stopping.discard(node_id)
+        self._finish(rec, state, reason)
+
+    def _abort_subtree(self, node_id: str, reason: str) -> None:
+        """Stop the node's commands, and abort its running children."""
+        rec = self.records[node_id]
+        node = self.tst.tree.node(node_id)
+        if rec.stepper is not None:
+            for command in rec.stepper.ctx.commands:
+                if not command.state.ended:
+                    self.ctx.platform.stop(command, reason)
+            self.ctx.sink.flag(node_id, node.action, False)
+        for child in node.children:
+            self._abort_child(child.node_id, f"parent {node_id}: {reason}")
+
+    def _abort_child(self, child_id: str, reason: str) -> None:
+        child = self.records[child_id]
+        if child.state.finished:
+            return
+        if self.holds(child_id):
+            if child.state is NodeState.RUNNING:
+                self._abort(child_id, reason)
+        elif child.remote_requested:
+            self.ctx.sink.abort_remote(NodeRef(child.agent, child_id), reason)
+
+    def _under(self, node_id: str, ancestor: str) -> bool:
+        current: str | None = node_id
+        while current is not None:
+            if current == ancestor:
+                return True
+            parent = self.tst.tree.nodes[current].parent
+            current = parent.node_id if parent is not None else None
+        return False
+
+
+def _conflict(what: str, conflict: tuple[str, ...]) -> str:
+    return (
+        f"{what} conflicts with: {'; '.join(conflict)}" if conflict else f"{what} is inconsistent"
+    )

@@ -1,0 +1,118 @@
+"""The executor framework of elementary actions (section 6.3): one hook per executor.
+
+The engine (``engine.py``) owns the lifecycle: it creates an executor when its node starts,
+advances its one hook, the generator :meth:`ActionExecutor.run`, once per tick until it returns
+a terminal :class:`Status`,
+checks the node's timing against its T_S/T_E window, and on abort ends every command the
+executor sent through its :class:`ActionContext` (FCL: brake to a hover). An executor therefore
+never cleans up after itself and never blocks: it sends commands through the context, looks at
+their handles and the Data Interface, and says whether it is still running.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Generator, Mapping
+from dataclasses import dataclass, field
+
+from hdrc3_platform_server.codes import FclCommand, PpclCommand
+from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_tst.actions import ActionSpec
+from hdrc3_tst.platform_port import Command, PlatformPort, PlatformState
+
+
+class Progress(enum.Enum):
+    """What an executor's update says."""
+
+    RUNNING = "running"
+    SUCCEEDED = "succeeded"
+    FAILED = "failed"
+
+
+@dataclass(frozen=True)
+class Status:
+    """An update's verdict; a failure carries its reason."""
+
+    progress: Progress
+    reason: str = ""
+
+
+RUNNING = Status(Progress.RUNNING)
+SUCCEEDED = Status(Progress.SUCCEEDED)
+
+
+def failed(reason: str) -> Status:
+    """A failure with its reason."""
+    return Status(Progress.FAILED, reason)
+
+
+@dataclass
+class ActionContext:
+    """What one running action node sees: its arguments, its platform, the mission clock."""
+
+    node_id: str
+    agent: str
+    spec: ActionSpec
+    args: Mapping[str, float | str]
+    """Every type-specific parameter's value (open ones bound by the engine at start)."""
+    points: Mapping[str, tuple[tuple[float, ...], ...]]
+    """Declared areas, points and paths by name (local ENU metres)."""
+    platform: PlatformPort
+    frame: WorldFrame
+    started: float
+    """Mission time (s) the node started."""
+    now: float = 0.0
+    """Mission time (s) of the current tick."""
+    commands: list[Command] = field(default_factory=list)
+    """Every command sent for this node, in order (the engine stops them on abort)."""
+
+    def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
+        """Send a command for this node."""
+        handle = self.platform.send(command, **args)
+        self.commands.append(handle)
+        return handle
+
+    def number(self, name: str) -> float:
+        """A numeric argument."""
+        value = self.args[name]
+        assert isinstance(value, float | int), f"{name} is not numeric"
+        return float(value)
+
+    def place(self, name: str) -> tuple[tuple[float, ...], ...]:
+        """The coordinates of a name argument (an area, point or path)."""
+        return self.points[str(self.args[name])]
+
+    def state(self) -> PlatformState | None:
+        """The latest Data Interface sample."""
+        return self.platform.state()
+
+    @property
+    def elapsed(self) -> float:
+        """Seconds since the node started."""
+        return self.now - self.started
+
+
+class ActionExecutor:
+    """One elementary action type on one platform: subclasses implement :meth:`run`."""
+
+    def run(self, ctx: ActionContext) -> Generator[None, None, Status]:
+        """Send commands, yield while waiting (one tick per yield), return the outcome."""
+        raise NotImplementedError
+
+
+class Stepper:
+    """The framework's handle on one running executor: one :meth:`step` per tick."""
+
+    def __init__(self, executor: ActionExecutor, ctx: ActionContext) -> None:
+        self.ctx = ctx
+        self._steps = executor.run(ctx)
+
+    def step(self, now: float) -> Status:
+        """Advance the executor to mission time ``now``; RUNNING or its outcome."""
+        self.ctx.now = now
+        try:
+            next(self._steps)
+        except StopIteration as done:
+            outcome: Status = done.value
+            return outcome
+        return RUNNING

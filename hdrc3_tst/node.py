@@ -1,0 +1,413 @@
+"""ROS 2 adapter: ``/<agent>/tst_manager``, the TST factory and executors of one agent (§6.3).
+
+Services (``~/create``, ``~/execute``, ``~/abort``, ``~/set``, ``~/query``) answer with a
+``TstReturn`` code and reason; nothing a caller sends crashes the node. Node state changes go to
+``/<agent>/tst_status`` and execution flags to ``/<agent>/execution_flags`` (both recorded). A
+child held by another agent is started through that agent's ``execute`` service and followed on
+its status topic. The engines tick on a steady 20 Hz timer and whenever a command's state
+changes, with the sim time of ``/clock``.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Callable
+from typing import Any
+
+from rclpy.clock import Clock
+from rclpy.clock_type import ClockType
+from rclpy.context import Context
+from rclpy.experimental.events_executor import EventsExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import Header
+
+from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
+from hdrc3_interfaces.msg import ExecutionFlag, TstNodeStatus, TstReturn
+from hdrc3_interfaces.srv import Plan, TstAbort, TstCreate, TstExecute, TstQuery, TstSet
+from hdrc3_platform_server.geo_frame import frame_from_world
+from hdrc3_tst.check import CheckStatus, load_text
+from hdrc3_tst.distribution import involved_agents, parse_fix, parse_value
+from hdrc3_tst.engine import EngineContext, ExecutionEngine, NodeRecord
+from hdrc3_tst.goal_planning import PlanHandle
+from hdrc3_tst.model import NodeKind, NodeRef, NodeState
+from hdrc3_tst.network import FixStatus
+from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
+from hdrc3_tst.ros_platform import RosPlatform
+
+TICK_PERIOD_S = 0.05
+PLAN_TIMEOUT_S = 60.0
+MAX_TEXT = 1_000_000
+"""Characters of TST text a create request may carry."""
+MAX_MISSIONS = 64
+STATUS_QOS = QoSProfile(
+    reliability=ReliabilityPolicy.RELIABLE,
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1000,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+)
+"""Node statuses: late subscribers (a client that starts following) get the recent ones."""
+_FIX_CODES = {
+    FixStatus.INCONSISTENT: TstReturn.TST_INCONSISTENT,
+    FixStatus.UNKNOWN_VARIABLE: TstReturn.TST_UNKNOWN_NODE,
+    FixStatus.BAD_VALUE: TstReturn.TST_INVALID,
+}
+
+
+def status_msg(mission: str, record: NodeRecord, parent: str, kind: str, stamp: Any) -> Any:
+    """The status message of one node record."""
+    return TstNodeStatus(
+        header=_header(stamp),
+        mission=mission,
+        agent=record.agent,
+        node_id=record.node_id,
+        parent=parent,
+        kind=kind,
+        state=record.state.value,
+        start=record.start,
+        end=record.end,
+        reason=record.reason,
+    )
+
+
+def _header(stamp: Any) -> Any:
+    return Header(stamp=stamp)
+
+
+class _Sink:
+    """The engine's outputs of one mission, as messages and calls."""
+
+    def __init__(self, manager: TstManagerNode, mission: str) -> None:
+        self._manager, self._mission = manager, mission
+
+    def status(self, record: NodeRecord) -> None:
+        self._manager.publish_status(self._mission, record)
+
+    def flag(self, node_id: str, action: str, executing: bool) -> None:
+        self._manager.publish_flag(self._mission, node_id, action, executing)
+
+    def start_remote(self, ref: NodeRef, epoch: float) -> None:
+        self._manager.call_remote(self._mission, ref, epoch)
+
+    def abort_remote(self, ref: NodeRef, reason: str) -> None:
+        self._manager.abort_remote(self._mission, ref, reason)
+
+
+class _Planner:
+    """The ``task_planner`` service of this agent as the engine's planner port."""
+
+    def __init__(self, node: Node) -> None:
+        self._client = node.create_client(Plan, "plan", qos_profile=SERVICE_QOS)
+
+    def request(self, domain: str, problem: str) -> PlanHandle:
+        handle = PlanHandle(problem)
+        if not self._client.service_is_ready():
+            handle.answer(False, "no task_planner serves this agent (launch it: --nodes ...)")
+            return handle
+        request = Plan.Request(domain=domain, problem=problem, timeout=PLAN_TIMEOUT_S)
+        future = self._client.call_async(request)
+
+        def done(f: Any) -> None:
+            r = f.result()
+            solved = r.status == Plan.Response.STATUS_SOLVED
+            handle.answer(solved, r.reason, r.actions, r.agents, r.starts, r.durations)
+
+        future.add_done_callback(done)
+        return handle
+
+
+class TstManagerNode(Node):
+    """Holds the missions of one agent and executes its nodes."""
+
+    def __init__(self, context: Context | None = None) -> None:
+        super().__init__("tst_manager", context=context)
+        self.declare_parameter("world", "revinge")
+        self.declare_parameter("agents", [""])
+        self.declare_parameter("speed", 1.0)
+        self.declare_parameter("sim_time", True)
+        if self.get_parameter("sim_time").value:
+            self.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])
+        self.agent = self.get_namespace().strip("/")
+        if not self.agent or "/" in self.agent:
+            raise ConfigError(
+                f"tst_manager runs in an agent's namespace, not {self.get_namespace()!r}"
+            )
+        self.frame = frame_from_world(str(self.get_parameter("world").value))
+        self.platform = RosPlatform(self, self.agent, self.frame, self._tick)
+        self.planner = _Planner(self)
+        self.engines: dict[str, ExecutionEngine] = {}
+        self._status_pub = self.create_publisher(TstNodeStatus, "tst_status", STATUS_QOS)
+        self._flag_pub = self.create_publisher(ExecutionFlag, "execution_flags", STATUS_QOS)
+        self._followed: set[str] = set()
+        self._peers: dict[tuple[str, str], Any] = {}
+        for srv_type, name, handler in (
+            (TstCreate, "create", self._on_create),
+            (TstExecute, "execute", self._on_execute),
+            (TstAbort, "abort", self._on_abort),
+            (TstSet, "set", self._on_set),
+            (TstQuery, "query", self._on_query),
+        ):
+            self.create_service(
+                srv_type, f"~/{name}", self._guarded(handler), qos_profile=SERVICE_QOS
+            )
+        self.create_timer(TICK_PERIOD_S, self._tick, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self.get_logger().info(f"tst manager of {self.agent} up (world {self.frame.latitude:.5f})")
+
+    # --- time ---------------------------------------------------------------------------
+    def sim_now(self) -> float:
+        """Sim time in seconds (0 until /clock arrives)."""
+        return float(self.get_clock().now().nanoseconds) * 1e-9
+
+    def _tick(self) -> None:
+        now = self.sim_now()
+        for engine in self.engines.values():
+            engine.tick(now)
+
+    # --- services -----------------------------------------------------------------------
+    def _guarded(self, handler: Callable[[Any, Any], Any]) -> Callable[[Any, Any], Any]:
+        def serve(request: Any, response: Any) -> Any:
+            try:
+                return handler(request, response)
+            except Exception as exc:  # the node answers every request; the reason says why
+                self.get_logger().error(f"request failed: {exc!r}")
+                return _answer(response, TstReturn.TST_INVALID, f"internal error: {exc!r}")
+
+        return serve
+
+    def _engine(self, mission: str, response: Any) -> ExecutionEngine | None:
+        engine = self.engines.get(mission)
+        if engine is None:
+            _answer(
+                response, TstReturn.TST_UNKNOWN_MISSION, f"{self.agent} has no mission {mission!r}"
+            )
+        return engine
+
+    def _on_create(self, request: Any, response: Any) -> Any:
+        mission = str(request.mission)
+        if not mission or len(mission) > 200:
+            return _answer(response, TstReturn.TST_INVALID, "mission id must be 1-200 characters")
+        if mission in self.engines:
+            return _answer(response, TstReturn.TST_BUSY, f"mission {mission!r} exists already")
+        if len(self.engines) >= MAX_MISSIONS:
+            self._forget_finished()
+        if len(request.text) > MAX_TEXT:
+            return _answer(
+                response, TstReturn.TST_INVALID, f"text longer than {MAX_TEXT} characters"
+            )
+        try:
+            agents = tuple(str(a) for a in request.agents)
+            loaded = load_text(str(request.text), str(request.file) or "<create>", agents)
+        except ConfigError as exc:
+            return _answer(response, TstReturn.TST_INVALID, str(exc))
+        if loaded.status is not CheckStatus.OK or loaded.tst is None:
+            code = (
+                TstReturn.TST_INCONSISTENT
+                if loaded.status is CheckStatus.INCONSISTENT
+                else TstReturn.TST_INVALID
+            )
+            reasons = [str(d) for d in loaded.diagnostics]
+            return _answer(response, code, reasons[0] if reasons else loaded.status.value, reasons)
+        tst = loaded.tst
+        world = str(self.get_parameter("world").value)
+        if tst.world is not None and tst.world != world:
+            return _answer(
+                response,
+                TstReturn.TST_INVALID,
+                f"the mission is for world {tst.world}, not {world}",
+            )
+        for text in request.fixed:
+            fix = parse_fix(str(text))
+            if fix is None:
+                return _answer(
+                    response, TstReturn.TST_INVALID, f"malformed fix {text!r}: node.param=value"
+                )
+            result = tst.set(fix.node_id, fix.param, fix.value)
+            if result.status is not FixStatus.OK:
+                return _answer(
+                    response, _FIX_CODES[result.status], result.reason, list(result.conflict)
+                )
+        if "" in involved_agents(tst):
+            return _answer(
+                response,
+                TstReturn.TST_INVALID,
+                "every node's agent P must be fixed (see hdrc3_tst.distribution)",
+            )
+        context = EngineContext(
+            self.agent,
+            self.platform,
+            self.planner,
+            _Sink(self, mission),
+            self.frame,
+            RMAX_EXECUTORS,
+        )
+        engine = ExecutionEngine(mission, tst, context)
+        self.engines[mission] = engine
+        for agent in involved_agents(tst):
+            self._follow(agent)
+        response.root = tst.tree.root
+        response.nodes = [r.node_id for r in engine.local_records()]
+        for record in engine.local_records():
+            self.publish_status(mission, record)
+        return _answer(response, TstReturn.TST_OK, "")
+
+    def _on_execute(self, request: Any, response: Any) -> Any:
+        engine = self._engine(str(request.mission), response)
+        if engine is None:
+            return response
+        node_id = str(request.node_id)
+        if node_id not in engine.records:
+            return _answer(response, TstReturn.TST_UNKNOWN_NODE, f"no node {node_id!r}")
+        now = self.sim_now()
+        epoch = float(request.epoch) if math.isfinite(request.epoch) else now
+        reason = engine.execute(node_id, epoch, now)
+        if reason:
+            return _answer(response, TstReturn.TST_BUSY, reason)
+        return _answer(response, TstReturn.TST_OK, "")
+
+    def _on_abort(self, request: Any, response: Any) -> Any:
+        engine = self._engine(str(request.mission), response)
+        if engine is None:
+            return response
+        node_id = str(request.node_id) or None
+        if node_id is not None and node_id not in engine.records:
+            return _answer(response, TstReturn.TST_UNKNOWN_NODE, f"no node {node_id!r}")
+        engine.abort(str(request.reason)[:500] or "aborted", node_id)
+        return _answer(response, TstReturn.TST_OK, "")
+
+    def _on_set(self, request: Any, response: Any) -> Any:
+        engine = self._engine(str(request.mission), response)
+        if engine is None:
+            return response
+        status, reason, conflict = engine.set(
+            str(request.node_id), str(request.param), parse_value(str(request.value))
+        )
+        if status is not FixStatus.OK:
+            return _answer(response, _FIX_CODES[status], reason, list(conflict))
+        return _answer(response, TstReturn.TST_OK, "")
+
+    def _on_query(self, request: Any, response: Any) -> Any:
+        engine = self._engine(str(request.mission), response)
+        if engine is None:
+            return response
+        response.nodes = [self._status(engine, r) for r in engine.local_records()]
+        return _answer(response, TstReturn.TST_OK, "")
+
+    def _forget_finished(self) -> None:
+        for mission in [m for m, e in self.engines.items() if e.finished]:
+            del self.engines[mission]
+
+    # --- outputs ------------------------------------------------------------------------
+    def _status(self, engine: ExecutionEngine, record: NodeRecord) -> Any:
+        node = engine.tst.tree.nodes[record.node_id]
+        parent = (
+            ""
+            if node.parent is None
+            else str(NodeRef(engine.records[node.parent.node_id].agent, node.parent.node_id))
+        )
+        kind = node.action if node.kind is NodeKind.ACTION else node.kind.value
+        return status_msg(engine.mission, record, parent, kind, self.get_clock().now().to_msg())
+
+    def publish_status(self, mission: str, record: NodeRecord) -> None:
+        """Publish a node's state change."""
+        self._status_pub.publish(self._status(self.engines[mission], record))
+
+    def publish_flag(self, mission: str, node_id: str, action: str, executing: bool) -> None:
+        """Publish an execution flag."""
+        self._flag_pub.publish(
+            ExecutionFlag(
+                header=_header(self.get_clock().now().to_msg()),
+                mission=mission,
+                agent=self.agent,
+                node_id=node_id,
+                action=action,
+                executing=executing,
+            )
+        )
+
+    # --- other agents -------------------------------------------------------------------
+    def _follow(self, agent: str) -> None:
+        if agent == self.agent or agent in self._followed:
+            return
+        self._followed.add(agent)
+        self.create_subscription(
+            TstNodeStatus, f"/{agent}/tst_status", self._on_peer_status, STATUS_QOS
+        )
+
+    def _on_peer_status(self, msg: Any) -> None:
+        engine = self.engines.get(str(msg.mission))
+        if engine is None:
+            return
+        try:
+            state = NodeState(str(msg.state))
+        except ValueError:
+            return
+        engine.on_remote_status(
+            str(msg.node_id), state, float(msg.start), float(msg.end), str(msg.reason)
+        )
+        engine.tick(self.sim_now())
+
+    def _peer(self, srv_type: Any, agent: str, name: str) -> Any:
+        key = (agent, name)
+        if key not in self._peers:
+            self._peers[key] = self.create_client(
+                srv_type, f"/{agent}/tst_manager/{name}", qos_profile=SERVICE_QOS
+            )
+        return self._peers[key]
+
+    def call_remote(self, mission: str, ref: NodeRef, epoch: float) -> None:
+        """Ask another agent's manager to execute a child; a refusal fails the child."""
+        client = self._peer(TstExecute, ref.agent, "execute")
+        engine = self.engines[mission]
+        if not client.service_is_ready():
+            engine.on_remote_failure(ref.node_id, f"no TST manager answers for agent {ref.agent}")
+            return
+        future = client.call_async(
+            TstExecute.Request(mission=mission, node_id=ref.node_id, epoch=epoch)
+        )
+
+        def done(f: Any) -> None:
+            result = f.result().result
+            if result.code != TstReturn.TST_OK:
+                engine.on_remote_failure(
+                    ref.node_id, f"{ref.agent} refused to execute {ref.node_id}: {result.reason}"
+                )
+            engine.tick(self.sim_now())
+
+        future.add_done_callback(done)
+
+    def abort_remote(self, mission: str, ref: NodeRef, reason: str) -> None:
+        """Ask another agent's manager to abort a subtree."""
+        client = self._peer(TstAbort, ref.agent, "abort")
+        if client.service_is_ready():
+            client.call_async(TstAbort.Request(mission=mission, node_id=ref.node_id, reason=reason))
+
+
+def _answer(response: Any, code: int, reason: str, conflict: list[str] | None = None) -> Any:
+    response.result = TstReturn(code=code, reason=reason, conflict=conflict or [])
+    return response
+
+
+def main() -> int:
+    """Console script ``hdrc3-tst-manager``: exit 0 on SIGINT/SIGTERM, 2 on bad parameters."""
+    try:
+        with RosProcess(args=sys.argv) as process:
+            node = TstManagerNode(process.context)
+            executor = EventsExecutor(context=process.context)
+            executor.add_node(node)
+            try:
+                while not process.stop_requested.is_set() and process.context.ok():
+                    executor.spin_once(timeout_sec=0.1)
+            finally:
+                executor.shutdown()
+                node.destroy_node()
+    except ConfigError as exc:
+        print(f"hdrc3-tst-manager: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

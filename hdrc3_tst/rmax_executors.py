@@ -1,0 +1,242 @@
+"""The RMAX executors: one per elementary action type, through FCL/PPCL (sections 6.2, 6.3).
+
+Each is a generator (:meth:`ActionExecutor.run`): it sends a command through its context, yields
+while the command runs, and returns how the node ended. Flight actions take off first when the
+aircraft is still on the ground (a mission need not start with ``take-off``; Example 6.1 does
+not). Paths are streamed as the chapter's path following expects them (§7.2): the first
+segment, then each next one when the control kernel asks for it.
+
+Straight fly-to uses ``traj3d_flyto``; the navigation issue replaces it by planned segments.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Generator, Mapping
+from types import MappingProxyType
+
+from hdrc3_control.path_segment import PathSegment
+from hdrc3_platform_server.codes import FclCommand, PpclCommand
+from hdrc3_tst.coverage import footprint_width, lawn_mower, polyline
+from hdrc3_tst.executor import (
+    SUCCEEDED,
+    ActionContext,
+    ActionExecutor,
+    Progress,
+    Status,
+    failed,
+)
+from hdrc3_tst.platform_port import Command, CommandState
+
+Steps = Generator[None, None, Status]
+DATA_TIMEOUT_S = 10.0
+"""Mission seconds an executor waits for the first Data Interface sample."""
+TURN_SPEED = 3.0
+"""m/s on the U-turns of a coverage pattern (the path follower may slow further)."""
+
+
+def finish(command: Command) -> Steps:
+    """Wait until ``command`` ends; its outcome as a Status."""
+    while not command.state.ended:
+        yield
+    if command.state is CommandState.FINISHED:
+        return SUCCEEDED
+    return failed(f"{command.label}: {command.reason}")
+
+
+def airborne(ctx: ActionContext) -> Steps:
+    """Succeed when the aircraft flies; take off first when it is on the ground."""
+    while (state := ctx.state()) is None:
+        if ctx.elapsed > DATA_TIMEOUT_S:
+            return failed(f"no Data Interface sample from {ctx.agent} in {DATA_TIMEOUT_S:g} s")
+        yield
+    if state.failsafe:
+        return failed(f"{ctx.agent} is in a navigation failsafe: {state.failsafe}")
+    if not state.on_ground:
+        return SUCCEEDED
+    return (yield from finish(ctx.send(FclCommand.TAKEOFF)))
+
+
+def fly_to(ctx: ActionContext, point: tuple[float, ...], speed: float) -> Steps:
+    """Straight flight to a local ENU point, hovering there at the end."""
+    lon, lat, alt = ctx.frame.to_wgs84(point[0], point[1], point[2])
+    return (
+        yield from finish(
+            ctx.send(
+                FclCommand.TRAJ3D_FLYTO, longitude=lon, latitude=lat, altitude=alt, velocity=speed
+            )
+        )
+    )
+
+
+def _segment_args(segment: PathSegment) -> dict[str, float]:
+    args: dict[str, float] = {"velocity": segment.target_velocity}
+    args["end_velocity"] = segment.end_velocity
+    for name, vec in (
+        ("start", segment.start),
+        ("end", segment.end),
+        ("start_direction", segment.start_direction),
+        ("end_direction", segment.end_direction),
+    ):
+        args.update({f"{name}_{axis}": float(v) for axis, v in zip("xyz", vec, strict=True)})
+    return args
+
+
+def stream(ctx: ActionContext, segments: list[PathSegment]) -> Steps:
+    """Fly to the first segment's start, then send each segment when the previous asks (§7.2)."""
+    first = segments[0]
+    outcome = yield from fly_to(ctx, first.start, first.target_velocity)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return outcome
+    previous = ctx.send(FclCommand.TRAJ3D, **_segment_args(first))
+    for index, segment in enumerate(segments[1:], start=1):
+        while not (previous.segment_requested or previous.state.ended):
+            yield
+        if previous.state is CommandState.FAILED:
+            return failed(f"segment {index - 1}: {previous.label}: {previous.reason}")
+        if not previous.segment_requested:
+            return failed(f"path following ended after segment {index - 1} of {len(segments)}")
+        previous = ctx.send(FclCommand.TRAJ3D, **_segment_args(segment))
+    outcome = yield from finish(previous)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return failed(f"segment {len(segments) - 1}: {outcome.reason}")
+    return outcome
+
+
+class TakeOff(ActionExecutor):
+    """``take-off``: FCL takeoff; already flying counts as done."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Take off unless the aircraft already flies."""
+        return (yield from airborne(ctx))
+
+
+class Land(ActionExecutor):
+    """``land(heading)``: FCL land; the engine stops."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Land with the heading given in degrees."""
+        heading = math.radians(ctx.number("heading"))
+        return (yield from finish(ctx.send(FclCommand.LAND, heading=heading)))
+
+
+class Wait(ActionExecutor):
+    """``wait(duration)``: nothing for a while (the network fixes TE - TS)."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Return once the duration has passed."""
+        while ctx.elapsed < ctx.number("duration"):
+            yield
+        return SUCCEEDED
+
+
+class Hover(ActionExecutor):
+    """``hover(duration)``: stay in the air in place (the PFC hovers between commands)."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Take off if needed, then stay until the duration has passed."""
+        outcome = yield from airborne(ctx)
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+        while ctx.elapsed < ctx.number("duration"):
+            state = ctx.state()
+            if state is not None and state.failsafe:
+                return failed(f"hover interrupted by a failsafe: {state.failsafe}")
+            yield
+        return SUCCEEDED
+
+
+class FlyTo(ActionExecutor):
+    """``fly-to(speed, destination)``: straight traj3d_flyto."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Take off if needed, then fly to the destination."""
+        outcome = yield from airborne(ctx)
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+        (point,) = ctx.place("destination")
+        return (yield from fly_to(ctx, point, ctx.number("speed")))
+
+
+class FlyPath(ActionExecutor):
+    """``fly-path(speed, path)``: streamed segments through the path's points."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Take off if needed, then stream the path's segments."""
+        outcome = yield from airborne(ctx)
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+        points = [(p[0], p[1], p[2]) for p in ctx.place("path")]
+        return (yield from stream(ctx, polyline(points, ctx.number("speed"))))
+
+
+class ScanArea(ActionExecutor):
+    """``scan-area(speed, area, altitude)``: lawn-mower coverage at an altitude above ground."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Take off if needed, then stream the coverage pattern."""
+        outcome = yield from airborne(ctx)
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+        corners = ctx.place("area")
+        altitude = ctx.number("altitude")
+        ground = max(ctx.frame.ground_up(c[0], c[1]) for c in corners)
+        segments = lawn_mower(
+            corners,
+            ground + altitude,
+            footprint_width(altitude),
+            ctx.number("speed"),
+            min(TURN_SPEED, ctx.number("speed")),
+        )
+        return (yield from stream(ctx, segments))
+
+
+class LookAt(ActionExecutor):
+    """``look-at(target)``: PPCL look_at; done when the PTU is on target."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Point the PTU at the target."""
+        (point,) = ctx.place("target")
+        lon, lat, alt = ctx.frame.to_wgs84(point[0], point[1], point[2])
+        command = ctx.send(
+            PpclCommand.LOOK_AT, longitude=lon, latitude=lat, has_altitude=1.0, altitude=alt
+        )
+        return (yield from finish(command))
+
+
+class PtuTurnTo(ActionExecutor):
+    """``ptu-turn-to(pan, tilt)``: PPCL turn_to (degrees in the language, radians on the wire)."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Turn the PTU."""
+        pan, tilt = math.radians(ctx.number("pan")), math.radians(ctx.number("tilt"))
+        return (yield from finish(ctx.send(PpclCommand.TURN_TO, pan=pan, tilt=tilt)))
+
+
+class CameraZoom(ActionExecutor):
+    """``camera-zoom(camera, zoom)``: PPCL zoom; the factor maps linearly onto 0..1."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Set the zoom."""
+        spec = ctx.spec.param("zoom")
+        assert spec is not None and spec.minimum is not None and spec.maximum is not None
+        value = (ctx.number("zoom") - spec.minimum) / (spec.maximum - spec.minimum)
+        camera = ctx.number("camera")
+        return (yield from finish(ctx.send(PpclCommand.ZOOM, camera_id=camera, value=value)))
+
+
+RMAX_EXECUTORS: Mapping[str, type[ActionExecutor]] = MappingProxyType(
+    {
+        "take-off": TakeOff,
+        "land": Land,
+        "hover": Hover,
+        "fly-to": FlyTo,
+        "fly-path": FlyPath,
+        "scan-area": ScanArea,
+        "look-at": LookAt,
+        "ptu-turn-to": PtuTurnTo,
+        "camera-zoom": CameraZoom,
+        "wait": Wait,
+    }
+)
+"""The RMAX's executor of every action in :data:`~hdrc3_tst.actions.ACTIONS` (a test checks)."""

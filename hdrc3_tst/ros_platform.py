@@ -1,0 +1,208 @@
+"""The executors' platform port over ROS: one agent's Platform Server services and events.
+
+Requests are built from the Platform Server's command registry (``FCL``/``PPCL``: service type
+and argument fields), sent asynchronously, and the handle follows the immediate answer and then
+the platform events of its command id (a completion may overtake the answer: events are kept by
+id until the answer names it). PPCL commands first take control of their payload resource as
+``tst_manager``. Stopping an FCL command is ``fcl_cancel`` (the DRC brakes and hovers);
+stopping a PTU mode is ``ppcl_ptu_abort``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+from rclpy.client import Client
+from rclpy.node import Node
+
+from hdrc3_base.ros_runtime import SERVICE_QOS
+from hdrc3_interfaces.msg import FclReturn, HelicopterState, PlatformEvent, PpclReturn
+from hdrc3_interfaces.srv import PpclControl
+from hdrc3_platform_server.client import event_from_msg
+from hdrc3_platform_server.codes import EventKind, FclCommand, PpclCommand, Resource
+from hdrc3_platform_server.commands import FCL, PPCL
+from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
+from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.node import EVENT_QOS, STATE_QOS
+from hdrc3_tst.platform_port import Command, CommandState, PlatformState
+
+OWNER = "tst_manager"
+EARLY_IDS = 256
+"""Command ids whose events are kept until an answer names them (the newest ones)."""
+_FCL_CODES = {FclReturn.FCL_BUSY: "BUSY", FclReturn.FCL_NOT_ACCEPTED: "NOT_ACCEPTED"}
+_PPCL_CODES = {
+    PpclReturn.PPCL_CONTROL_DENIED: "CONTROL_DENIED",
+    PpclReturn.PPCL_NOT_ACCEPTED: "NOT_ACCEPTED",
+    PpclReturn.PPCL_BUSY: "BUSY",
+}
+
+
+class RosPlatform:
+    """:class:`~hdrc3_tst.platform_port.PlatformPort` of ``agent`` for a node's executor."""
+
+    def __init__(
+        self, node: Node, agent: str, frame: WorldFrame, on_change: Callable[[], None]
+    ) -> None:
+        """Subscribe to the agent's platform events and Data Interface.
+
+        Args:
+            node: The node whose executor runs the callbacks.
+            agent: Whose Platform Server to use.
+            frame: The world's frame (WGS84 <-> local ENU).
+            on_change: Called after a command's state changed (the manager ticks at once).
+        """
+        self._node, self._agent, self._frame, self._on_change = node, agent, frame, on_change
+        self._clients: dict[str, Client] = {}
+        self._by_id: dict[int, Command] = {}
+        self._early: dict[int, list[CompletionEvent]] = {}
+        self._stop_on_accept: dict[int, str] = {}
+        self._owned: set[Resource] = set()
+        self._state: PlatformState | None = None
+        node.create_subscription(
+            PlatformEvent, f"/{agent}/platform_events", self._on_event, EVENT_QOS
+        )
+        node.create_subscription(
+            HelicopterState, f"/{agent}/helicopter_state", self._on_state, STATE_QOS
+        )
+
+    # --- PlatformPort ---------------------------------------------------------------------
+    def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
+        """Build the request from the registry and call the service."""
+        handle = Command(command, dict(args))
+        spec = FCL[command] if isinstance(command, FclCommand) else PPCL[command]
+        request = spec.service_type().Request()
+        for argument in spec.arguments:
+            argument.write(request, args[argument.name])
+        if isinstance(command, PpclCommand) and PPCL[command].resource not in self._owned:
+            self._take_control(PPCL[command].resource, handle, request)
+        else:
+            self._call(handle, request)
+        return handle
+
+    def stop(self, command: Command, reason: str) -> None:
+        """End a command: cancel (FCL) or abort the PTU mode (PPCL); late answers stop too."""
+        if command.state is CommandState.SENT:
+            self._stop_on_accept[id(command)] = reason
+            return
+        if command.state.ended:
+            return
+        if isinstance(command.command, FclCommand):
+            self._fire(FclCommand.CANCEL)
+        elif PPCL[command.command].resource is Resource.PTU:
+            self._fire(PpclCommand.PTU_ABORT)
+        command.end(CommandState.FAILED, f"stopped: {reason}")
+
+    def state(self) -> PlatformState | None:
+        """The latest Data Interface sample in the local frame."""
+        return self._state
+
+    # --- calls ----------------------------------------------------------------------------
+    def _client(self, srv_type: Any, name: str) -> Client:
+        if name not in self._clients:
+            self._clients[name] = self._node.create_client(
+                srv_type, f"/{self._agent}/{name}", qos_profile=SERVICE_QOS
+            )
+        return self._clients[name]
+
+    def _service_name(self, command: FclCommand | PpclCommand) -> tuple[Any, str]:
+        if isinstance(command, FclCommand):
+            return FCL[command].service_type(), f"fcl/{command.value}"
+        return PPCL[command].service_type(), f"ppcl/{command.value}"
+
+    def _call(self, handle: Command, request: Any) -> None:
+        srv_type, name = self._service_name(handle.command)
+        client = self._client(srv_type, name)
+        if not client.service_is_ready():
+            handle.end(CommandState.FAILED, f"no service /{self._agent}/{name}")
+            return
+        future: Any = client.call_async(request)  # rclpy's Future is untyped
+        future.add_done_callback(lambda f: self._answered(handle, f.result()))
+
+    def _fire(self, command: FclCommand | PpclCommand) -> None:
+        """Send a command nobody waits for (cancel, ptu_abort)."""
+        srv_type, name = self._service_name(command)
+        client = self._client(srv_type, name)
+        if client.service_is_ready():
+            client.call_async(srv_type.Request())
+
+    def _take_control(self, resource: Resource, handle: Command, request: Any) -> None:
+        client = self._client(PpclControl, "ppcl/control")
+        if not client.service_is_ready():
+            handle.end(CommandState.FAILED, f"no service /{self._agent}/ppcl/control")
+            return
+        ask = PpclControl.Request(resource=int(resource), request=True, owner=OWNER)
+
+        def granted(future: Any) -> None:
+            result = future.result().result
+            if result.code != PpclReturn.PPCL_OK:
+                handle.end(CommandState.FAILED, f"control of {resource.name}: {result.reason}")
+                self._on_change()
+                return
+            self._owned.add(resource)
+            self._call(handle, request)
+
+        future: Any = client.call_async(ask)  # rclpy's Future is untyped
+        future.add_done_callback(granted)
+
+    def _answered(self, handle: Command, response: Any) -> None:
+        result = response.result
+        ok = FclReturn.FCL_OK if isinstance(handle.command, FclCommand) else PpclReturn.PPCL_OK
+        if result.code != ok:
+            names = _FCL_CODES if isinstance(handle.command, FclCommand) else _PPCL_CODES
+            handle.end(
+                CommandState.FAILED,
+                f"refused ({names.get(result.code, result.code)}): {result.reason}",
+            )
+            self._on_change()
+            return
+        handle.command_id = int(result.command_id)
+        handle.state = CommandState.RUNNING
+        self._by_id[handle.command_id] = handle
+        for event in self._early.pop(handle.command_id, []):
+            self._apply(handle, event)
+        reason = self._stop_on_accept.pop(id(handle), None)
+        if reason is not None:
+            self.stop(handle, reason)
+        self._on_change()
+
+    # --- inputs ---------------------------------------------------------------------------
+    def _on_event(self, msg: Any) -> None:
+        try:
+            event = event_from_msg(msg)
+        except ValueError:  # an event kind of a newer server: not ours to interpret
+            return
+        handle = self._by_id.get(event.command_id)
+        if handle is None:
+            # other clients' commands too: keep only the newest ids (dicts keep insertion order)
+            self._early.setdefault(event.command_id, []).append(event)
+            while len(self._early) > EARLY_IDS:
+                del self._early[next(iter(self._early))]
+            return
+        self._apply(handle, event)
+        self._on_change()
+
+    @staticmethod
+    def _apply(handle: Command, event: CompletionEvent) -> None:
+        if event.kind is EventKind.SEGMENT_REQUEST:
+            handle.segment_requested = True
+        elif event.kind in TERMINAL:
+            state = (
+                CommandState.FINISHED if event.kind is EventKind.FINISHED else CommandState.FAILED
+            )
+            handle.end(state, f"{event.kind.name} {event.reason}".strip())
+
+    def _on_state(self, msg: Any) -> None:
+        values = (msg.longitude, msg.latitude, msg.altitude)
+        if not all(math.isfinite(v) for v in values):
+            return
+        east, north, up = self._frame.to_enu(*values)
+        self._state = PlatformState(
+            east,
+            north,
+            up,
+            bool(msg.on_ground_flag),
+            bool(msg.auto_flag),
+            str(msg.failsafe_reason),
+        )

@@ -1,0 +1,281 @@
+"""The execution engine on fakes: control semantics, timing, binding, abort, goals, queries."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from hdrc3_platform_server.codes import FclCommand
+from hdrc3_platform_server.geo_frame import frame_from_world
+from hdrc3_tst.check import CheckStatus, load_file, load_text
+from hdrc3_tst.distribution import bind_open_agents
+from hdrc3_tst.engine import EngineContext, ExecutionEngine
+from hdrc3_tst.executor import ActionContext, ActionExecutor
+from hdrc3_tst.fake_platform import FakePlanner, FakePlatform, RecordingSink
+from hdrc3_tst.model import NodeRef, NodeState
+from hdrc3_tst.platform_port import Command, PlatformState
+from hdrc3_tst.resolver import ResolvedTst
+from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
+
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "tst"
+FRAME = frame_from_world("revinge")
+HEAD = "world revinge\nagents uav0, uav1\npoint Sq = town_square at 30\n"
+
+
+class Rig:
+    """One agent's engine on a fake platform, planner and sink."""
+
+    def __init__(
+        self,
+        tst: ResolvedTst,
+        agent: str = "uav0",
+        executors: dict[str, type[ActionExecutor]] | None = None,
+    ) -> None:
+        self.platform, self.planner, self.sink = FakePlatform(), FakePlanner(), RecordingSink()
+        ctx = EngineContext(
+            agent, self.platform, self.planner, self.sink, FRAME, executors or dict(RMAX_EXECUTORS)
+        )
+        self.engine = ExecutionEngine("m", tst, ctx)
+        self.t = 1000.0
+
+    def start(self, node: str) -> None:
+        assert self.engine.execute(node, self.t, self.t) == ""
+
+    def run(self, seconds: float, on_command: Callable[[Command], None] | None = None) -> None:
+        """Tick once a second; every running command is handed to ``on_command``."""
+        for _ in range(int(seconds)):
+            self.t += 1.0
+            self.engine.tick(self.t)
+            for command in self.platform.running():
+                if on_command is not None:
+                    on_command(command)
+
+    def state(self, node: str) -> NodeState:
+        return self.engine.records[node].state
+
+    def reason(self, node: str) -> str:
+        return self.engine.records[node].reason
+
+
+def flown(platform: FakePlatform) -> Callable[[Command], None]:
+    """Complete every command at once; traj3d segments ask for the next one first."""
+
+    def answer(command: Command) -> None:
+        if command.command is FclCommand.TRAJ3D and not command.segment_requested:
+            command.segment_requested = True
+            return
+        platform.complete(command)
+
+    return answer
+
+
+def mission(body: str) -> ResolvedTst:
+    result = load_text(HEAD + body)
+    assert result.status is CheckStatus.OK, result.diagnostics
+    assert result.tst is not None
+    bind_open_agents(result.tst, "uav0")
+    return result.tst
+
+
+def example_6_1() -> ResolvedTst:
+    result = load_file(EXAMPLES / "example_6_1.tst", ("uav0", "uav1"))
+    assert result.tst is not None
+    return result.tst
+
+
+def test_example_6_1_on_uav0_runs_its_nodes_and_starts_tau3_on_uav1() -> None:
+    tst = example_6_1()
+    rig = Rig(tst)
+    assert [r.node_id for r in rig.engine.local_records()] == ["tau0", "tau1", "tau2", "tau4"]
+    rig.start("tau0")
+    assert rig.sink.remote_starts == [NodeRef("uav1", "tau3")]
+    rig.run(60, flown(rig.platform))
+    assert rig.state("tau2") is NodeState.SUCCEEDED
+    assert rig.state("tau1") is NodeState.RUNNING  # tau3 on uav1 still runs
+    labels = [c.label for c in rig.platform.sent]
+    assert labels[:3] == ["fcl_takeoff", "fcl_traj3d_flyto", "fcl_traj3d"]
+    assert labels.count("fcl_traj3d") == 7  # 4 legs and 3 turns over AreaA
+    rig.engine.on_remote_status("tau3", NodeState.SUCCEEDED, 1.0, 50.0, "")
+    rig.run(10, flown(rig.platform))
+    assert [rig.state(n) for n in ("tau1", "tau4", "tau0")] == [NodeState.SUCCEEDED] * 3
+    assert rig.platform.sent[-1].label == "fcl_traj3d_flyto"
+    values = tst.network.values
+    times = {n: (values[f"TS{n}"], values[f"TE{n}"]) for n in "01234"}
+    assert times["0"][0] <= times["1"][0] < times["1"][1] <= times["4"][0] < times["4"][1]
+    assert times["1"][1] >= times["3"][1] == 50.0  # the remote end went into the replica
+    assert values["Speed2"] == 5.0  # the open speed was bound to the preferred value
+    assert ("tau2", "scan-area", True) in rig.sink.flags
+    assert ("tau2", "scan-area", False) in rig.sink.flags
+
+
+def test_a_node_waits_for_its_earliest_start() -> None:
+    tst = mission(
+        "m(P, TS, TE) = with T1, T2 sequence\n"
+        "  w(T1, T2) = wait(T1, T2, 5)\n"
+        "where P = uav0 and TS = 0 and T1 >= 20\n"
+    )
+    rig = Rig(tst)
+    rig.start("m")
+    rig.run(19)
+    assert math.isnan(rig.engine.records["w"].start)
+    rig.run(30)
+    assert rig.engine.records["w"].start == 20.0
+    assert rig.engine.records["w"].end == 25.0
+    assert rig.state("m") is NodeState.SUCCEEDED
+
+
+def test_a_missed_deadline_fails_the_node_and_stops_its_command() -> None:
+    tst = mission("m(P, TS, TE) = fly-to(TS, TE, 5, Sq) where P = uav0 and TE - TS <= 20\n")
+    rig = Rig(tst)
+    rig.platform.sample = PlatformState(0, 0, 30, on_ground=False, autonomous=True)
+    rig.start("m")
+    rig.run(25)  # the fly-to never finishes
+    assert rig.state("m") is NodeState.FAILED
+    assert rig.reason("m").startswith("deadline: not done at 21.0 s, latest end 20.0 s")
+    assert [c.label for c, _ in rig.platform.stopped] == ["fcl_traj3d_flyto"]
+
+
+def test_abort_stops_commands_and_aborts_remote_children() -> None:
+    rig = Rig(example_6_1())
+    rig.start("tau0")
+    rig.run(3, flown(rig.platform))
+    aborted = rig.engine.abort("operator")
+    assert set(aborted) == {"tau0", "tau1", "tau2"}
+    assert all(rig.state(n) is NodeState.ABORTED for n in ("tau0", "tau1", "tau2"))
+    assert rig.platform.stopped and not rig.platform.running()
+    assert rig.sink.remote_aborts[0][0] == NodeRef("uav1", "tau3")
+    assert rig.state("tau4") is NodeState.CREATED
+
+
+def test_a_refused_command_fails_the_concurrent_node_and_aborts_the_sibling() -> None:
+    rig = Rig(example_6_1())
+    rig.platform.refuse[FclCommand.TAKEOFF] = "RC switch manual"
+    rig.start("tau0")
+    rig.run(2)
+    assert rig.reason("tau2") == "fcl_takeoff: refused: RC switch manual"
+    assert rig.reason("tau0") == "tau1 failed: tau2 failed: fcl_takeoff: refused: RC switch manual"
+    assert [r for r, _ in rig.sink.remote_aborts] == [NodeRef("uav1", "tau3")]
+
+
+@pytest.mark.parametrize(
+    ("where", "speed"),
+    [("P = uav0", 5.0), ("P = uav0 and S <= 3", None), ("P = uav0 and S >= 8", None)],
+)
+def test_open_parameters_are_bound_when_the_action_starts(where: str, speed: float | None) -> None:
+    tst = mission(f"m(P, TS, TE) = with S fly-to(TS, TE, S, Sq) where {where}\n")
+    rig = Rig(tst)
+    rig.platform.sample = PlatformState(0, 0, 30, on_ground=False, autonomous=True)
+    rig.start("m")
+    bound = rig.platform.sent[0].args["velocity"]
+    if speed is not None:
+        assert bound == speed
+    else:
+        assert tst.network.values["S"] == bound
+        assert (bound <= 3) if "<=" in where else (bound >= 8)
+
+
+def test_a_goal_is_planned_attached_and_flown() -> None:
+    tst = mission("m(P, TS, TE) = goal at(uav0, Sq) where P = uav0\n")
+    rig = Rig(tst)
+    rig.platform.sample = PlatformState(-150, 0, 30, on_ground=False, autonomous=True)
+    rig.start("m")
+    (request,) = rig.planner.requests
+    assert "object here_uav0: location @ (-150.000, 0.000, 30.000)" in request.problem
+    assert "goal at(uav0, Sq)" in request.problem
+    request.answer(True, "", ["(fly-to uav0 here_uav0 Sq)"], ["uav0"], [0.0], [30.0])
+    rig.run(2, flown(rig.platform))
+    assert rig.state("m/1") is NodeState.SUCCEEDED
+    assert rig.state("m") is NodeState.SUCCEEDED
+    assert rig.platform.sent[0].label == "fcl_traj3d_flyto"
+
+
+@pytest.mark.parametrize(
+    ("answer", "reason"),
+    [
+        ((False, "no plan: unsolvable"), "planning at: no plan: unsolvable"),
+        (
+            (True, "", ["(pick-up-box uav0 b1 Sq)"], ["uav0"], [0.0], [20.0]),
+            "the plan needs (pick-up-box uav0 b1 Sq), and no RMAX executor performs pick-up-box",
+        ),
+    ],
+)
+def test_a_goal_fails_when_no_executable_plan_comes(answer: tuple, reason: str) -> None:  # type: ignore[type-arg]
+    rig = Rig(mission("m(P, TS, TE) = goal at(uav0, Sq) where P = uav0\n"))
+    rig.start("m")
+    rig.planner.requests[0].answer(*answer)
+    rig.run(1)
+    assert rig.state("m") is NodeState.FAILED
+    assert rig.reason("m").startswith(reason)
+
+
+@pytest.mark.parametrize(
+    ("condition", "on_ground", "chosen"),
+    [("airborne(P)", True, "b"), ("airborne(P)", False, "a"), ("not on-ground(P)", True, "b")],
+)
+def test_if_asks_its_query_once(condition: str, on_ground: bool, chosen: str) -> None:
+    tst = mission(
+        f"m(P, TS, TE) = if [TS] {condition} then a(TS, TE) = wait(TS, TE, 1) "
+        "else b(TS, TE) = wait(TS, TE, 1) where P = uav0\n"
+    )
+    rig = Rig(tst)
+    rig.platform.sample = PlatformState(0, 0, 0, on_ground=on_ground, autonomous=True)
+    rig.start("m")
+    rig.run(3)
+    assert rig.state("m") is NodeState.SUCCEEDED
+    assert rig.state(chosen) is NodeState.SUCCEEDED
+    assert rig.state("b" if chosen == "a" else "a") is NodeState.CREATED
+
+
+def test_a_query_nobody_answers_fails_the_node() -> None:
+    tst = mission(
+        "m(P, TS, TE) = while [TS] daylight() w(T1, T2) = wait(T1, T2, 1) where P = uav0\n"
+    )
+    rig = Rig(tst)
+    rig.start("m")
+    assert rig.state("m") is NodeState.FAILED
+    assert rig.reason("m").startswith("no agent answers the query daylight(...)")
+
+
+def test_while_repeats_its_body_until_the_query_is_false() -> None:
+    tst = mission(
+        "m(P, TS, TE) = while [TS] on-ground(P) w(T1, T2) = wait(T1, T2, 2) where P = uav0\n"
+    )
+    rig = Rig(tst)
+    rig.start("m")
+    rig.run(9)  # rounds end at 2, 5 and 8 s (a round restarts its body on the next tick)
+    assert rig.engine.records["m"].rounds == 3
+    rig.platform.sample = PlatformState(0, 0, 10, on_ground=False, autonomous=True)
+    rig.run(3)
+    assert rig.state("m") is NodeState.SUCCEEDED
+
+
+class _Broken(ActionExecutor):
+    def run(self, ctx: ActionContext):  # type: ignore[no-untyped-def]
+        raise RuntimeError("bug")
+        yield  # pragma: no cover
+
+
+def test_an_executor_error_fails_its_node_not_the_engine() -> None:
+    tst = mission("m(P, TS, TE) = wait(TS, TE, 5) where P = uav0\n")
+    rig = Rig(tst, executors={"wait": _Broken})
+    rig.start("m")
+    assert rig.state("m") is NodeState.FAILED
+    assert rig.reason("m") == "executor error: RuntimeError('bug')"
+
+
+def test_execute_refuses_nodes_held_elsewhere_or_started_twice() -> None:
+    rig = Rig(example_6_1())
+    assert rig.engine.execute("tau3", 0.0, 0.0) == "uav0 does not hold node 'tau3'"
+    rig.start("tau0")
+    assert rig.engine.execute("tau0", 0.0, 0.0) == "node tau0 is running"
+
+
+def test_status_changes_reach_the_sink_in_order() -> None:
+    tst = mission("m(P, TS, TE) = wait(TS, TE, 2) where P = uav0\n")
+    rig = Rig(tst)
+    rig.start("m")
+    rig.run(3)
+    assert rig.sink.statuses == [("m", NodeState.RUNNING, ""), ("m", NodeState.SUCCEEDED, "")]

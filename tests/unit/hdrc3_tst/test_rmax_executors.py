@@ -1,0 +1,97 @@
+"""The RMAX executors: one per action of the registry, and the commands each sends."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from hdrc3_platform_server.codes import FclCommand, PpclCommand
+from hdrc3_platform_server.geo_frame import frame_from_world
+from hdrc3_tst.actions import ACTIONS
+from hdrc3_tst.executor import ActionContext, Progress, Status, Stepper
+from hdrc3_tst.fake_platform import FakePlatform
+from hdrc3_tst.platform_port import PlatformState
+from hdrc3_tst.rmax_executors import DATA_TIMEOUT_S, RMAX_EXECUTORS
+
+FRAME = frame_from_world("revinge")
+POINTS = {"Sq": ((100.0, 50.0, 30.0),)}
+FLYING = PlatformState(0.0, 0.0, 30.0, on_ground=False, autonomous=True)
+
+
+def test_every_action_has_an_rmax_executor() -> None:
+    assert set(RMAX_EXECUTORS) == set(ACTIONS)
+
+
+def step(action: str, args: dict[str, float | str], platform: FakePlatform) -> Stepper:
+    ctx = ActionContext("n", "uav0", ACTIONS[action], args, POINTS, platform, FRAME, 0.0)
+    return Stepper(RMAX_EXECUTORS[action](), ctx)
+
+
+@pytest.mark.parametrize(
+    ("action", "args", "command", "sent"),
+    [
+        ("land", {"heading": 90.0}, FclCommand.LAND, {"heading": math.pi / 2}),
+        ("ptu-turn-to", {"pan": 90.0, "tilt": -45.0}, PpclCommand.TURN_TO,
+         {"pan": math.pi / 2, "tilt": -math.pi / 4}),
+        ("camera-zoom", {"camera": 0.0, "zoom": 20.0}, PpclCommand.ZOOM,
+         {"camera_id": 0.0, "value": 1.0}),
+        ("fly-to", {"speed": 4.0, "destination": "Sq"}, FclCommand.TRAJ3D_FLYTO, None),
+        ("look-at", {"target": "Sq"}, PpclCommand.LOOK_AT, None),
+    ],
+)  # fmt: skip
+def test_one_command_and_its_outcome(
+    action: str, args: dict[str, float | str], command: object, sent: dict[str, float] | None
+) -> None:
+    platform = FakePlatform(sample=FLYING)
+    stepper = step(action, args, platform)
+    assert stepper.step(0.0) == Status(Progress.RUNNING)
+    (handle,) = platform.sent
+    assert handle.command is command
+    if sent is not None:
+        assert handle.args == pytest.approx(sent)
+    else:  # WGS84 of the local point
+        lon, lat, _ = FRAME.to_wgs84(100.0, 50.0, 30.0)
+        assert (handle.args["longitude"], handle.args["latitude"]) == pytest.approx((lon, lat))
+    platform.complete(handle, ok=False, reason="FAILED on fire")
+    assert stepper.step(1.0) == Status(Progress.FAILED, f"{handle.label}: FAILED on fire")
+
+
+def test_flight_actions_take_off_from_the_ground_first() -> None:
+    platform = FakePlatform()
+    stepper = step("fly-to", {"speed": 4.0, "destination": "Sq"}, platform)
+    stepper.step(0.0)
+    assert [c.command for c in platform.sent] == [FclCommand.TAKEOFF]
+    platform.complete(platform.sent[0])
+    stepper.step(1.0)
+    assert [c.command for c in platform.sent] == [FclCommand.TAKEOFF, FclCommand.TRAJ3D_FLYTO]
+
+
+def test_no_data_interface_fails_after_the_data_timeout() -> None:
+    platform = FakePlatform(sample=None)
+    stepper = step("hover", {"duration": 100.0}, platform)
+    assert stepper.step(DATA_TIMEOUT_S).progress is Progress.RUNNING
+    assert stepper.step(DATA_TIMEOUT_S + 1) == Status(
+        Progress.FAILED, "no Data Interface sample from uav0 in 10 s"
+    )
+
+
+def test_a_failsafe_fails_hover() -> None:
+    platform = FakePlatform(sample=FLYING)
+    stepper = step("hover", {"duration": 10.0}, platform)
+    assert stepper.step(1.0).progress is Progress.RUNNING
+    platform.sample = PlatformState(0.0, 0.0, 30.0, False, True, failsafe="GPS lost")
+    assert stepper.step(2.0) == Status(Progress.FAILED, "hover interrupted by a failsafe: GPS lost")
+
+
+def test_a_path_ending_before_its_last_segment_fails() -> None:
+    platform = FakePlatform(sample=FLYING)
+    stepper = step("scan-area", {"speed": 5.0, "area": "A", "altitude": 30.0}, platform)
+    stepper.ctx.points = {"A": ((0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0))}
+    stepper.step(0.0)
+    platform.complete(platform.sent[0])  # the fly-to the first leg
+    stepper.step(1.0)
+    first = platform.sent[1]
+    assert first.command is FclCommand.TRAJ3D
+    platform.complete(first)  # finished without asking for the next segment
+    assert stepper.step(2.0) == Status(Progress.FAILED, "path following ended after segment 0 of 5")
