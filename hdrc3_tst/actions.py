@@ -73,7 +73,7 @@ class ActionSpec:
         return sum(p.default is None for p in self.params)
 
 
-_SPEED = ParamSpec("speed", ParamType.SPEED, "m/s", None, 0.5, 15.0, preferred=5.0)
+_SPEED = ParamSpec("speed", ParamType.SPEED, "m/s", None, 0.5, 15.0, preferred=8.0)
 _ALT = ParamSpec("altitude", ParamType.LENGTH, "m above ground", 30.0, 5.0, 150.0)
 _DURATION = ParamSpec("duration", ParamType.DURATION, "s", None, 0.0, None)
 

@@ -89,6 +89,10 @@ class SimpleTemporalNetwork:
         """Edges of the distance graph (two per equality, one per bound)."""
         return sum(len(e) for e in self._out.values())
 
+    def edges(self) -> tuple[Edge, ...]:
+        """Every edge of the distance graph (the tightest one per ordered pair)."""
+        return tuple(e for out in self._out.values() for e in out.values())
+
     def add_variable(self, name: str) -> None:
         """A new time point in ``[0, HORIZON]``."""
         if name in self._out:
