@@ -42,7 +42,7 @@ class Reply:
     @property
     def ok(self) -> bool:
         """The manager said TST_OK."""
-        return self.code == TstReturn.TST_OK
+        return bool(self.code == TstReturn.TST_OK)
 
 
 @dataclass(frozen=True)

@@ -122,8 +122,9 @@ class _Planner:
 class TstManagerNode(Node):
     """Holds the missions of one agent and executes its nodes."""
 
-    def __init__(self, context: Context | None = None) -> None:
-        super().__init__("tst_manager", context=context)
+    def __init__(self, context: Context | None = None, namespace: str | None = None) -> None:
+        """Create the node (its namespace, from ``__ns`` or ``namespace``, names its agent)."""
+        super().__init__("tst_manager", context=context, namespace=namespace)
         self.declare_parameter("world", "revinge")
         self.declare_parameter("agents", [""])
         self.declare_parameter("speed", 1.0)

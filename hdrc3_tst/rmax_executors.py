@@ -12,7 +12,7 @@ Straight fly-to uses ``traj3d_flyto``; the navigation issue replaces it by plann
 from __future__ import annotations
 
 import math
-from collections.abc import Generator, Mapping
+from collections.abc import Callable, Generator, Mapping
 from types import MappingProxyType
 
 from hdrc3_control.path_segment import PathSegment
@@ -33,15 +33,41 @@ DATA_TIMEOUT_S = 10.0
 """Mission seconds an executor waits for the first Data Interface sample."""
 TURN_SPEED = 3.0
 """m/s on the U-turns of a coverage pattern (the path follower may slow further)."""
+COMMAND_BOUND_S = 60.0
+"""Mission seconds any command may take beyond its own expected duration (take-off, landing,
+braking, PTU moves); a command past its bound is stopped and fails its node."""
+LANDING_SPEED = 1.0
+"""m/s, the order of the RMAX's final descent (for the bound of a landing)."""
+SLACK = 3.0
+"""A flight may take this many times its length over its speed (turns, wind, braking)."""
 
 
-def finish(command: Command) -> Steps:
-    """Wait until ``command`` ends; its outcome as a Status."""
-    while not command.state.ended:
+def flight_bound(length: float, speed: float) -> float:
+    """Mission seconds a flight of ``length`` m at ``speed`` m/s may take."""
+    return COMMAND_BOUND_S + SLACK * length / max(speed, 0.1)
+
+
+def finish(
+    ctx: ActionContext,
+    command: Command,
+    within: float = COMMAND_BOUND_S,
+    until: Callable[[Command], bool] = lambda c: c.state.ended,
+) -> Steps:
+    """Wait until ``until(command)`` (default: it ended); its outcome as a Status.
+
+    A command that neither ends nor reaches ``until`` within ``within`` mission seconds is
+    stopped (the Platform Server owes it an outcome: this keeps a mission from waiting forever
+    when it never comes) and fails the node.
+    """
+    deadline = ctx.now + within
+    while not (until(command) or command.state.ended):
+        if ctx.now > deadline:
+            ctx.platform.stop(command, f"no outcome in {within:.0f} s")
+            return failed(f"{command.label}: no outcome in {within:.0f} s")
         yield
-    if command.state is CommandState.FINISHED:
-        return SUCCEEDED
-    return failed(f"{command.label}: {command.reason}")
+    if command.state is CommandState.FAILED:
+        return failed(f"{command.label}: {command.reason}")
+    return SUCCEEDED
 
 
 def airborne(ctx: ActionContext) -> Steps:
@@ -54,19 +80,18 @@ def airborne(ctx: ActionContext) -> Steps:
         return failed(f"{ctx.agent} is in a navigation failsafe: {state.failsafe}")
     if not state.on_ground:
         return SUCCEEDED
-    return (yield from finish(ctx.send(FclCommand.TAKEOFF)))
+    return (yield from finish(ctx, ctx.send(FclCommand.TAKEOFF)))
 
 
 def fly_to(ctx: ActionContext, point: tuple[float, ...], speed: float) -> Steps:
     """Straight flight to a local ENU point, hovering there at the end."""
     lon, lat, alt = ctx.frame.to_wgs84(point[0], point[1], point[2])
-    return (
-        yield from finish(
-            ctx.send(
-                FclCommand.TRAJ3D_FLYTO, longitude=lon, latitude=lat, altitude=alt, velocity=speed
-            )
-        )
+    state = ctx.state()
+    length = math.dist(point, (state.east, state.north, state.up)) if state else 0.0
+    command = ctx.send(
+        FclCommand.TRAJ3D_FLYTO, longitude=lon, latitude=lat, altitude=alt, velocity=speed
     )
+    return (yield from finish(ctx, command, flight_bound(length, speed)))
 
 
 def _segment_args(segment: PathSegment) -> dict[str, float]:
@@ -88,16 +113,17 @@ def stream(ctx: ActionContext, segments: list[PathSegment]) -> Steps:
     outcome = yield from fly_to(ctx, first.start, first.target_velocity)
     if outcome.progress is not Progress.SUCCEEDED:
         return outcome
-    previous = ctx.send(FclCommand.TRAJ3D, **_segment_args(first))
+    previous, flying = ctx.send(FclCommand.TRAJ3D, **_segment_args(first)), first
     for index, segment in enumerate(segments[1:], start=1):
-        while not (previous.segment_requested or previous.state.ended):
-            yield
-        if previous.state is CommandState.FAILED:
-            return failed(f"segment {index - 1}: {previous.label}: {previous.reason}")
+        bound = flight_bound(flying.arc_length(), flying.target_velocity)
+        outcome = yield from finish(ctx, previous, bound, lambda c: c.segment_requested)
+        if outcome.progress is not Progress.SUCCEEDED:
+            return failed(f"segment {index - 1}: {outcome.reason}")
         if not previous.segment_requested:
             return failed(f"path following ended after segment {index - 1} of {len(segments)}")
-        previous = ctx.send(FclCommand.TRAJ3D, **_segment_args(segment))
-    outcome = yield from finish(previous)
+        previous, flying = ctx.send(FclCommand.TRAJ3D, **_segment_args(segment)), segment
+    bound = flight_bound(flying.arc_length(), flying.target_velocity)
+    outcome = yield from finish(ctx, previous, bound)
     if outcome.progress is not Progress.SUCCEEDED:
         return failed(f"segment {len(segments) - 1}: {outcome.reason}")
     return outcome
@@ -117,7 +143,10 @@ class Land(ActionExecutor):
     def run(self, ctx: ActionContext) -> Steps:
         """Land with the heading given in degrees."""
         heading = math.radians(ctx.number("heading"))
-        return (yield from finish(ctx.send(FclCommand.LAND, heading=heading)))
+        state = ctx.state()
+        height = state.up - ctx.frame.ground_up(state.east, state.north) if state else 0.0
+        command = ctx.send(FclCommand.LAND, heading=heading)
+        return (yield from finish(ctx, command, flight_bound(height, LANDING_SPEED)))
 
 
 class Wait(ActionExecutor):
@@ -201,7 +230,7 @@ class LookAt(ActionExecutor):
         command = ctx.send(
             PpclCommand.LOOK_AT, longitude=lon, latitude=lat, has_altitude=1.0, altitude=alt
         )
-        return (yield from finish(command))
+        return (yield from finish(ctx, command))
 
 
 class PtuTurnTo(ActionExecutor):
@@ -210,7 +239,7 @@ class PtuTurnTo(ActionExecutor):
     def run(self, ctx: ActionContext) -> Steps:
         """Turn the PTU."""
         pan, tilt = math.radians(ctx.number("pan")), math.radians(ctx.number("tilt"))
-        return (yield from finish(ctx.send(PpclCommand.TURN_TO, pan=pan, tilt=tilt)))
+        return (yield from finish(ctx, ctx.send(PpclCommand.TURN_TO, pan=pan, tilt=tilt)))
 
 
 class CameraZoom(ActionExecutor):
@@ -222,7 +251,8 @@ class CameraZoom(ActionExecutor):
         assert spec is not None and spec.minimum is not None and spec.maximum is not None
         value = (ctx.number("zoom") - spec.minimum) / (spec.maximum - spec.minimum)
         camera = ctx.number("camera")
-        return (yield from finish(ctx.send(PpclCommand.ZOOM, camera_id=camera, value=value)))
+        command = ctx.send(PpclCommand.ZOOM, camera_id=camera, value=value)
+        return (yield from finish(ctx, command))
 
 
 RMAX_EXECUTORS: Mapping[str, type[ActionExecutor]] = MappingProxyType(

@@ -109,6 +109,11 @@ def _check(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _console() -> Console:
+    # soft wrap: one line per event even when piped to a file (no wrapping at 80 columns)
+    return Console(highlight=False, soft_wrap=True)
+
+
 def _replies(console: Console, replies: list[Reply] | tuple[Reply, ...]) -> bool:
     for reply in replies:
         word = "ok" if reply.ok else f"refused (code {reply.code})"
@@ -119,7 +124,7 @@ def _replies(console: Console, replies: list[Reply] | tuple[Reply, ...]) -> bool
 
 
 def _abort(args: argparse.Namespace) -> int:
-    console = Console(highlight=False)
+    console = _console()
     with RosProcess() as process:
         client = TstClient(process)
         ok = _replies(console, client.abort(args.mission, parse_agents(args.agents), args.reason))
@@ -127,7 +132,7 @@ def _abort(args: argparse.Namespace) -> int:
 
 
 def _set(args: argparse.Namespace) -> int:
-    console = Console(highlight=False)
+    console = _console()
     with RosProcess() as process:
         client = TstClient(process)
         replies = client.set(
@@ -163,7 +168,7 @@ def _write_timeline(path: Path, latest: dict[str, Any]) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    console = Console(highlight=False)
+    console = _console()
     path = Path(args.file)
     check = load_file(path, parse_agents(args.agents) if args.agents else ())
     for diag in check.diagnostics:
@@ -237,6 +242,9 @@ def _execute(
     if root is not None and root.state == NodeState.SUCCEEDED.value:
         console.print(f"mission {mission} succeeded in {root.end - root.start:.1f} s")
         return EXIT_OK
+    if root is not None and root.state == NodeState.ABORTED.value:
+        console.print(f"MISSION ABORTED: {_status_line(root)}")
+        return EXIT_FAILED
     culprit = _culprit(latest)
     what = _status_line(culprit) if culprit is not None else "the root did not end"
     console.print(f"MISSION FAILED: {what}")

@@ -95,3 +95,28 @@ def test_a_path_ending_before_its_last_segment_fails() -> None:
     assert first.command is FclCommand.TRAJ3D
     platform.complete(first)  # finished without asking for the next segment
     assert stepper.step(2.0) == Status(Progress.FAILED, "path following ended after segment 0 of 5")
+
+
+@pytest.mark.parametrize(
+    ("action", "args", "bound"),
+    [
+        ("ptu-turn-to", {"pan": 0.0, "tilt": 0.0}, 60.0),
+        ("land", {"heading": 0.0}, 60.0 + 3.0 * 30.1),  # 30 m up over ground at -0.1 m
+        (
+            "fly-to",
+            {"speed": 5.0, "destination": "Sq"},
+            60.0 + 3.0 * math.dist((0, 0), (100, 50)) / 5,
+        ),
+    ],
+)
+def test_a_command_without_outcome_is_stopped_at_its_bound(
+    action: str, args: dict[str, float | str], bound: float
+) -> None:
+    platform = FakePlatform(sample=FLYING)
+    stepper = step(action, args, platform)
+    stepper.step(0.0)
+    assert stepper.step(bound - 0.5).progress is Progress.RUNNING
+    status = stepper.step(bound + 0.5)
+    assert status.progress is Progress.FAILED
+    assert status.reason.endswith(f"no outcome in {bound:.0f} s")
+    assert [c for c, _ in platform.stopped] == platform.sent
