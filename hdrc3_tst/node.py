@@ -10,6 +10,7 @@ changes, with the sim time of ``/clock``.
 
 from __future__ import annotations
 
+import gc
 import math
 import sys
 from collections.abc import Callable
@@ -252,6 +253,8 @@ class TstManagerNode(Node):
         response.nodes = [r.node_id for r in engine.local_records()]
         for record in engine.local_records():
             self.publish_status(mission, record)
+        # collect the parse/resolve garbage now, not as a pause while nodes execute
+        gc.collect()
         return _answer(response, TstReturn.TST_OK, "")
 
     def _on_execute(self, request: Any, response: Any) -> Any:
