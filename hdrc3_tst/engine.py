@@ -157,6 +157,37 @@ class ExecutionEngine:
             self._abort(nid, reason)
         return targets
 
+    def pause(self, node_id: str | None = None) -> list[str]:
+        """Pause running actions (all, or under ``node_id``): their commands end; the ids."""
+        paused = []
+        for nid in list(self._running):
+            rec = self.records[nid]
+            if rec.stepper is None or (node_id is not None and not self._under(nid, node_id)):
+                continue
+            self._stop_commands(nid, "paused")
+            rec.stepper, rec.state = None, NodeState.PAUSED
+            self.ctx.sink.status(rec)
+            paused.append(nid)
+        return paused
+
+    def resume(self, node_id: str | None = None) -> list[str]:
+        """Start paused actions again (all, or under ``node_id``); the ids resumed."""
+        resumed = []
+        for nid in list(self._running):
+            rec, node = self.records[nid], self.tst.tree.nodes[nid]
+            if rec.state is not NodeState.PAUSED:
+                continue
+            if node_id is not None and not self._under(nid, node_id):
+                continue
+            rec.state = NodeState.RUNNING
+            reason = self._start_action(node, rec, rec.start)
+            if reason:
+                self._finish(rec, NodeState.FAILED, reason)
+            else:
+                self.ctx.sink.status(rec)
+            resumed.append(nid)
+        return resumed
+
     def set(
         self, node_id: str, param: str, value: float | str
     ) -> tuple[FixStatus, str, tuple[str, ...]]:
@@ -202,8 +233,11 @@ class ExecutionEngine:
             return
         self.now = now - self.epoch
         for node_id in list(self._running):
-            if self.records[node_id].state is NodeState.RUNNING:
+            rec = self.records[node_id]
+            if rec.state is NodeState.RUNNING:
                 self._advance(node_id)
+            elif rec.state is NodeState.PAUSED:
+                self._check_deadline(node_id)
 
     def _advance(self, node_id: str) -> None:
         # a child ending inside its parent's advance re-enters here: the outer call goes on
@@ -220,11 +254,7 @@ class ExecutionEngine:
         node = self.tst.tree.node(node_id)
         if math.isnan(rec.start) and not self._begin(node, rec):
             return
-        latest_end = self.tst.network.window(node.params["TE"]).latest
-        if self.now > latest_end and node.params["TE"] not in self.tst.network.values:
-            self._fail_running(
-                node_id, f"deadline: not done at {self.now:.1f} s, latest end {latest_end:.1f} s"
-            )
+        if not self._check_deadline(node_id):
             return
         kind = node.acts_as
         if kind is NodeKind.ACTION:
@@ -237,6 +267,17 @@ class ExecutionEngine:
             self._advance_concurrent(node, rec)
         else:
             self._advance_conditional(node, rec)
+
+    def _check_deadline(self, node_id: str) -> bool:
+        """Fail the node (stopping its subtree) when its latest end has passed; False then."""
+        te = self.tst.tree.nodes[node_id].params["TE"]
+        latest_end = self.tst.network.window(te).latest
+        if self.now > latest_end and te not in self.tst.network.values:
+            self._fail_running(
+                node_id, f"deadline: not done at {self.now:.1f} s, latest end {latest_end:.1f} s"
+            )
+            return False
+        return True
 
     def _begin(self, node: Node, rec: NodeRecord) -> bool:
         """Start the node once its earliest start has come; False while it waits."""
@@ -255,7 +296,7 @@ class ExecutionEngine:
                 return False
         rec.start = self.now
         if node.kind is NodeKind.ACTION:
-            reason = self._start_action(node, rec)
+            reason = self._start_action(node, rec, self.now)
             if reason:
                 self._finish(rec, NodeState.FAILED, reason)
                 return False
@@ -263,7 +304,7 @@ class ExecutionEngine:
         return True
 
     # --- elementary actions -------------------------------------------------------------
-    def _start_action(self, node: Node, rec: NodeRecord) -> str:
+    def _start_action(self, node: Node, rec: NodeRecord, started: float) -> str:
         spec = ACTIONS[node.action]
         executor = self.ctx.executors.get(node.action)
         if executor is None:
@@ -283,6 +324,7 @@ class ExecutionEngine:
             points,
             self.ctx.platform,
             self.ctx.frame,
+            started,
             self.now,
         )
         rec.stepper = Stepper(executor(), action_ctx)
@@ -549,22 +591,27 @@ class ExecutionEngine:
 
     def _abort_subtree(self, node_id: str, reason: str) -> None:
         """Stop the node's commands, and abort its running children."""
-        rec = self.records[node_id]
         node = self.tst.tree.node(node_id)
-        if rec.stepper is not None:
-            for command in rec.stepper.ctx.commands:
-                if not command.state.ended:
-                    self.ctx.platform.stop(command, reason)
-            self.ctx.sink.flag(node_id, node.action, False)
+        self._stop_commands(node_id, reason)
         for child in node.children:
             self._abort_child(child.node_id, f"parent {node_id}: {reason}")
+
+    def _stop_commands(self, node_id: str, reason: str) -> None:
+        """End every command the node's executor sent that has not ended."""
+        rec = self.records[node_id]
+        if rec.stepper is None:
+            return
+        for command in rec.stepper.ctx.commands:
+            if not command.state.ended:
+                self.ctx.platform.stop(command, reason)
+        self.ctx.sink.flag(node_id, self.tst.tree.nodes[node_id].action, False)
 
     def _abort_child(self, child_id: str, reason: str) -> None:
         child = self.records[child_id]
         if child.state.finished:
             return
         if self.holds(child_id):
-            if child.state is NodeState.RUNNING:
+            if child.state in (NodeState.RUNNING, NodeState.PAUSED):
                 self._abort(child_id, reason)
         elif child.remote_requested:
             self.ctx.sink.abort_remote(NodeRef(child.agent, child_id), reason)

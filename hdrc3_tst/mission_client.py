@@ -18,7 +18,7 @@ from rclpy.node import Node
 
 from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
 from hdrc3_interfaces.msg import TstNodeStatus, TstReturn
-from hdrc3_interfaces.srv import TstAbort, TstCreate, TstExecute, TstSet
+from hdrc3_interfaces.srv import TstAbort, TstCreate, TstExecute, TstPause, TstSet
 from hdrc3_tst.check import CheckResult, CheckStatus, load_text
 from hdrc3_tst.distribution import bind_open_agents, involved_agents
 from hdrc3_tst.model import NodeState
@@ -144,6 +144,11 @@ class TstClient:
         """Abort the mission on every agent."""
         request = TstAbort.Request(mission=mission, node_id="", reason=reason)
         return [self._call(a, TstAbort, "abort", request) for a in agents]
+
+    def pause(self, mission: str, agents: tuple[str, ...], resume: bool) -> list[Reply]:
+        """Pause (or resume) the mission's running actions on every agent."""
+        request = TstPause.Request(mission=mission, node_id="", resume=resume)
+        return [self._call(a, TstPause, "pause", request) for a in agents]
 
     def set(
         self, mission: str, agents: tuple[str, ...], node_id: str, param: str, value: str

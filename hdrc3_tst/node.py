@@ -1,11 +1,11 @@
 """ROS 2 adapter: ``/<agent>/tst_manager``, the TST factory and executors of one agent (§6.3).
 
-Services (``~/create``, ``~/execute``, ``~/abort``, ``~/set``, ``~/query``) answer with a
-``TstReturn`` code and reason; nothing a caller sends crashes the node. Node state changes go to
-``/<agent>/tst_status`` and execution flags to ``/<agent>/execution_flags`` (both recorded). A
-child held by another agent is started through that agent's ``execute`` service and followed on
-its status topic. The engines tick on a steady 20 Hz timer and whenever a command's state
-changes, with the sim time of ``/clock``.
+Services (``~/create``, ``~/execute``, ``~/abort``, ``~/pause``, ``~/set``, ``~/query``)
+answer with a ``TstReturn`` code and reason; nothing a caller sends crashes the node. Node state
+changes go to ``/<agent>/tst_status`` and execution flags to ``/<agent>/execution_flags`` (both
+recorded). A child held by another agent is started through that agent's ``execute`` service and
+followed on its status topic. The engines tick on a steady 20 Hz timer and whenever a command's
+state changes, with the sim time of ``/clock``.
 """
 
 from __future__ import annotations
@@ -28,7 +28,15 @@ from std_msgs.msg import Header
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
 from hdrc3_interfaces.msg import ExecutionFlag, TstNodeStatus, TstReturn
-from hdrc3_interfaces.srv import Plan, TstAbort, TstCreate, TstExecute, TstQuery, TstSet
+from hdrc3_interfaces.srv import (
+    Plan,
+    TstAbort,
+    TstCreate,
+    TstExecute,
+    TstPause,
+    TstQuery,
+    TstSet,
+)
 from hdrc3_platform_server.geo_frame import frame_from_world
 from hdrc3_tst.check import CheckStatus, load_text
 from hdrc3_tst.distribution import involved_agents, parse_fix, parse_value
@@ -149,6 +157,7 @@ class TstManagerNode(Node):
             (TstCreate, "create", self._on_create),
             (TstExecute, "execute", self._on_execute),
             (TstAbort, "abort", self._on_abort),
+            (TstPause, "pause", self._on_pause),
             (TstSet, "set", self._on_set),
             (TstQuery, "query", self._on_query),
         ):
@@ -280,6 +289,16 @@ class TstManagerNode(Node):
             return _answer(response, TstReturn.TST_UNKNOWN_NODE, f"no node {node_id!r}")
         engine.abort(str(request.reason)[:500] or "aborted", node_id)
         return _answer(response, TstReturn.TST_OK, "")
+
+    def _on_pause(self, request: Any, response: Any) -> Any:
+        engine = self._engine(str(request.mission), response)
+        if engine is None:
+            return response
+        node_id = str(request.node_id) or None
+        if node_id is not None and node_id not in engine.records:
+            return _answer(response, TstReturn.TST_UNKNOWN_NODE, f"no node {node_id!r}")
+        changed = engine.resume(node_id) if request.resume else engine.pause(node_id)
+        return _answer(response, TstReturn.TST_OK, f"{len(changed)} node(s)")
 
     def _on_set(self, request: Any, response: Any) -> Any:
         engine = self._engine(str(request.mission), response)

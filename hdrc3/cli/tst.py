@@ -5,7 +5,8 @@ constraint network, then prints the tree with each node's earliest/latest start 
 ``run FILE`` creates the mission on the TST manager of every agent it names, executes its root
 and prints one line per node state change until the root ends; with ``--launch`` it starts the
 system first (recorded to ``--out``) and hands every aircraft to autonomous mode the way
-``hdrc3 demo`` does. ``abort`` and ``set`` act on a running mission on every agent given.
+``hdrc3 demo`` does. ``abort``, ``pause``, ``resume`` and ``set`` act on a running mission on
+every agent given.
 
 Exit codes: 0 ok (run: the mission succeeded), 1 the mission failed or was aborted (the failing
 node and its reason are printed), 3 a TST manager refused or could not be reached, 4 invalid
@@ -42,7 +43,9 @@ ABORT_WAIT_S = 30.0
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``tst`` subcommand."""
-    parser = subparsers.add_parser("tst", help="task specification trees: check, run, abort, set")
+    parser = subparsers.add_parser(
+        "tst", help="task specification trees: check, run, abort, pause, resume, set"
+    )
     actions = parser.add_subparsers(dest="tst_action", metavar="ACTION", required=True)
     check = actions.add_parser(
         "check",
@@ -78,6 +81,15 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     abort.add_argument("--agents", required=True, help="the mission's agents, e.g. uav0,uav1")
     abort.add_argument("--reason", default="aborted by the operator")
     abort.set_defaults(handler=_abort)
+
+    for word, resume, what in (
+        ("pause", False, "pause a mission's running actions: every aircraft brakes and hovers"),
+        ("resume", True, "resume a paused mission's actions from where the aircraft are"),
+    ):
+        sub = actions.add_parser(word, help=what)
+        sub.add_argument("mission", help="the mission id `hdrc3 tst run` printed")
+        sub.add_argument("--agents", required=True, help="the mission's agents, e.g. uav0,uav1")
+        sub.set_defaults(handler=_pause, resume=resume)
 
     setp = actions.add_parser("set", help="fix an open parameter of a mission's node")
     setp.add_argument("mission")
@@ -128,6 +140,14 @@ def _abort(args: argparse.Namespace) -> int:
     with RosProcess() as process:
         client = TstClient(process)
         ok = _replies(console, client.abort(args.mission, parse_agents(args.agents), args.reason))
+    return EXIT_OK if ok else EXIT_REFUSED
+
+
+def _pause(args: argparse.Namespace) -> int:
+    console = _console()
+    with RosProcess() as process:
+        client = TstClient(process)
+        ok = _replies(console, client.pause(args.mission, parse_agents(args.agents), args.resume))
     return EXIT_OK if ok else EXIT_REFUSED
 
 

@@ -3,8 +3,9 @@
 ``hdrc3 tst run examples/tst/example_6_1.tst --launch`` flies Example 6.1 with uav0 and uav1;
 every node's recorded T_S/T_E is checked against the file's own constraints, evaluated here on
 the recorded numbers (not through the engine's network). A second system runs the same mission
-through the TST client, aborts it mid-scan and watches both aircraft hover; then a goal node is
-planned by TALplanner on the agent's ``task_planner`` and flown.
+through the TST client, pauses it mid-scan (both aircraft hover), resumes it (both fly on), aborts
+it and watches both aircraft hover; then a goal node is planned by TALplanner on the agent's
+``task_planner`` and flown.
 """
 
 from __future__ import annotations
@@ -129,6 +130,18 @@ class System:
     def sim_time(self, agent: str) -> float:
         return stamp_s(self.states[agent][-1].header.stamp) if self.states[agent] else 0.0
 
+    def sleep_sim(self, seconds: float, what: str) -> None:
+        """Wait until every agent's Data Interface is ``seconds`` of sim time further."""
+        until = min(self.sim_time(a) for a in AGENTS) + seconds
+        self.wait(lambda: min(self.sim_time(a) for a in AGENTS) >= until, what)
+
+    def assert_hovering(self) -> None:
+        for agent in AGENTS:
+            last = self.states[agent][-1]
+            assert not last.on_ground_flag, agent
+            assert math.hypot(last.velocity_north, last.velocity_east) < 0.5, agent
+            assert abs(last.velocity_up) < 0.3, agent
+
 
 @pytest.fixture
 def system(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[System]:
@@ -152,7 +165,7 @@ def system(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[System]:
             print("\n".join(launch.lines[-40:]))  # shown by pytest when the test failed
 
 
-def test_abort_mid_scan_leaves_both_aircraft_hovering_then_a_goal_is_planned_and_flown(
+def test_pause_resume_and_abort_mid_scan_leave_both_aircraft_hovering_then_a_goal_is_flown(
     system: System,
 ) -> None:
     text = (EXAMPLES / "example_6_1.tst").read_text(encoding="utf-8")
@@ -170,21 +183,31 @@ def test_abort_mid_scan_leaves_both_aircraft_hovering_then_a_goal_is_planned_and
         )
 
     system.wait(scanning, "both aircraft at scan altitude")
-    t_abort = max(system.sim_time(a) for a in AGENTS) + 10.0
-    system.wait(lambda: min(system.sim_time(a) for a in AGENTS) >= t_abort, "10 s of scanning")
+    system.sleep_sim(10.0, "10 s of scanning")
+
+    assert all(r.ok for r in system.client.pause("abort-me", AGENTS, resume=False))
+    system.wait(lambda: system.state("tau3", "abort-me") == "paused", "uav1's node paused")
+    assert system.state("tau2", "abort-me") == "paused"
+    system.sleep_sim(20.0, "20 s paused")
+    system.assert_hovering()
+    assert all(r.ok for r in system.client.pause("abort-me", AGENTS, resume=True))
+    system.wait(lambda: system.state("tau3", "abort-me") == "running", "uav1's node resumed")
+
+    def moving() -> bool:
+        return all(
+            math.hypot(s.velocity_north, s.velocity_east) > 2.0
+            for s in (system.states[a][-1] for a in AGENTS)
+        )
+
+    system.wait(moving, "both aircraft flying again after resume")
     replies = system.client.abort("abort-me", AGENTS, "test abort")
     assert all(r.ok for r in replies), replies
     system.wait(lambda: system.state("tau0", "abort-me") == "aborted", "the root aborted")
     assert system.state("tau2", "abort-me") == "aborted"
     system.wait(lambda: system.state("tau3", "abort-me") == "aborted", "uav1's node aborted")
 
-    settle = min(system.sim_time(a) for a in AGENTS) + 20.0
-    system.wait(lambda: min(system.sim_time(a) for a in AGENTS) >= settle, "20 s after abort")
-    for agent in AGENTS:
-        last = system.states[agent][-1]
-        assert not last.on_ground_flag, agent
-        assert math.hypot(last.velocity_north, last.velocity_east) < 0.5, agent
-        assert abs(last.velocity_up) < 0.3, agent
+    system.sleep_sim(20.0, "20 s after abort")
+    system.assert_hovering()
 
     goal = (
         "world revinge\nagents uav0, uav1\npoint Dest4 = town_square at 40\n"

@@ -279,3 +279,34 @@ def test_status_changes_reach_the_sink_in_order() -> None:
     rig.start("m")
     rig.run(3)
     assert rig.sink.statuses == [("m", NodeState.RUNNING, ""), ("m", NodeState.SUCCEEDED, "")]
+
+
+def test_pause_stops_the_commands_and_resume_flies_on() -> None:
+    tst = mission("m(P, TS, TE) = fly-to(TS, TE, 5, Sq) where P = uav0 and TE - TS <= 100\n")
+    rig = Rig(tst)
+    rig.platform.sample = PlatformState(0, 0, 30, on_ground=False, autonomous=True)
+    rig.start("m")
+    assert rig.engine.pause() == ["m"]
+    assert rig.state("m") is NodeState.PAUSED
+    assert [c.label for c, r in rig.platform.stopped] == ["fcl_traj3d_flyto"]
+    assert ("m", "fly-to", False) in rig.sink.flags
+    rig.run(10)
+    assert len(rig.platform.sent) == 1  # nothing flies while paused
+    assert rig.engine.resume() == ["m"]
+    assert rig.state("m") is NodeState.RUNNING
+    rig.run(1, flown(rig.platform))
+    rig.run(1)
+    assert rig.state("m") is NodeState.SUCCEEDED
+    assert [c.label for c in rig.platform.sent] == ["fcl_traj3d_flyto"] * 2
+    assert rig.engine.records["m"].start == 0.0
+
+
+def test_a_paused_node_still_misses_its_deadline() -> None:
+    tst = mission("m(P, TS, TE) = fly-to(TS, TE, 5, Sq) where P = uav0 and TE - TS <= 20\n")
+    rig = Rig(tst)
+    rig.platform.sample = PlatformState(0, 0, 30, on_ground=False, autonomous=True)
+    rig.start("m")
+    rig.engine.pause()
+    rig.run(25)
+    assert rig.state("m") is NodeState.FAILED
+    assert rig.reason("m").startswith("deadline")
