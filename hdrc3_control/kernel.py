@@ -11,6 +11,12 @@ Algorithm 1 in sim time:
    braking and the Control Mode function set act on this step's flags; the selected function
    computes the command.
 
+A pause of the simulation (a world_sim that died and resumed from its checkpoint: the clock jumps
+by up to a checkpoint period while nothing moved and no sample came) is no sensor failure: when
+sim time advances by more than ``KernelConfig.pause_gap`` between two ticks, the kernel runs on
+its own clock, sim time minus the time it was not ticked, so sensor ages, dead-reckoning times
+and timers do not count the pause. Reports keep the sim time.
+
 The outgoing events pass :class:`~hdrc3_control.event_protocol.EventProtocol` and leave at the
 end of the tick; the result holds the YACS command (always one, also in manual mode or on the
 ground) and the :class:`~hdrc3_control.pfc_state.PfcSnapshot`.
@@ -22,7 +28,7 @@ import enum
 import functools
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from hdrc3_base.errors import ConfigError
@@ -139,6 +145,9 @@ class KernelConfig:
     """Sensors-Ok-CO wants a GPS fix at most this old, s."""
     gps_loss_tolerance: float = 3.0
     """Dead reckoning shorter than this rides through a GPS dropout; longer is Nav-Degraded, s."""
+    pause_gap: float = 0.1
+    """Sim time between two ticks beyond which the simulation paused (the gap is not counted
+    by the kernel's clock), s. In lockstep no tick is skipped; five are a pause."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -213,6 +222,11 @@ class PfcKernel:
         self.estimator = StateEstimator(c.estimator)
         self.state: EstimatedState | None = None
         self.now = start_time
+        """The kernel's clock: sim time minus :attr:`paused`."""
+        self.paused = 0.0
+        """Sim time the kernel was not ticked in simulation pauses (``pause_gap``), s."""
+        self.pauses = 0
+        self._sim_now = start_time
         self.ticks = 0
         self.mode = FlightMode.BOOT
         self._samples: list[tuple[float, int, Sample]] = []
@@ -278,6 +292,8 @@ class PfcKernel:
         self._samples.clear()
         est = self.estimator
         for _, _, s in samples:
+            if self.paused:
+                s = replace(s, time=s.time - self.paused)
             if isinstance(s, ImuMeasurement):
                 self._last_imu = s.time
                 if self._kf_enabled:
@@ -404,6 +420,12 @@ class PfcKernel:
     # ------------------------------------------------------------------ the tick
     def tick(self, now: float) -> TickResult:
         """One pass of Algorithm 1 at sim time ``now``."""
+        sim_now = now
+        if self.ticks and sim_now - self._sim_now > self.config.pause_gap:
+            self.paused += sim_now - self._sim_now - self.config.tick
+            self.pauses += 1
+        self._sim_now = sim_now
+        now = sim_now - self.paused
         self.now = now
         self.ticks += 1
         if self.ticks == 1:
@@ -432,7 +454,7 @@ class PfcKernel:
         sent = self._send(interp.take_outbox())
         requests, self._power_requests = tuple(self._power_requests), []
         command = self._command()
-        return TickResult(command, self._snapshot(now), step, sent, requests)
+        return TickResult(command, self._snapshot(sim_now), step, sent, requests)
 
     def _estimate(self, now: float) -> EstimatedState | None:
         if not (self._kf_enabled and self.estimator.initialised):
@@ -450,7 +472,7 @@ class PfcKernel:
             if self.state is not None:
                 memory.write("Position-DO", pack_pose(self.state.position, self.state.heading))
             ref = self._ground_ref or (0.0, 0.0, 0.0)
-            memory.write("Sync-DO", encode_values((now, *ref)))
+            memory.write("Sync-DO", encode_values((self._sim_now, *ref)))
             fault = self._fault_text(now)
             memory.write("Fault-DO", fault.encode("utf-8")[:256])
             self._fs_texts = self._failsafe_texts(now)
@@ -562,6 +584,7 @@ class PfcKernel:
         return GROUND_IDLE if self._on_ground else LEVEL_HOLD
 
     def _snapshot(self, now: float) -> PfcSnapshot:
+        """The report of this tick, stamped with the sim time ``now``."""
         s = self.state
         cur = self.functions.current
         running = cur is not None and cur.state is not FunctionState.OFF
@@ -580,7 +603,7 @@ class PfcKernel:
             auto=self.auto(),
             engine_running=status is not None and status.engine_running,
             estimator_initialised=self.estimator.initialised,
-            health=self.estimator.health(now) if self._kf_enabled else EstimatorHealth.LOST,
+            health=self.estimator.health(self.now) if self._kf_enabled else EstimatorHealth.LOST,
             position_sigma=s.position_sigma if s else math.inf,
             control_function=cur.name if running and cur is not None else "",
             mode_switch_state=self._states.get("Mode-Switch", "") if self.auto() else "",
