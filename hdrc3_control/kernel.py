@@ -70,6 +70,7 @@ from hdrc3_control.pfc_state import (
 )
 from hdrc3_control.state_estimator import EstimatorConfig, StateEstimator
 from hdrc3_control.takeoff import TakeoffConfig
+from hdrc3_control.warm_start import WarmStart
 from hdrc3_hcsm.control_function import ControlFunctionRunner, ControlFunctionSet, FunctionState
 from hdrc3_hcsm.event import PostStatus, WireEvent
 from hdrc3_hcsm.interpreter import Interpreter, StepResult
@@ -145,6 +146,8 @@ class KernelConfig:
     """Sensors-Ok-CO wants a GPS fix at most this old, s."""
     gps_loss_tolerance: float = 3.0
     """Dead reckoning shorter than this rides through a GPS dropout; longer is Nav-Degraded, s."""
+    warm_start_max_age: float = 120.0
+    """A warm-start record older than this (sim time) is not used, s (``warm_start.py``)."""
     pause_gap: float = 0.1
     """Sim time between two ticks beyond which the simulation paused (the gap is not counted
     by the kernel's clock), s. In lockstep no tick is skipped; five are a pause."""
@@ -188,9 +191,17 @@ class PfcKernel:
         transport: Transport | None = None,
         trace: TraceSink | None = None,
         start_time: float = 0.0,
+        warm_start: WarmStart | None = None,
     ) -> None:
-        """Load the automata and bind conditions, functions and flags (ModelError if invalid)."""
+        """Load the automata and bind conditions, functions and flags (ModelError if invalid).
+
+        ``warm_start``: the record a previous run of this kernel left (``warm_start.py``); used
+        at the first tick if it is at most ``warm_start_max_age`` old then.
+        """
         self.config = c = config or KernelConfig()
+        self._warm_start = warm_start
+        self.warm_start_note = "cold start"
+        """What became of the warm-start record (for the node's log)."""
         self.terrain = terrain
         self.transport = transport
         self.ctx = FunctionContext(terrain=terrain, dt=c.tick)
@@ -431,6 +442,7 @@ class PfcKernel:
         if self.ticks == 1:
             # the node may join a clock that is already running: time-outs start now
             self._power_since = now
+            self._use_warm_start(sim_now)
         interp = self.interpreter
         # Communicate: sensors, then events from the other computers
         self._apply_samples()
@@ -455,6 +467,29 @@ class PfcKernel:
         requests, self._power_requests = tuple(self._power_requests), []
         command = self._command()
         return TickResult(command, self._snapshot(sim_now), step, sent, requests)
+
+    def _use_warm_start(self, sim_now: float) -> None:
+        record = self._warm_start
+        if record is None:
+            return
+        why_not = record.usable_at(sim_now, self.config.warm_start_max_age)
+        if why_not is not None:
+            self.warm_start_note = f"cold start: warm-start {why_not}"
+            return
+        self.estimator.seed_baro_bias(record.baro_bias, record.baro_bias_sigma)
+        self.warm_start_note = (
+            f"warm start: barometer bias {record.baro_bias:.2f} m of t = {record.time:.2f} s"
+        )
+
+    def warm_start_record(self) -> WarmStart | None:
+        """The record to keep for a restart now (None while the solution is not good)."""
+        est = self.estimator
+        if not (self._kf_enabled and est.initialised) or est.health(self.now) is not (
+            EstimatorHealth.OK
+        ):
+            return None
+        bias, sigma = est.baro_reference()
+        return WarmStart(self._sim_now, bias, sigma)
 
     def _estimate(self, now: float) -> EstimatedState | None:
         if not (self._kf_enabled and self.estimator.initialised):

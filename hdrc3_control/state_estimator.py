@@ -103,6 +103,8 @@ class StateEstimator:
     def __init__(self, config: EstimatorConfig | None = None) -> None:
         """Create an uninitialised filter (it initialises on the first GPS or vision fix)."""
         self.config = config or EstimatorConfig()
+        self._warm: tuple[float, float] | None = None
+        """Barometer bias seed for the next initialisation (kept by :meth:`reset`)."""
         self.reset()
 
     def reset(self) -> None:
@@ -130,6 +132,22 @@ class StateEstimator:
     def initialised(self) -> bool:
         """True once a position fix has initialised the filter."""
         return self._initialised
+
+    def seed_baro_bias(self, bias: float, sigma: float) -> None:
+        """Initialise with this barometer bias (a warm start: ``hdrc3_control.warm_start``).
+
+        The next initialisation (after any :meth:`reset`) takes its height from the barometer
+        minus ``bias`` instead of from the GPS fix, whose vertical error is metres.
+        """
+        if not (math.isfinite(bias) and math.isfinite(sigma) and sigma > 0.0):
+            raise ConfigError(f"barometer bias seed must be finite, got {bias} +- {sigma}")
+        self._warm = (bias, sigma)
+
+    def baro_reference(self) -> tuple[float, float]:
+        """The barometer bias estimate and its standard deviation, m."""
+        if not self._initialised:
+            raise ConfigError("state estimator not initialised")
+        return float(self._kf.x[_BB]), math.sqrt(max(0.0, float(self._kf.P[_BB, _BB])))
 
     # ------------------------------------------------------------------ inputs
     def update_attitude(self, meas: AttitudeMeasurement) -> None:
@@ -294,17 +312,24 @@ class StateEstimator:
         x = np.zeros(_N)
         x[_P] = position
         x[_V] = velocity
-        if self._baro is not None:
+        height_var, bias_var = c.gps_vertical_sigma**2, 5.0**2
+        if self._baro is not None and self._warm is not None:
+            bias, sigma = self._warm
+            self._warm = None
+            x[2] = self._baro.height - bias
+            x[_BB] = bias
+            height_var, bias_var = sigma**2 + c.baro_sigma**2, sigma**2
+        elif self._baro is not None:
             x[_BB] = self._baro.height - position[2]
         self._kf.x = x
         self._kf.P = np.diag(
             [
                 c.gps_horizontal_sigma**2,
                 c.gps_horizontal_sigma**2,
-                c.gps_vertical_sigma**2,
+                height_var,
                 *([c.gps_velocity_sigma**2] * 3),
                 *([0.1**2] * 3),
-                5.0**2,
+                bias_var,
             ]
         )
         self._initialised = True

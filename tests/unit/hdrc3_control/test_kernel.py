@@ -266,6 +266,30 @@ def test_a_simulator_resumed_from_its_checkpoint_is_a_pause_not_a_sensor_loss(
     assert not [e for e in f.replies if e.name == "PFC-Fault-EV"]
 
 
+@pytest.mark.parametrize("warm", [True, False])
+def test_a_kernel_restarted_in_the_air_hovers_and_a_warm_start_keeps_its_height(
+    warm: bool,
+) -> None:
+    f = airborne_flight()
+    f.run(5)
+    record = f.kernel.warm_start_record()
+    assert record is not None and record.time == pytest.approx(f.sim.time, abs=0.03)
+    f.kernel = PfcKernel(
+        None,
+        terrain=f.world.terrain.height,
+        transport=f.network.endpoint("PFC"),
+        start_time=f.sim.time,
+        warm_start=record if warm else None,
+    )
+    assert f.run_until(lambda: hovering(f), 30)
+    f.run(5)
+    assert speed(f) < 1.0 and not f.sim.truth(f.agent).on_ground
+    assert f.kernel.warm_start_note.startswith("warm start" if warm else "cold start")
+    if warm:  # the barometer's reference of the first run: within a metre of the truth
+        error = f.kernel.state.position[2] - f.sim.truth(f.agent).position_enu[2]  # type: ignore[union-attr]
+        assert abs(error) < 1.0
+
+
 def test_rc_switch_to_manual_cancels_the_command() -> None:
     f = airborne_flight()
     p = f.kernel.state.position  # type: ignore[union-attr]
