@@ -366,6 +366,7 @@ class PfcKernel:
                         or self.estimator.aiding_age(self.now) > c.gps_loss_tolerance
                     )
                 ),
+                "Baro-Fault-CO": lambda: self.estimator.baro_fault is not None,
                 "Nav-Lost-CO": lambda: (
                     self.estimator.initialised and health() is EstimatorHealth.LOST
                 ),
@@ -510,6 +511,12 @@ class PfcKernel:
             memory.write("Sync-DO", encode_values((self._sim_now, *ref)))
             fault = self._fault_text(now)
             memory.write("Fault-DO", fault.encode("utf-8")[:256])
+            if self.estimator.baro_fault is not None:
+                text = (
+                    f"navigation degraded: {self.estimator.baro_fault}: barometer excluded, "
+                    "height from GPS"
+                )
+                memory.write("Baro-DO", text.encode("utf-8")[:256])
             self._fs_texts = self._failsafe_texts(now)
             for slot, text in self._fs_texts.items():
                 memory.write(slot, text.encode("utf-8")[:256])

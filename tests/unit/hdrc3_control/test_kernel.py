@@ -290,6 +290,25 @@ def test_a_kernel_restarted_in_the_air_hovers_and_a_warm_start_keeps_its_height(
         assert abs(error) < 1.0
 
 
+def test_a_drifting_barometer_is_announced_excluded_and_the_flyto_goes_on() -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    cid = f.send("Traj3D-Flyto-EV", (p[0] + 150.0, p[1], p[2], 6.0))
+    assert f.run_until(lambda: speed(f) > 4.0, 20)
+    baro = f.sim.agents[f.agent].sensors.sensors()["barometer"].fault
+    start = f.sim.time
+    for _ in range(round(40 / 0.02)):  # 0.2 m/s of drift for 30 s (6 m), as bench/faults.py
+        baro.set(FaultMode.BIAS, (0.2 * min(30.0, f.sim.time - start),))
+        f.tick()
+    assert f.run_until(lambda: finished(f, cid), 30)
+    assert answers(f, cid)[-1] == ("Traj-Arrived-EV", "")
+    texts = [e.data.decode() for e in f.replies if e.name == "PFC-Fault-EV"]
+    assert len(texts) == 1 and texts[0].startswith("navigation degraded: barometer drifting")
+    error = f.kernel.state.position[2] - f.sim.truth(f.agent).position_enu[2]  # type: ignore[union-attr]
+    assert abs(error) < 2.5  # carried by GPS velocity; 6 m had it followed the barometer
+    assert f.kernel.failsafe is Failsafe.NONE
+
+
 def test_rc_switch_to_manual_cancels_the_command() -> None:
     f = airborne_flight()
     p = f.kernel.state.position  # type: ignore[union-attr]
