@@ -7,6 +7,7 @@ takes off through FCL, starts a fly-to (the command the fault interrupts) and in
 | entry | fault |
 |---|---|
 | kill_<node> | ``kill -9`` of the node (pid: ``/hdrc3/launch_status``); the launcher restarts it |
+|  | (kill_perception_kernel: a PPCL ``turn_to`` of 165 deg is running too, besides the fly-to) |
 | gps_loss_3s, gps_loss_30s | world_sim's GPS dropped for 3 s / 30 s of sim time |
 | imu_freeze | the IMU repeats its last sample until the aircraft is on the ground |
 | baro_drift | barometer bias ramped 0.2 m per s of sim time for 30 s (6 m) |
@@ -115,6 +116,10 @@ class Row:
     failsafe: str = ""
     recover_sim: float = math.nan
     recover_wall: float = math.nan
+    terminal_wall: float = math.nan
+    """Wall seconds from the fault to the last terminal event of the interrupted commands."""
+    fault_at: float = math.nan
+    """time.monotonic() when the fault went in (the kill, the first fault call)."""
     note: str = ""
     accepted: list[int] = field(default_factory=list)
 
@@ -137,6 +142,8 @@ class Rig:
         """DI samples older than the one before (a simulator that started over)."""
         self.truth: list[Any] = []
         self.launch_status: Any = None
+        self.started: dict[str, tuple[int, float]] = {}
+        """Supervised process -> (pid, wall time its pid was first seen): restarts are timed."""
         self.node.create_subscription(
             HelicopterState, f"/{AGENT}/helicopter_state", self._on_state, STATE_QOS
         )
@@ -156,6 +163,9 @@ class Rig:
 
     def _on_launch(self, msg: Any) -> None:
         self.launch_status = msg
+        for p in msg.processes:
+            if p.pid > 0 and self.started.get(p.name, (0, 0.0))[0] != p.pid:
+                self.started[p.name] = (int(p.pid), time.monotonic())
 
     def wait(self, done: Callable[[], bool], timeout: float) -> bool:
         """Spin until ``done()`` or ``timeout`` s of wall time."""
@@ -184,10 +194,14 @@ class Rig:
         self.wait(future.done, CALL_S)
         return future.result().result if future.done() else None
 
-    def fault(self, sensor: str, mode: int, magnitude: tuple[float, ...] = ()) -> None:
+    def fault(
+        self, sensor: str, mode: int, magnitude: tuple[float, ...] = (), row: Row | None = None
+    ) -> None:
         """Set world_sim's fault switch of one sensor."""
         from hdrc3_interfaces.srv import SimInjectFault
 
+        if row is not None and math.isnan(row.fault_at):
+            row.fault_at = time.monotonic()
         self.call(
             SimInjectFault,
             "/world_sim/inject_fault",
@@ -281,6 +295,26 @@ def start_flyto(rig: Rig, pad: tuple[float, float, float], row: Row) -> int:
     return int(answer.command_id)
 
 
+def start_turn(rig: Rig, row: Row) -> None:
+    """Take the PTU and start a long pan (a PPCL command pending when the PPC dies)."""
+    from hdrc3_interfaces.msg import PpclReturn
+    from hdrc3_interfaces.srv import PpclControl, PpclTurnTo
+
+    rig.client.call(
+        PpclControl,
+        "ppcl/control",
+        PpclControl.Request(resource=PpclControl.Request.RESOURCE_PTU, request=True, owner="bench"),
+        CALL_S,
+    )
+    response = rig.client.call(
+        PpclTurnTo, "ppcl/turn_to", PpclTurnTo.Request(pan=math.radians(165.0)), CALL_S
+    )
+    if response is not None and response.result.code == PpclReturn.PPCL_OK:
+        row.accepted.append(int(response.result.command_id))
+    else:
+        row.note = f"turn_to not accepted: {response}"
+
+
 # ---------------------------------------------------------------------------------- faults
 def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> None:
     """Inject the entry's fault; returns once it is in (the bench then watches the outcome)."""
@@ -291,18 +325,21 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
     if entry.startswith("kill_"):
         start_flyto(rig, pad, row)
         node = entry.removeprefix("kill_")
+        if node == "perception_kernel":
+            start_turn(rig, row)
         name = node if node == "world_sim" else f"{AGENT}/{node}"
         pid = rig.pid_of(name)
         if pid <= 0:
             row.note = f"no pid for {name} in /hdrc3/launch_status"
             return
+        row.fault_at = time.monotonic()
         os.kill(pid, signal.SIGKILL)
         row.note = f"killed pid {pid}"
     elif entry.startswith("gps_loss_"):
         start_flyto(rig, pad, row)
         seconds = float(entry.removeprefix("gps_loss_").removesuffix("s"))
         before = rig.now()
-        rig.fault("gps", mode.MODE_DROP)
+        rig.fault("gps", mode.MODE_DROP, row=row)
         rig.wait_sim(seconds)
         rig.fault("gps", mode.MODE_NONE)
         # the service calls take sim time too (at --speed max): the DI's stamps bound the outage
@@ -310,13 +347,13 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
         row.note = f"GPS outage {seconds:g} s asked, {outage:.1f} s of sim time between calls"
     elif entry == "imu_freeze":
         start_flyto(rig, pad, row)
-        rig.fault("imu", mode.MODE_FREEZE)
+        rig.fault("imu", mode.MODE_FREEZE, row=row)
         rig.wait(lambda: rig.states[-1].on_ground_flag, SETTLE_WALL_S)
         rig.fault("imu", mode.MODE_NONE)
     elif entry == "baro_drift":
         start_flyto(rig, pad, row)
         for k in range(1, 31):
-            rig.fault("barometer", mode.MODE_BIAS, (0.2 * k,))
+            rig.fault("barometer", mode.MODE_BIAS, (0.2 * k,), row)
             rig.wait_sim(1.0)
     elif entry == "segment_withheld":
         p = rig.enu(rig.states[-1])
@@ -390,7 +427,16 @@ def run_entry(entry: str, domain: int) -> Row:
             def terminals(cid: int) -> list[Any]:
                 return [e for e in rig.client.events if e.command_id == cid and e.kind in TERMINAL]
 
-            rig.wait(lambda: all(terminals(c) for c in ids), 60.0)
+            if rig.wait(lambda: all(terminals(c) for c in ids), 60.0) and ids:
+                since = t0_wall if math.isnan(row.fault_at) else row.fault_at
+                row.terminal_wall = time.monotonic() - since
+            if entry.startswith("kill_"):
+                node = entry.removeprefix("kill_")
+                name = node if node == "world_sim" else f"{AGENT}/{node}"
+                rig.wait(lambda: rig.started.get(name, (0, 0.0))[1] > row.fault_at, 60.0)
+                up = rig.started.get(name, (0, 0.0))[1] - row.fault_at
+                if up > 0:
+                    row.note += f"; restarted (new pid) {up:.1f} s after the kill"
             rig.wait(lambda: settled(rig) is not None, SETTLE_WALL_S)
             verdict = settled(rig)
             if verdict is not None:
@@ -404,11 +450,12 @@ def run_entry(entry: str, domain: int) -> Row:
                 row.note = "; ".join(x for x in (row.note, veto) if x)
             counts = [len(terminals(c)) for c in ids]
             row.terminals_per_command = ",".join(map(str, counts)) if ids else "-"
-            first = next((terminals(c)[0] for c in ids if terminals(c)), None)
-            if ids and first is None:
+            firsts = [terminals(c)[0] if terminals(c) else None for c in ids]
+            if ids and all(e is None for e in firsts):
                 row.terminal = "unanswered"
-            elif first is not None:
-                row.terminal, row.reason = first.kind.name, first.reason
+            elif firsts:
+                row.terminal = ",".join(e.kind.name if e else "unanswered" for e in firsts)
+                row.reason = " | ".join(e.reason for e in firsts if e and e.reason)
             row.failsafe = " | ".join(
                 e.reason for e in rig.client.events[mark:] if e.command == "pfc_failsafe"
             )
@@ -422,15 +469,15 @@ def print_table(rows: list[Row]) -> None:
     log("")
     log(
         f"{'entry':24} {'outcome':13} {'terminal':10} {'per cmd':8} {'recover sim/wall s':19}"
-        " reason / failsafe / note"
+        f" {'term. s':7} reason / failsafe / note"
     )
     for r in rows:
         rec = f"{r.recover_sim:7.1f} /{r.recover_wall:7.1f}"
         head = f"{r.entry:24} {r.outcome:13} {r.terminal:10} {r.terminals_per_command:8}"
-        log(f"{head} {rec:19} {r.reason}")
+        log(f"{head} {rec:19} {r.terminal_wall:7.1f} {r.reason}")
         for extra in (r.failsafe, r.note):
             if extra:
-                log(f"{'':77} {extra}")
+                log(f"{'':85} {extra}")
     safe = sum(r.outcome != "unsafe" for r in rows)
     once = sum(set(r.terminals_per_command.split(",")) == {"1"} for r in rows)
     log(f"\n{safe}/{len(rows)} entries safe")
