@@ -13,7 +13,7 @@ takes off through FCL, starts a fly-to (the command the fault interrupts) and in
 | baro_drift | barometer bias ramped 0.2 m per s of sim time for 30 s (6 m) |
 | segment_withheld | a traj3d segment with end velocity > 0 whose next segment never comes |
 | burst_100 | 100 ``fcl/yaw`` calls sent at once by one client while hovering |
-| rc_manual | RC switch to manual mid-fly-to, back to autonomous 1 s of sim time later |
+| rc_manual | RC switch to manual mid-fly-to (throttle near hover), back 1 s of sim time later |
 
 Columns: the outcome, decided from the Data Interface (``helicopter_state``): *safe hover*
 (airborne, autonomous, below 0.5 m/s for 2 s of sim time), *safe landing* (on the ground, below 0.5
@@ -22,9 +22,10 @@ m/s), else *unsafe*; the simulator's published ground truth is read after the fa
 position) and the column says when it did. Sim time going backwards in the DI (a simulator that
 started over) is *unsafe* too: the world the aircraft flew in was lost. Then the terminal event of
 the interrupted command and its reason, the number of terminal events per accepted command (must be
-1), the failsafe announcements (``pfc_failsafe``) and the time from the fault to the safe state
-(sim and wall seconds). Entries that need the restart and burst work of issue 21 may show *unsafe*
-or *unanswered* until it is merged: the table says what happens, not what should.
+1), the failsafe and other PFC fault announcements (``pfc_failsafe``, "PFC fault: ..."), the time
+from the fault to the safe state (sim and wall seconds) and from the fault to the terminal events
+(wall), the touchdown speed in ground truth and, for a kill, when the new process started. The
+table says what happens, not what should.
 
 Run: ``.venv/bin/python bench/faults.py [--only ENTRY ...] [--domain-id N]``.
 """
@@ -50,6 +51,8 @@ ALTITUDE = 12.0
 HDRC3 = str(Path(sys.executable).parent / "hdrc3")
 CALL_S = 10.0
 SETTLE_WALL_S = 240.0
+HOVER_THROTTLE = 0.55
+"""The safety pilot's throttle stick in the rc_manual entry (about hover collective)."""
 
 
 def log(text: str) -> None:
@@ -257,6 +260,14 @@ def truth_veto(rig: Rig, since: float) -> str:
     return ""
 
 
+def touchdown(rig: Rig, since: float) -> str:
+    """The vertical speed of the first ground contact since ``since`` in ground truth ("")."""
+    touch = [t for t in rig.truth if stamp_s(t.header.stamp) >= since and t.on_ground]
+    if not touch:
+        return ""
+    return f"truth: touchdown at {touch[0].velocity_enu[2]:+.2f} m/s"
+
+
 def prepare(rig: Rig) -> tuple[float, float, float] | None:
     """Autonomous, engine on, taken off; the hover point (ENU), or None."""
     from hdrc3.safety_pilot import Switch, set_rc
@@ -371,7 +382,10 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
         if answer is not None and answer.code == FclReturn.FCL_OK:
             row.accepted.append(int(answer.command_id))
     elif entry == "burst_100":
-        client = rig.node.create_client(FclYaw, f"/{AGENT}/fcl/yaw")
+        from hdrc3_base.ros_runtime import SERVICE_QOS
+
+        # answers of a burst need the server's depth on the client side too (README, QoS)
+        client = rig.node.create_client(FclYaw, f"/{AGENT}/fcl/yaw", qos_profile=SERVICE_QOS)
         rig.wait(client.service_is_ready, CALL_S)
         heading = rig.states[-1].heading
         futures = [client.call_async(FclYaw.Request(heading=heading)) for _ in range(100)]
@@ -381,8 +395,12 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
         row.note = f"{len(answered)}/100 answered"
     elif entry == "rc_manual":
         from hdrc3.safety_pilot import Switch, set_rc
+        from hdrc3_interfaces.srv import SimSetRc
 
         start_flyto(rig, pad, row)
+        # the safety pilot holds about hover throttle as he takes over (sticks at 0 would drop
+        # the aircraft for as long as the manual phase lasts in sim time: a bench artefact)
+        rig.call(SimSetRc, f"/{AGENT}/rc/set", set_sticks=True, throttle=HOVER_THROTTLE)
         set_rc(rig.process, rig.node, AGENT, Switch.MANUAL, Switch.KEEP, CALL_S)
         rig.wait_sim(1.0)
         set_rc(rig.process, rig.node, AGENT, Switch.AUTONOMOUS, Switch.KEEP, CALL_S)
@@ -447,7 +465,7 @@ def run_entry(entry: str, domain: int) -> Row:
                 if rig.time_reversals:
                     veto = "sim time went backwards: the simulation started over"
                 row.outcome = verdict if not veto else "unsafe"
-                row.note = "; ".join(x for x in (row.note, veto) if x)
+                row.note = "; ".join(x for x in (row.note, veto, touchdown(rig, t0_sim)) if x)
             counts = [len(terminals(c)) for c in ids]
             row.terminals_per_command = ",".join(map(str, counts)) if ids else "-"
             firsts = [terminals(c)[0] if terminals(c) else None for c in ids]
@@ -456,8 +474,10 @@ def run_entry(entry: str, domain: int) -> Row:
             elif firsts:
                 row.terminal = ",".join(e.kind.name if e else "unanswered" for e in firsts)
                 row.reason = " | ".join(e.reason for e in firsts if e and e.reason)
-            row.failsafe = " | ".join(
-                e.reason for e in rig.client.events[mark:] if e.command == "pfc_failsafe"
+            row.failsafe = " | ".join(  # failsafe changes and other PFC fault announcements
+                e.reason
+                for e in rig.client.events[mark:]
+                if e.command == "pfc_failsafe" or e.reason.startswith("PFC fault")
             )
             rig.node.destroy_node()
     finally:

@@ -39,7 +39,8 @@ from std_msgs.msg import String
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
 from hdrc3_control.commands import EstimatorHealth, VerticalMode
-from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult, UiCommand
+from hdrc3_control.kernel import PfcKernel, TickResult, UiCommand
+from hdrc3_control.kernel_config import KernelConfig
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,

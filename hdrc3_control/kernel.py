@@ -28,8 +28,7 @@ import enum
 import functools
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
-from pathlib import Path
+from dataclasses import dataclass, replace
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_control.automata import automaton_path
@@ -38,6 +37,7 @@ from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHea
 from hdrc3_control.event_codec import encode, encode_values
 from hdrc3_control.event_protocol import EventProtocol, SendLog
 from hdrc3_control.hover import HoverStatus
+from hdrc3_control.kernel_config import KernelConfig
 from hdrc3_control.kernel_functions import (
     BrakingConsumer,
     FlytoFunction,
@@ -48,7 +48,7 @@ from hdrc3_control.kernel_functions import (
     Traj3DFunction,
     pack_pose,
 )
-from hdrc3_control.landing import LandingConfig, LandingPhase
+from hdrc3_control.landing import LandingPhase
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,
@@ -56,9 +56,9 @@ from hdrc3_control.measurements import (
     GroundContactMeasurement,
     ImuMeasurement,
 )
-from hdrc3_control.path_following import PathFollowingConfig, PathStatus
+from hdrc3_control.navigation_texts import baro_text, failsafe_texts, fault_text
+from hdrc3_control.path_following import PathStatus
 from hdrc3_control.pfc_state import (
-    FAILSAFE_PREFIX,
     FAILSAFE_STATES,
     POWER_DRC,
     SENSOR_POWER,
@@ -68,8 +68,7 @@ from hdrc3_control.pfc_state import (
     PlatformStatus,
     PowerReading,
 )
-from hdrc3_control.state_estimator import EstimatorConfig, StateEstimator
-from hdrc3_control.takeoff import TakeoffConfig
+from hdrc3_control.state_estimator import StateEstimator
 from hdrc3_control.warm_start import WarmStart
 from hdrc3_hcsm.control_function import ControlFunctionRunner, ControlFunctionSet, FunctionState
 from hdrc3_hcsm.event import PostStatus, WireEvent
@@ -120,37 +119,6 @@ _UI_EVENTS = {
     UiCommand.BRAKE: "Ui-Brake-EV",
     UiCommand.LAND: "Ui-Land-EV",
 }
-
-
-@dataclass(frozen=True, slots=True)
-class KernelConfig:
-    """Parameters of the PFC kernel."""
-
-    model: Path | None = None
-    """Automata file (default: the shipped ``automata/pfc.hcsm``)."""
-    tick: float = 0.02
-    takeoff: TakeoffConfig = field(default_factory=TakeoffConfig)
-    path: PathFollowingConfig = field(default_factory=PathFollowingConfig)
-    landing: LandingConfig = field(default_factory=LandingConfig)
-    estimator: EstimatorConfig = field(default_factory=EstimatorConfig)
-    climb_speed: float = 1.5
-    """fcl_climb speed along the vertical segment, m/s."""
-    segment_start_tolerance: float = 10.0
-    """A first Traj3D segment must start this close to the aircraft, m."""
-    power_timeout: float = 5.0
-    """Wait for the power unit's answer (and for a first power report), s."""
-    sync_period: float = 10.0
-    ui_window: float = 3.0
-    """UI Timer: a command key must follow the arm key within this time, s."""
-    gps_timeout: float = 1.0
-    """Sensors-Ok-CO wants a GPS fix at most this old, s."""
-    gps_loss_tolerance: float = 3.0
-    """Dead reckoning shorter than this rides through a GPS dropout; longer is Nav-Degraded, s."""
-    warm_start_max_age: float = 120.0
-    """A warm-start record older than this (sim time) is not used, s (``warm_start.py``)."""
-    pause_gap: float = 0.1
-    """Sim time between two ticks beyond which the simulation paused (the gap is not counted
-    by the kernel's clock), s. In lockstep no tick is skipped; five are a pause."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -509,52 +477,17 @@ class PfcKernel:
                 memory.write("Position-DO", pack_pose(self.state.position, self.state.heading))
             ref = self._ground_ref or (0.0, 0.0, 0.0)
             memory.write("Sync-DO", encode_values((self._sim_now, *ref)))
-            fault = self._fault_text(now)
-            memory.write("Fault-DO", fault.encode("utf-8")[:256])
-            if self.estimator.baro_fault is not None:
-                text = (
-                    f"navigation degraded: {self.estimator.baro_fault}: barometer excluded, "
-                    "height from GPS"
-                )
-                memory.write("Baro-DO", text.encode("utf-8")[:256])
-            self._fs_texts = self._failsafe_texts(now)
+            memory.write("Fault-DO", fault_text(self.estimator, now).encode("utf-8")[:256])
+            baro = baro_text(self.estimator)
+            if baro is not None:
+                memory.write("Baro-DO", baro.encode("utf-8")[:256])
+            self._fs_texts = failsafe_texts(self.estimator, now, self._on_ground)
             for slot, text in self._fs_texts.items():
                 memory.write(slot, text.encode("utf-8")[:256])
             memory.write("No-Command-DO", encode(0))
         self._fs_reasons = {
             "Fs-Hold-EV": self._fs_texts["Fs-Hold-DO"],
             "Fs-Land-EV": self._fs_texts["Fs-Land-DO"],
-        }
-
-    def _fault_text(self, now: float) -> str:
-        est = self.estimator
-        if not est.initialised:
-            return "navigation not initialised"
-        health = est.health(now)
-        if health is EstimatorHealth.OK:
-            return "navigation recovered: GPS aiding current"
-        if health is EstimatorHealth.DEGRADED:
-            age = est.aiding_age(now)
-            return f"navigation degraded: no GPS fix for {age:.1f} s, dead reckoning on the IMU"
-        return f"navigation lost: {est.lost_cause(now)}"
-
-    def _failsafe_texts(self, now: float) -> dict[str, str]:
-        """The failsafe announcements for this tick (slots of automata/failsafe.hcsm)."""
-        est = self.estimator
-        age = est.aiding_age(now)
-        left = max(0.0, self.config.estimator.max_dead_reckoning - age)
-        ended = "on the ground" if self._on_ground else "GPS back, hovering on GPS"
-        return {
-            "Fs-Hold-DO": (
-                f"{FAILSAFE_PREFIX}: GPS lost for {age:.1f} s: braking and hovering on dead "
-                "reckoning; flight commands other than land refused; emergency landing unless "
-                f"GPS is back within {left:.1f} s"
-            ),
-            "Fs-Land-DO": (
-                f"{FAILSAFE_PREFIX}: emergency landing: navigation lost: "
-                f"{est.lost_cause(now) or 'solution unusable'}"
-            ),
-            "Fs-End-DO": f"{FAILSAFE_PREFIX} ended: {ended}",
         }
 
     def _update_failsafe(self) -> None:

@@ -14,7 +14,8 @@ from collections.abc import Callable
 from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import AttitudeCommand, VerticalMode
 from hdrc3_control.event_codec import command_id_of, encode
-from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult, load_model
+from hdrc3_control.kernel import PfcKernel, TickResult, load_model
+from hdrc3_control.kernel_config import KernelConfig
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,
