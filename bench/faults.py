@@ -23,8 +23,8 @@ position) and the column says when it did. Sim time going backwards in the DI (a
 started over) is *unsafe* too: the world the aircraft flew in was lost. Then the terminal event of
 the interrupted command and its reason, the number of terminal events per accepted command (must be
 1), the failsafe and other PFC fault announcements (``pfc_failsafe``, "PFC fault: ..."), the time
-from the fault to the safe state (sim and wall seconds) and from the fault to the terminal events
-(wall), the touchdown speed in ground truth and, for a kill, when the new process started. The
+from the fault to the safe state (sim and wall seconds) and to the terminal events (wall seconds
+for a kill, sim seconds of the events' stamps otherwise), the touchdown speed in ground truth and, for a kill, when the new process started. The
 table says what happens, not what should.
 
 Run: ``.venv/bin/python bench/faults.py [--only ENTRY ...] [--domain-id N]``.
@@ -120,9 +120,13 @@ class Row:
     recover_sim: float = math.nan
     recover_wall: float = math.nan
     terminal_wall: float = math.nan
-    """Wall seconds from the fault to the last terminal event of the interrupted commands."""
+    """Kills: wall seconds from the kill to the last terminal event of the commands."""
+    terminal_sim: float = math.nan
+    """Other faults: sim seconds from the fault to the last terminal event of the commands."""
     fault_at: float = math.nan
     """time.monotonic() when the fault went in (the kill, the first fault call)."""
+    fault_sim: float = math.nan
+    """Sim time (Data Interface) when the fault went in."""
     note: str = ""
     accepted: list[int] = field(default_factory=list)
 
@@ -204,7 +208,7 @@ class Rig:
         from hdrc3_interfaces.srv import SimInjectFault
 
         if row is not None and math.isnan(row.fault_at):
-            row.fault_at = time.monotonic()
+            row.fault_at, row.fault_sim = time.monotonic(), self.now()
         self.call(
             SimInjectFault,
             "/world_sim/inject_fault",
@@ -343,7 +347,7 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
         if pid <= 0:
             row.note = f"no pid for {name} in /hdrc3/launch_status"
             return
-        row.fault_at = time.monotonic()
+        row.fault_at, row.fault_sim = time.monotonic(), rig.now()
         os.kill(pid, signal.SIGKILL)
         row.note = f"killed pid {pid}"
     elif entry.startswith("gps_loss_"):
@@ -446,8 +450,11 @@ def run_entry(entry: str, domain: int) -> Row:
                 return [e for e in rig.client.events if e.command_id == cid and e.kind in TERMINAL]
 
             if rig.wait(lambda: all(terminals(c) for c in ids), 60.0) and ids:
-                since = t0_wall if math.isnan(row.fault_at) else row.fault_at
-                row.terminal_wall = time.monotonic() - since
+                if entry.startswith("kill_"):  # inject returned at the kill: wall time
+                    row.terminal_wall = time.monotonic() - row.fault_at
+                else:  # inject may wait (landing, drift ramp): the events' own sim stamps
+                    since = t0_sim if math.isnan(row.fault_sim) else row.fault_sim
+                    row.terminal_sim = max(terminals(c)[0].time for c in ids) - since
             if entry.startswith("kill_"):
                 node = entry.removeprefix("kill_")
                 name = node if node == "world_sim" else f"{AGENT}/{node}"
@@ -489,15 +496,20 @@ def print_table(rows: list[Row]) -> None:
     log("")
     log(
         f"{'entry':24} {'outcome':13} {'terminal':10} {'per cmd':8} {'recover sim/wall s':19}"
-        f" {'term. s':7} reason / failsafe / note"
+        f" {'term. s':12} reason / failsafe / note"
     )
     for r in rows:
         rec = f"{r.recover_sim:7.1f} /{r.recover_wall:7.1f}"
         head = f"{r.entry:24} {r.outcome:13} {r.terminal:10} {r.terminals_per_command:8}"
-        log(f"{head} {rec:19} {r.terminal_wall:7.1f} {r.reason}")
+        term = (
+            f"{r.terminal_wall:5.1f} wall"
+            if math.isfinite(r.terminal_wall)
+            else f"{r.terminal_sim:5.1f} sim"
+        )
+        log(f"{head} {rec:19} {term:12} {r.reason}")
         for extra in (r.failsafe, r.note):
             if extra:
-                log(f"{'':85} {extra}")
+                log(f"{'':90} {extra}")
     safe = sum(r.outcome != "unsafe" for r in rows)
     once = sum(set(r.terminals_per_command.split(",")) == {"1"} for r in rows)
     log(f"\n{safe}/{len(rows)} entries safe")
