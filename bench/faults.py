@@ -24,8 +24,8 @@ started over) is *unsafe* too: the world the aircraft flew in was lost. Then the
 the interrupted command and its reason, the number of terminal events per accepted command (must be
 1), the failsafe and other PFC fault announcements (``pfc_failsafe``, "PFC fault: ..."), the time
 from the fault to the safe state (sim and wall seconds) and to the terminal events (wall seconds
-for a kill, sim seconds of the events' stamps otherwise), the touchdown speed in ground truth and, for a kill, when the new process started. The
-table says what happens, not what should.
+for a kill, sim seconds of the events' stamps otherwise), the touchdown speed in ground truth and,
+for a kill, when the new process started. The table says what happens, not what should.
 
 Run: ``.venv/bin/python bench/faults.py [--only ENTRY ...] [--domain-id N]``.
 """
