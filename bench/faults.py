@@ -7,12 +7,13 @@ takes off through FCL, starts a fly-to (the command the fault interrupts) and in
 | entry | fault |
 |---|---|
 | kill_<node> | ``kill -9`` of the node (pid: ``/hdrc3/launch_status``); the launcher restarts it |
+|  | (kill_perception_kernel: a PPCL ``turn_to`` of 165 deg is running too, besides the fly-to) |
 | gps_loss_3s, gps_loss_30s | world_sim's GPS dropped for 3 s / 30 s of sim time |
 | imu_freeze | the IMU repeats its last sample until the aircraft is on the ground |
 | baro_drift | barometer bias ramped 0.2 m per s of sim time for 30 s (6 m) |
 | segment_withheld | a traj3d segment with end velocity > 0 whose next segment never comes |
 | burst_100 | 100 ``fcl/yaw`` calls sent at once by one client while hovering |
-| rc_manual | RC switch to manual mid-fly-to, back to autonomous 1 s of sim time later |
+| rc_manual | RC switch to manual mid-fly-to (throttle near hover), back 1 s of sim time later |
 
 Columns: the outcome, decided from the Data Interface (``helicopter_state``): *safe hover*
 (airborne, autonomous, below 0.5 m/s for 2 s of sim time), *safe landing* (on the ground, below 0.5
@@ -21,9 +22,10 @@ m/s), else *unsafe*; the simulator's published ground truth is read after the fa
 position) and the column says when it did. Sim time going backwards in the DI (a simulator that
 started over) is *unsafe* too: the world the aircraft flew in was lost. Then the terminal event of
 the interrupted command and its reason, the number of terminal events per accepted command (must be
-1), the failsafe announcements (``pfc_failsafe``) and the time from the fault to the safe state
-(sim and wall seconds). Entries that need the restart and burst work of issue 21 may show *unsafe*
-or *unanswered* until it is merged: the table says what happens, not what should.
+1), the failsafe and other PFC fault announcements (``pfc_failsafe``, "PFC fault: ..."), the time
+from the fault to the safe state (sim and wall seconds) and to the terminal events (wall seconds
+for a kill, sim seconds of the events' stamps otherwise), the touchdown speed in ground truth and,
+for a kill, when the new process started. The table says what happens, not what should.
 
 Run: ``.venv/bin/python bench/faults.py [--only ENTRY ...] [--domain-id N]``.
 """
@@ -49,6 +51,8 @@ ALTITUDE = 12.0
 HDRC3 = str(Path(sys.executable).parent / "hdrc3")
 CALL_S = 10.0
 SETTLE_WALL_S = 240.0
+HOVER_THROTTLE = 0.55
+"""The safety pilot's throttle stick in the rc_manual entry (about hover collective)."""
 
 
 def log(text: str) -> None:
@@ -115,6 +119,14 @@ class Row:
     failsafe: str = ""
     recover_sim: float = math.nan
     recover_wall: float = math.nan
+    terminal_wall: float = math.nan
+    """Kills: wall seconds from the kill to the last terminal event of the commands."""
+    terminal_sim: float = math.nan
+    """Other faults: sim seconds from the fault to the last terminal event of the commands."""
+    fault_at: float = math.nan
+    """time.monotonic() when the fault went in (the kill, the first fault call)."""
+    fault_sim: float = math.nan
+    """Sim time (Data Interface) when the fault went in."""
     note: str = ""
     accepted: list[int] = field(default_factory=list)
 
@@ -137,6 +149,8 @@ class Rig:
         """DI samples older than the one before (a simulator that started over)."""
         self.truth: list[Any] = []
         self.launch_status: Any = None
+        self.started: dict[str, tuple[int, float]] = {}
+        """Supervised process -> (pid, wall time its pid was first seen): restarts are timed."""
         self.node.create_subscription(
             HelicopterState, f"/{AGENT}/helicopter_state", self._on_state, STATE_QOS
         )
@@ -156,6 +170,9 @@ class Rig:
 
     def _on_launch(self, msg: Any) -> None:
         self.launch_status = msg
+        for p in msg.processes:
+            if p.pid > 0 and self.started.get(p.name, (0, 0.0))[0] != p.pid:
+                self.started[p.name] = (int(p.pid), time.monotonic())
 
     def wait(self, done: Callable[[], bool], timeout: float) -> bool:
         """Spin until ``done()`` or ``timeout`` s of wall time."""
@@ -184,10 +201,14 @@ class Rig:
         self.wait(future.done, CALL_S)
         return future.result().result if future.done() else None
 
-    def fault(self, sensor: str, mode: int, magnitude: tuple[float, ...] = ()) -> None:
+    def fault(
+        self, sensor: str, mode: int, magnitude: tuple[float, ...] = (), row: Row | None = None
+    ) -> None:
         """Set world_sim's fault switch of one sensor."""
         from hdrc3_interfaces.srv import SimInjectFault
 
+        if row is not None and math.isnan(row.fault_at):
+            row.fault_at, row.fault_sim = time.monotonic(), self.now()
         self.call(
             SimInjectFault,
             "/world_sim/inject_fault",
@@ -243,6 +264,14 @@ def truth_veto(rig: Rig, since: float) -> str:
     return ""
 
 
+def touchdown(rig: Rig, since: float) -> str:
+    """The vertical speed of the first ground contact since ``since`` in ground truth ("")."""
+    touch = [t for t in rig.truth if stamp_s(t.header.stamp) >= since and t.on_ground]
+    if not touch:
+        return ""
+    return f"truth: touchdown at {touch[0].velocity_enu[2]:+.2f} m/s"
+
+
 def prepare(rig: Rig) -> tuple[float, float, float] | None:
     """Autonomous, engine on, taken off; the hover point (ENU), or None."""
     from hdrc3.safety_pilot import Switch, set_rc
@@ -281,6 +310,26 @@ def start_flyto(rig: Rig, pad: tuple[float, float, float], row: Row) -> int:
     return int(answer.command_id)
 
 
+def start_turn(rig: Rig, row: Row) -> None:
+    """Take the PTU and start a long pan (a PPCL command pending when the PPC dies)."""
+    from hdrc3_interfaces.msg import PpclReturn
+    from hdrc3_interfaces.srv import PpclControl, PpclTurnTo
+
+    rig.client.call(
+        PpclControl,
+        "ppcl/control",
+        PpclControl.Request(resource=PpclControl.Request.RESOURCE_PTU, request=True, owner="bench"),
+        CALL_S,
+    )
+    response = rig.client.call(
+        PpclTurnTo, "ppcl/turn_to", PpclTurnTo.Request(pan=math.radians(165.0)), CALL_S
+    )
+    if response is not None and response.result.code == PpclReturn.PPCL_OK:
+        row.accepted.append(int(response.result.command_id))
+    else:
+        row.note = f"turn_to not accepted: {response}"
+
+
 # ---------------------------------------------------------------------------------- faults
 def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> None:
     """Inject the entry's fault; returns once it is in (the bench then watches the outcome)."""
@@ -291,18 +340,21 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
     if entry.startswith("kill_"):
         start_flyto(rig, pad, row)
         node = entry.removeprefix("kill_")
+        if node == "perception_kernel":
+            start_turn(rig, row)
         name = node if node == "world_sim" else f"{AGENT}/{node}"
         pid = rig.pid_of(name)
         if pid <= 0:
             row.note = f"no pid for {name} in /hdrc3/launch_status"
             return
+        row.fault_at, row.fault_sim = time.monotonic(), rig.now()
         os.kill(pid, signal.SIGKILL)
         row.note = f"killed pid {pid}"
     elif entry.startswith("gps_loss_"):
         start_flyto(rig, pad, row)
         seconds = float(entry.removeprefix("gps_loss_").removesuffix("s"))
         before = rig.now()
-        rig.fault("gps", mode.MODE_DROP)
+        rig.fault("gps", mode.MODE_DROP, row=row)
         rig.wait_sim(seconds)
         rig.fault("gps", mode.MODE_NONE)
         # the service calls take sim time too (at --speed max): the DI's stamps bound the outage
@@ -310,13 +362,13 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
         row.note = f"GPS outage {seconds:g} s asked, {outage:.1f} s of sim time between calls"
     elif entry == "imu_freeze":
         start_flyto(rig, pad, row)
-        rig.fault("imu", mode.MODE_FREEZE)
+        rig.fault("imu", mode.MODE_FREEZE, row=row)
         rig.wait(lambda: rig.states[-1].on_ground_flag, SETTLE_WALL_S)
         rig.fault("imu", mode.MODE_NONE)
     elif entry == "baro_drift":
         start_flyto(rig, pad, row)
         for k in range(1, 31):
-            rig.fault("barometer", mode.MODE_BIAS, (0.2 * k,))
+            rig.fault("barometer", mode.MODE_BIAS, (0.2 * k,), row)
             rig.wait_sim(1.0)
     elif entry == "segment_withheld":
         p = rig.enu(rig.states[-1])
@@ -334,7 +386,10 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
         if answer is not None and answer.code == FclReturn.FCL_OK:
             row.accepted.append(int(answer.command_id))
     elif entry == "burst_100":
-        client = rig.node.create_client(FclYaw, f"/{AGENT}/fcl/yaw")
+        from hdrc3_base.ros_runtime import SERVICE_QOS
+
+        # answers of a burst need the server's depth on the client side too (README, QoS)
+        client = rig.node.create_client(FclYaw, f"/{AGENT}/fcl/yaw", qos_profile=SERVICE_QOS)
         rig.wait(client.service_is_ready, CALL_S)
         heading = rig.states[-1].heading
         futures = [client.call_async(FclYaw.Request(heading=heading)) for _ in range(100)]
@@ -344,8 +399,12 @@ def inject(entry: str, rig: Rig, pad: tuple[float, float, float], row: Row) -> N
         row.note = f"{len(answered)}/100 answered"
     elif entry == "rc_manual":
         from hdrc3.safety_pilot import Switch, set_rc
+        from hdrc3_interfaces.srv import SimSetRc
 
         start_flyto(rig, pad, row)
+        # the safety pilot holds about hover throttle as he takes over (sticks at 0 would drop
+        # the aircraft for as long as the manual phase lasts in sim time: a bench artefact)
+        rig.call(SimSetRc, f"/{AGENT}/rc/set", set_sticks=True, throttle=HOVER_THROTTLE)
         set_rc(rig.process, rig.node, AGENT, Switch.MANUAL, Switch.KEEP, CALL_S)
         rig.wait_sim(1.0)
         set_rc(rig.process, rig.node, AGENT, Switch.AUTONOMOUS, Switch.KEEP, CALL_S)
@@ -390,7 +449,19 @@ def run_entry(entry: str, domain: int) -> Row:
             def terminals(cid: int) -> list[Any]:
                 return [e for e in rig.client.events if e.command_id == cid and e.kind in TERMINAL]
 
-            rig.wait(lambda: all(terminals(c) for c in ids), 60.0)
+            if rig.wait(lambda: all(terminals(c) for c in ids), 60.0) and ids:
+                if entry.startswith("kill_"):  # inject returned at the kill: wall time
+                    row.terminal_wall = time.monotonic() - row.fault_at
+                else:  # inject may wait (landing, drift ramp): the events' own sim stamps
+                    since = t0_sim if math.isnan(row.fault_sim) else row.fault_sim
+                    row.terminal_sim = max(terminals(c)[0].time for c in ids) - since
+            if entry.startswith("kill_"):
+                node = entry.removeprefix("kill_")
+                name = node if node == "world_sim" else f"{AGENT}/{node}"
+                rig.wait(lambda: rig.started.get(name, (0, 0.0))[1] > row.fault_at, 60.0)
+                up = rig.started.get(name, (0, 0.0))[1] - row.fault_at
+                if up > 0:
+                    row.note += f"; restarted (new pid) {up:.1f} s after the kill"
             rig.wait(lambda: settled(rig) is not None, SETTLE_WALL_S)
             verdict = settled(rig)
             if verdict is not None:
@@ -401,16 +472,19 @@ def run_entry(entry: str, domain: int) -> Row:
                 if rig.time_reversals:
                     veto = "sim time went backwards: the simulation started over"
                 row.outcome = verdict if not veto else "unsafe"
-                row.note = "; ".join(x for x in (row.note, veto) if x)
+                row.note = "; ".join(x for x in (row.note, veto, touchdown(rig, t0_sim)) if x)
             counts = [len(terminals(c)) for c in ids]
             row.terminals_per_command = ",".join(map(str, counts)) if ids else "-"
-            first = next((terminals(c)[0] for c in ids if terminals(c)), None)
-            if ids and first is None:
+            firsts = [terminals(c)[0] if terminals(c) else None for c in ids]
+            if ids and all(e is None for e in firsts):
                 row.terminal = "unanswered"
-            elif first is not None:
-                row.terminal, row.reason = first.kind.name, first.reason
-            row.failsafe = " | ".join(
-                e.reason for e in rig.client.events[mark:] if e.command == "pfc_failsafe"
+            elif firsts:
+                row.terminal = ",".join(e.kind.name if e else "unanswered" for e in firsts)
+                row.reason = " | ".join(e.reason for e in firsts if e and e.reason)
+            row.failsafe = " | ".join(  # failsafe changes and other PFC fault announcements
+                e.reason
+                for e in rig.client.events[mark:]
+                if e.command == "pfc_failsafe" or e.reason.startswith("PFC fault")
             )
             rig.node.destroy_node()
     finally:
@@ -422,15 +496,20 @@ def print_table(rows: list[Row]) -> None:
     log("")
     log(
         f"{'entry':24} {'outcome':13} {'terminal':10} {'per cmd':8} {'recover sim/wall s':19}"
-        " reason / failsafe / note"
+        f" {'term. s':12} reason / failsafe / note"
     )
     for r in rows:
         rec = f"{r.recover_sim:7.1f} /{r.recover_wall:7.1f}"
         head = f"{r.entry:24} {r.outcome:13} {r.terminal:10} {r.terminals_per_command:8}"
-        log(f"{head} {rec:19} {r.reason}")
+        term = (
+            f"{r.terminal_wall:5.1f} wall"
+            if math.isfinite(r.terminal_wall)
+            else f"{r.terminal_sim:5.1f} sim"
+        )
+        log(f"{head} {rec:19} {term:12} {r.reason}")
         for extra in (r.failsafe, r.note):
             if extra:
-                log(f"{'':77} {extra}")
+                log(f"{'':90} {extra}")
     safe = sum(r.outcome != "unsafe" for r in rows)
     once = sum(set(r.terminals_per_command.split(",")) == {"1"} for r in rows)
     log(f"\n{safe}/{len(rows)} entries safe")

@@ -65,6 +65,7 @@ CATALOG: tuple[NodeKind, ...] = (
         Scope.AGENT,
         "PFC: flight modes driven by HCSMs at 50 Hz",
         world_params=True,
+        checkpoint=True,
     ),
     NodeKind(
         "platform_server",
@@ -201,18 +202,21 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             speed = "0.0" if math.isinf(options.speed) else repr(options.speed)
             args += ["-p", f"agents:=[{agents}]", "-p", f"world:={options.world}"]
             args += ["-p", f"speed:={speed}"]
-        if kind.checkpoint and options.run_dir is not None:
-            args += ["-p", f"checkpoint:={options.run_dir / kind.name}.checkpoint"]
         if kind.scope is Scope.GLOBAL:
+            if kind.checkpoint and options.run_dir is not None:
+                args += ["-p", f"checkpoint:={options.run_dir / kind.name}.checkpoint"]
             specs.append(
                 ProcessSpec(kind.name, (_executable(kind.executable), *args), f"/{kind.name}")
             )
             continue
         for agent in options.agents:
+            own = list(args)
+            if kind.checkpoint and options.run_dir is not None:
+                own += ["-p", f"checkpoint:={options.run_dir / agent}.{kind.name}.checkpoint"]
             specs.append(
                 ProcessSpec(
                     f"{agent}/{kind.name}",
-                    (_executable(kind.executable), *args, "-r", f"__ns:=/{agent}"),
+                    (_executable(kind.executable), *own, "-r", f"__ns:=/{agent}"),
                     f"/{agent}/{kind.name}",
                 )
             )

@@ -11,7 +11,9 @@ barometer,ground_contact,rpm,power}``, ``yacs/status``, ``pfc/ui`` (std_msgs/Str
 land), ``/clock``; out ``yacs/command``, ``pfc/state`` (PfcState, every tick), ``hcsm/trace``
 (fired transitions; parameter ``trace``, default on). Client of ``/world_sim/set_power`` for
 the Power Switch's requests.
-Parameters: ``world`` (origin and terrain of the map), ``takeoff_height``, ``trace``.
+Parameters: ``world`` (origin and terrain of the map), ``takeoff_height``, ``trace``,
+``checkpoint`` (the warm-start record's file, "" = none: read at start, rewritten every second of
+sim time while the navigation solution is good; ``warm_start.py``).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import pymap3d
@@ -36,7 +39,8 @@ from std_msgs.msg import String
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
 from hdrc3_control.commands import EstimatorHealth, VerticalMode
-from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult, UiCommand
+from hdrc3_control.kernel import PfcKernel, TickResult, UiCommand
+from hdrc3_control.kernel_config import KernelConfig
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,
@@ -46,6 +50,7 @@ from hdrc3_control.measurements import (
 )
 from hdrc3_control.pfc_state import PlatformStatus, PowerReading
 from hdrc3_control.takeoff import TakeoffConfig
+from hdrc3_control.warm_start import read_warm_start, write_warm_start
 from hdrc3_hcsm.ros_transport import RosTransport, TracePublisher
 from hdrc3_hcsm.trace import TraceRecord
 from hdrc3_interfaces.msg import (
@@ -70,6 +75,8 @@ COMMAND_QOS = QoSProfile(depth=20, reliability=ReliabilityPolicy.RELIABLE)
 CLOCK_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
+WARM_START_PERIOD_NS = 1_000_000_000
+"""Sim time between two warm-start records."""
 DRAIN_LIMIT = 64
 """Ready callbacks served before a tick runs (the period's samples: 4 IMU, 1 attitude, ...)."""
 _HEALTH = {
@@ -113,6 +120,10 @@ class ControlKernelNode(SteppedNode):
         world_name = str(self.declare_parameter("world", "revinge").value)
         height = float(self.declare_parameter("takeoff_height", 10.0).value)
         trace_on = bool(self.declare_parameter("trace", True).value)
+        checkpoint = str(self.declare_parameter("checkpoint", "").value)
+        self._warm_path = Path(checkpoint) if checkpoint else None
+        self._warm_written_ns = -WARM_START_PERIOD_NS
+        self._warm_failed = False
         if world_name not in shipped_worlds() and not world_name.endswith(".toml"):
             raise ConfigError(
                 f"unknown world {world_name!r} (shipped: {', '.join(shipped_worlds())})"
@@ -130,7 +141,17 @@ class ControlKernelNode(SteppedNode):
             transport=self.transport,
             trace=trace,
         )
-        self.kernel = self._make_kernel()
+        warm = read_warm_start(self._warm_path) if self._warm_path is not None else None
+        self.kernel = PfcKernel(
+            KernelConfig(takeoff=TakeoffConfig(height=height)),
+            terrain=world.terrain.height,
+            transport=self.transport,
+            trace=trace,
+            warm_start=warm.record if warm is not None else None,
+        )
+        if warm is not None and warm.record is None:
+            self.get_logger().info(f"cold start: {warm.reason}")
+        self._warm_logged = False
         self.command_pub = self.create_publisher(YacsCommand, "yacs/command", COMMAND_QOS)
         self.state_pub = self.create_publisher(PfcState, "pfc/state", SENSOR_QOS)
         self.power_client = self.create_client(
@@ -280,6 +301,25 @@ class ControlKernelNode(SteppedNode):
         for request in result.power_requests:
             self._request_power(request.devices)
         self._publish_state(ns, result)
+        self._keep_warm_start(ns)
+
+    def _keep_warm_start(self, ns: int) -> None:
+        """Log what the first tick did with the record; rewrite it every period of sim time."""
+        if not self._warm_logged and self._warm_path is not None:
+            self._warm_logged = True
+            self.get_logger().info(self.kernel.warm_start_note)
+        if self._warm_path is None or ns - self._warm_written_ns < WARM_START_PERIOD_NS:
+            return
+        record = self.kernel.warm_start_record()
+        if record is None:
+            return
+        self._warm_written_ns = ns
+        try:
+            write_warm_start(self._warm_path, record)
+        except OSError as exc:
+            if not self._warm_failed:  # once: the flight goes on without the record
+                self.get_logger().warning(f"cannot write the warm-start record: {exc}")
+            self._warm_failed = True
 
     def _publish_command(self, ns: int, result: TickResult) -> None:
         cmd, m = result.command, self._command

@@ -11,6 +11,12 @@ Algorithm 1 in sim time:
    braking and the Control Mode function set act on this step's flags; the selected function
    computes the command.
 
+A pause of the simulation (a world_sim that died and resumed from its checkpoint: the clock jumps
+by up to a checkpoint period while nothing moved and no sample came) is no sensor failure: when
+sim time advances by more than ``KernelConfig.pause_gap`` between two ticks, the kernel runs on
+its own clock, sim time minus the time it was not ticked, so sensor ages, dead-reckoning times
+and timers do not count the pause. Reports keep the sim time.
+
 The outgoing events pass :class:`~hdrc3_control.event_protocol.EventProtocol` and leave at the
 end of the tick; the result holds the YACS command (always one, also in manual mode or on the
 ground) and the :class:`~hdrc3_control.pfc_state.PfcSnapshot`.
@@ -22,8 +28,7 @@ import enum
 import functools
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from pathlib import Path
+from dataclasses import dataclass, replace
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_control.automata import automaton_path
@@ -32,6 +37,7 @@ from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHea
 from hdrc3_control.event_codec import encode, encode_values
 from hdrc3_control.event_protocol import EventProtocol, SendLog
 from hdrc3_control.hover import HoverStatus
+from hdrc3_control.kernel_config import KernelConfig
 from hdrc3_control.kernel_functions import (
     BrakingConsumer,
     FlytoFunction,
@@ -42,7 +48,7 @@ from hdrc3_control.kernel_functions import (
     Traj3DFunction,
     pack_pose,
 )
-from hdrc3_control.landing import LandingConfig, LandingPhase
+from hdrc3_control.landing import LandingPhase
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,
@@ -50,9 +56,9 @@ from hdrc3_control.measurements import (
     GroundContactMeasurement,
     ImuMeasurement,
 )
-from hdrc3_control.path_following import PathFollowingConfig, PathStatus
+from hdrc3_control.navigation_texts import baro_text, failsafe_texts, fault_text
+from hdrc3_control.path_following import PathStatus
 from hdrc3_control.pfc_state import (
-    FAILSAFE_PREFIX,
     FAILSAFE_STATES,
     POWER_DRC,
     SENSOR_POWER,
@@ -62,8 +68,8 @@ from hdrc3_control.pfc_state import (
     PlatformStatus,
     PowerReading,
 )
-from hdrc3_control.state_estimator import EstimatorConfig, StateEstimator
-from hdrc3_control.takeoff import TakeoffConfig
+from hdrc3_control.state_estimator import StateEstimator
+from hdrc3_control.warm_start import WarmStart
 from hdrc3_hcsm.control_function import ControlFunctionRunner, ControlFunctionSet, FunctionState
 from hdrc3_hcsm.event import PostStatus, WireEvent
 from hdrc3_hcsm.interpreter import Interpreter, StepResult
@@ -116,32 +122,6 @@ _UI_EVENTS = {
 
 
 @dataclass(frozen=True, slots=True)
-class KernelConfig:
-    """Parameters of the PFC kernel."""
-
-    model: Path | None = None
-    """Automata file (default: the shipped ``automata/pfc.hcsm``)."""
-    tick: float = 0.02
-    takeoff: TakeoffConfig = field(default_factory=TakeoffConfig)
-    path: PathFollowingConfig = field(default_factory=PathFollowingConfig)
-    landing: LandingConfig = field(default_factory=LandingConfig)
-    estimator: EstimatorConfig = field(default_factory=EstimatorConfig)
-    climb_speed: float = 1.5
-    """fcl_climb speed along the vertical segment, m/s."""
-    segment_start_tolerance: float = 10.0
-    """A first Traj3D segment must start this close to the aircraft, m."""
-    power_timeout: float = 5.0
-    """Wait for the power unit's answer (and for a first power report), s."""
-    sync_period: float = 10.0
-    ui_window: float = 3.0
-    """UI Timer: a command key must follow the arm key within this time, s."""
-    gps_timeout: float = 1.0
-    """Sensors-Ok-CO wants a GPS fix at most this old, s."""
-    gps_loss_tolerance: float = 3.0
-    """Dead reckoning shorter than this rides through a GPS dropout; longer is Nav-Degraded, s."""
-
-
-@dataclass(frozen=True, slots=True)
 class PowerRequest:
     """Devices the Power Switch / Root asked the power management unit to switch on."""
 
@@ -179,9 +159,17 @@ class PfcKernel:
         transport: Transport | None = None,
         trace: TraceSink | None = None,
         start_time: float = 0.0,
+        warm_start: WarmStart | None = None,
     ) -> None:
-        """Load the automata and bind conditions, functions and flags (ModelError if invalid)."""
+        """Load the automata and bind conditions, functions and flags (ModelError if invalid).
+
+        ``warm_start``: the record a previous run of this kernel left (``warm_start.py``); used
+        at the first tick if it is at most ``warm_start_max_age`` old then.
+        """
         self.config = c = config or KernelConfig()
+        self._warm_start = warm_start
+        self.warm_start_note = "cold start"
+        """What became of the warm-start record (for the node's log)."""
         self.terrain = terrain
         self.transport = transport
         self.ctx = FunctionContext(terrain=terrain, dt=c.tick)
@@ -213,6 +201,11 @@ class PfcKernel:
         self.estimator = StateEstimator(c.estimator)
         self.state: EstimatedState | None = None
         self.now = start_time
+        """The kernel's clock: sim time minus :attr:`paused`."""
+        self.paused = 0.0
+        """Sim time the kernel was not ticked in simulation pauses (``pause_gap``), s."""
+        self.pauses = 0
+        self._sim_now = start_time
         self.ticks = 0
         self.mode = FlightMode.BOOT
         self._samples: list[tuple[float, int, Sample]] = []
@@ -278,6 +271,8 @@ class PfcKernel:
         self._samples.clear()
         est = self.estimator
         for _, _, s in samples:
+            if self.paused:
+                s = replace(s, time=s.time - self.paused)
             if isinstance(s, ImuMeasurement):
                 self._last_imu = s.time
                 if self._kf_enabled:
@@ -339,6 +334,7 @@ class PfcKernel:
                         or self.estimator.aiding_age(self.now) > c.gps_loss_tolerance
                     )
                 ),
+                "Baro-Fault-CO": lambda: self.estimator.baro_fault is not None,
                 "Nav-Lost-CO": lambda: (
                     self.estimator.initialised and health() is EstimatorHealth.LOST
                 ),
@@ -404,11 +400,18 @@ class PfcKernel:
     # ------------------------------------------------------------------ the tick
     def tick(self, now: float) -> TickResult:
         """One pass of Algorithm 1 at sim time ``now``."""
+        sim_now = now
+        if self.ticks and sim_now - self._sim_now > self.config.pause_gap:
+            self.paused += sim_now - self._sim_now - self.config.tick
+            self.pauses += 1
+        self._sim_now = sim_now
+        now = sim_now - self.paused
         self.now = now
         self.ticks += 1
         if self.ticks == 1:
             # the node may join a clock that is already running: time-outs start now
             self._power_since = now
+            self._use_warm_start(sim_now)
         interp = self.interpreter
         # Communicate: sensors, then events from the other computers
         self._apply_samples()
@@ -432,7 +435,30 @@ class PfcKernel:
         sent = self._send(interp.take_outbox())
         requests, self._power_requests = tuple(self._power_requests), []
         command = self._command()
-        return TickResult(command, self._snapshot(now), step, sent, requests)
+        return TickResult(command, self._snapshot(sim_now), step, sent, requests)
+
+    def _use_warm_start(self, sim_now: float) -> None:
+        record = self._warm_start
+        if record is None:
+            return
+        why_not = record.usable_at(sim_now, self.config.warm_start_max_age)
+        if why_not is not None:
+            self.warm_start_note = f"cold start: warm-start {why_not}"
+            return
+        self.estimator.seed_baro_bias(record.baro_bias, record.baro_bias_sigma)
+        self.warm_start_note = (
+            f"warm start: barometer bias {record.baro_bias:.2f} m of t = {record.time:.2f} s"
+        )
+
+    def warm_start_record(self) -> WarmStart | None:
+        """The record to keep for a restart now (None while the solution is not good)."""
+        est = self.estimator
+        if not (self._kf_enabled and est.initialised) or est.health(self.now) is not (
+            EstimatorHealth.OK
+        ):
+            return None
+        bias, sigma = est.baro_reference()
+        return WarmStart(self._sim_now, bias, sigma)
 
     def _estimate(self, now: float) -> EstimatedState | None:
         if not (self._kf_enabled and self.estimator.initialised):
@@ -450,47 +476,18 @@ class PfcKernel:
             if self.state is not None:
                 memory.write("Position-DO", pack_pose(self.state.position, self.state.heading))
             ref = self._ground_ref or (0.0, 0.0, 0.0)
-            memory.write("Sync-DO", encode_values((now, *ref)))
-            fault = self._fault_text(now)
-            memory.write("Fault-DO", fault.encode("utf-8")[:256])
-            self._fs_texts = self._failsafe_texts(now)
+            memory.write("Sync-DO", encode_values((self._sim_now, *ref)))
+            memory.write("Fault-DO", fault_text(self.estimator, now).encode("utf-8")[:256])
+            baro = baro_text(self.estimator)
+            if baro is not None:
+                memory.write("Baro-DO", baro.encode("utf-8")[:256])
+            self._fs_texts = failsafe_texts(self.estimator, now, self._on_ground)
             for slot, text in self._fs_texts.items():
                 memory.write(slot, text.encode("utf-8")[:256])
             memory.write("No-Command-DO", encode(0))
         self._fs_reasons = {
             "Fs-Hold-EV": self._fs_texts["Fs-Hold-DO"],
             "Fs-Land-EV": self._fs_texts["Fs-Land-DO"],
-        }
-
-    def _fault_text(self, now: float) -> str:
-        est = self.estimator
-        if not est.initialised:
-            return "navigation not initialised"
-        health = est.health(now)
-        if health is EstimatorHealth.OK:
-            return "navigation recovered: GPS aiding current"
-        if health is EstimatorHealth.DEGRADED:
-            age = est.aiding_age(now)
-            return f"navigation degraded: no GPS fix for {age:.1f} s, dead reckoning on the IMU"
-        return f"navigation lost: {est.lost_cause(now)}"
-
-    def _failsafe_texts(self, now: float) -> dict[str, str]:
-        """The failsafe announcements for this tick (slots of automata/failsafe.hcsm)."""
-        est = self.estimator
-        age = est.aiding_age(now)
-        left = max(0.0, self.config.estimator.max_dead_reckoning - age)
-        ended = "on the ground" if self._on_ground else "GPS back, hovering on GPS"
-        return {
-            "Fs-Hold-DO": (
-                f"{FAILSAFE_PREFIX}: GPS lost for {age:.1f} s: braking and hovering on dead "
-                "reckoning; flight commands other than land refused; emergency landing unless "
-                f"GPS is back within {left:.1f} s"
-            ),
-            "Fs-Land-DO": (
-                f"{FAILSAFE_PREFIX}: emergency landing: navigation lost: "
-                f"{est.lost_cause(now) or 'solution unusable'}"
-            ),
-            "Fs-End-DO": f"{FAILSAFE_PREFIX} ended: {ended}",
         }
 
     def _update_failsafe(self) -> None:
@@ -562,6 +559,7 @@ class PfcKernel:
         return GROUND_IDLE if self._on_ground else LEVEL_HOLD
 
     def _snapshot(self, now: float) -> PfcSnapshot:
+        """The report of this tick, stamped with the sim time ``now``."""
         s = self.state
         cur = self.functions.current
         running = cur is not None and cur.state is not FunctionState.OFF
@@ -580,7 +578,7 @@ class PfcKernel:
             auto=self.auto(),
             engine_running=status is not None and status.engine_running,
             estimator_initialised=self.estimator.initialised,
-            health=self.estimator.health(now) if self._kf_enabled else EstimatorHealth.LOST,
+            health=self.estimator.health(self.now) if self._kf_enabled else EstimatorHealth.LOST,
             position_sigma=s.position_sigma if s else math.inf,
             control_function=cur.name if running and cur is not None else "",
             mode_switch_state=self._states.get("Mode-Switch", "") if self.auto() else "",

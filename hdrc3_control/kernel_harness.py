@@ -11,9 +11,11 @@ from __future__ import annotations
 import itertools
 from collections.abc import Callable
 
+from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import AttitudeCommand, VerticalMode
 from hdrc3_control.event_codec import command_id_of, encode
-from hdrc3_control.kernel import KernelConfig, PfcKernel, TickResult, load_model
+from hdrc3_control.kernel import PfcKernel, TickResult, load_model
+from hdrc3_control.kernel_config import KernelConfig
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,
@@ -26,6 +28,7 @@ from hdrc3_control.pfc_state import PlatformStatus, PowerReading
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.trace import TraceRecorder
 from hdrc3_hcsm.transport import LoopbackNetwork, LoopbackTransport
+from sim import checkpoint as world_checkpoint
 from sim.aircraft import Aircraft
 from sim.rc_transmitter import FlightModeSwitch, RcSticks
 from sim.sensors.suite import SensorReadings
@@ -33,6 +36,9 @@ from sim.world_loader import load_world
 from sim.world_sim import SimConfig, WorldSim
 from sim.yacs import VerticalMode as YacsVerticalMode
 from sim.yacs import YacsCommand
+
+CHECKPOINT_TICKS = 25
+"""world_sim's default checkpoint period (0.5 s of sim time)."""
 
 
 def event_id(name: str) -> int:
@@ -136,6 +142,24 @@ class KernelFlight:
         sim.advance()
         self.replies += self.drc.receive()
         return result
+
+    def checkpoint(self) -> bytes:
+        """The world's checkpoint now (what world_sim writes every ``checkpoint_period``)."""
+        run = world_checkpoint.RunState("harness")
+        return world_checkpoint.encode(self.sim, run, CHECKPOINT_TICKS)
+
+    def resume(self, checkpoint: bytes) -> None:
+        """A restarted simulator: a new world resumes ``checkpoint``, as world_sim does.
+
+        Its clock moves on by the checkpoint period after the checkpoint's tick (sim time never
+        goes back, ``sim/WORLD_SIM.md``); the aircraft continue from the checkpoint's state.
+        """
+        sim = WorldSim(self.sim.config)
+        state = world_checkpoint.decode(checkpoint, sim).state
+        if state is None:
+            raise ConfigError("the checkpoint cannot be resumed")
+        sim.resume(state.tick, state.agents, state.wind, state.objects, state.period_ticks)
+        self.sim = sim
 
     def run(self, seconds: float) -> None:
         """Tick for ``seconds`` of sim time."""

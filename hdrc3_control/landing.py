@@ -67,6 +67,10 @@ class LandingConfig:
     descent_final: float = 0.25
     """m/s below ``final_height`` down to the touchdown (the chapter: 0.18-0.35 m/s)."""
     final_height: float = 6.0
+    lost_vertical_damping: float = 1.0
+    """Without a usable inertial solution (``EstimatorHealth.LOST``): the climb-rate command
+    becomes ``rate + k * (rate - vz)`` on the filter's GPS/barometer vertical velocity, 1 (see
+    :meth:`Landing._vertical`)."""
     touchdown_ticks: int = 3
     settle_time: float = 1.0
     """After touchdown: push down on the skids this long, then request engine shutdown, s."""
@@ -153,13 +157,29 @@ class Landing:
             here = state.position
         cmd = self.loop.update(state, Reference(position=here, heading=tg.heading), dt)
         if self._phase is LandingPhase.APPROACH:
-            return cmd
-        if state.health is EstimatorHealth.LOST:
-            rate = c.descent_final
+            rate = cmd.vertical
+        elif state.health is EstimatorHealth.LOST:
+            rate = -c.descent_final
         elif agl > c.slow_height:
-            rate = c.descent_fast
+            rate = -c.descent_fast
         elif agl > c.final_height:
-            rate = c.descent_slow
+            rate = -c.descent_slow
         else:
-            rate = c.descent_final
-        return AttitudeCommand(cmd.roll, cmd.pitch, cmd.yaw_rate, -rate)
+            rate = -c.descent_final
+        return AttitudeCommand(cmd.roll, cmd.pitch, cmd.yaw_rate, self._vertical(state, rate))
+
+    def _vertical(self, state: EstimatedState, rate: float) -> float:
+        """The climb-rate command for ``rate`` (m/s, up).
+
+        With the inertial solution lost (IMU frozen or stale) the YACS's own climb-rate hold flies
+        on the barometer alone (its baro-inertial filter has no accelerometer left, ``sim/yas.py``):
+        that estimate lags the true rate by seconds and the hold swings into a growing vertical
+        oscillation (measured: 3 m/s up, then a fall touching down at 2-6 m/s). The filter's
+        vertical velocity still has GPS and barometer; feeding its error back through the
+        command (``rate + k (rate - vz)``) puts an unlagged rate measurement into the YACS's
+        loop, which damps it. In steady state the YACS's integrator still brings the rate to
+        ``rate``.
+        """
+        if state.health is not EstimatorHealth.LOST:
+            return rate
+        return rate + self.config.lost_vertical_damping * (rate - state.velocity[2])

@@ -17,6 +17,7 @@ from pathlib import Path
 from hdrc3_control.event_codec import Decoded, decode, encode
 from hdrc3_control.ppc_hardware import PtuLimits
 from hdrc3_control.ppc_modes import Pose, PtuController, PtuMode, on_target
+from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.interpreter import Interpreter
 from hdrc3_hcsm.loader import load_file
 from hdrc3_hcsm.main_loop import MainLoop
@@ -94,9 +95,15 @@ class PpcKernel:
             "Zoom-Reached-CO": self._zoom_reached,
             "Zoom-Timeout-CO": lambda: self.now - self._zoom_since > self.zoom_timeout,
         }
-        self.interpreter = Interpreter(compile_model(load_file(model_path())), conditions)
+        model = compile_model(load_file(model_path()))
+        self.interpreter = Interpreter(model, conditions)
         self.transport = transport
         self.loop = MainLoop(self.interpreter, (self,), None)
+        self._started: WireEvent | None = WireEvent(
+            model.events.id_of("PPC-Started-EV"), "PPC-Started-EV", b"", "PPC", "DRC"
+        )
+        """Sent with the first step: the DRC hears a restarted PPC's incarnation before any
+        reply and ends the commands the old PPC had pending (docs/realtime_events.md)."""
 
     # --- conditions -----------------------------------------------------------------------
     def _on_target(self) -> bool:
@@ -204,6 +211,9 @@ class PpcKernel:
 
     def _send(self) -> None:
         outgoing = self.interpreter.take_outbox()
+        if self._started is not None:
+            outgoing.insert(0, self._started)
+            self._started = None
         if self.transport is not None:
             for event in outgoing:
                 self.transport.send(event)

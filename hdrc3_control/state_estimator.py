@@ -5,15 +5,30 @@ with the attitude sensor's angles, drives the prediction at the IMU rate (200 Hz
 velocity (10 Hz), barometric height (25 Hz), vision position (landing) and, on the skids, a
 zero-velocity and ground-height reference correct it. Between GPS fixes and during GPS dropouts
 the filter dead-reckons on the IMU; :meth:`StateEstimator.health` reports how trustworthy it is.
+
+The two linear Kalman steps are written out (:class:`LinearKalman`, with the Joseph-form
+covariance update filterpy's ``KalmanFilter`` uses) instead of importing filterpy: its package
+imports ``scipy.stats``, which took 2-3 s of the 5 s a ``control_kernel`` needed to come back
+after a ``kill -9`` on the loaded machine (issue 21: the terminal event of the lost command waits
+for the restarted node).
+
+Barometer monitor: the filter's bias state follows slow weather drift, so a barometer that drifts
+fast (a blocked static port, a heating sensor) would carry the height away unnoticed (GPS height
+is too poor, 3 m correlated, to veto it). GPS Doppler velocity is not: integrated, its vertical
+component gives the climb to 0.2 m over half a minute. The monitor compares the barometer's height
+change (low-passed, 1 s) with that integral over the last ``baro_window``; a difference above
+``baro_drift_limit`` excludes the barometer for the rest of the filter's life. The height then
+goes back to the filter's height at the start of the window plus the GPS climb since, and GPS
+velocity (with the GPS height, weakly) carries it on. :attr:`StateEstimator.baro_fault` says why.
 """
 
 from __future__ import annotations
 
 import math
+from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
-from filterpy.kalman import KalmanFilter
 from numpy.typing import NDArray
 
 from hdrc3_base.errors import ConfigError
@@ -63,6 +78,11 @@ class EstimatorConfig:
     attitude_timeout: float = 0.5
     frozen_count: int = 20
     """This many identical consecutive IMU samples mean a frozen IMU."""
+    baro_window: float = 30.0
+    """Barometer monitor: how far back the barometer's height change is compared, s."""
+    baro_drift_limit: float = 3.0
+    """Barometer monitor: height change against the GPS climb that excludes the barometer, m
+    (its natural spread over the window: about 0.5 m, the barometer's own slow drift)."""
     coast_accel_sigma: float = 3.0
     """Acceleration uncertainty while IMU samples repeat (a stuck IMU), m/s^2: the filter
     coasts on a constant-velocity model and GPS and barometer carry the solution."""
@@ -85,6 +105,37 @@ class EstimatorConfig:
             raise ConfigError(f"estimator noise figures and timeouts must be > 0, got {values}")
 
 
+class LinearKalman:
+    """State ``x`` and covariance ``P`` of a linear Kalman filter; predict and update."""
+
+    def __init__(self, dim: int) -> None:
+        """Zero state, identity covariance."""
+        self.x: NDArray[np.float64] = np.zeros(dim)
+        self.P: NDArray[np.float64] = np.eye(dim)
+
+    def predict(
+        self,
+        f: NDArray[np.float64],
+        q: NDArray[np.float64],
+        b: NDArray[np.float64],
+        u: NDArray[np.float64],
+    ) -> None:
+        """``x = F x + B u``, ``P = F P F' + Q``."""
+        self.x = f @ self.x + b @ u
+        self.P = f @ self.P @ f.T + q
+
+    def update(
+        self, z: NDArray[np.float64], h: NDArray[np.float64], r: NDArray[np.float64]
+    ) -> None:
+        """Correct with measurement ``z = H x + v``, ``v ~ N(0, R)`` (Joseph form for ``P``)."""
+        p = self.P
+        s = h @ p @ h.T + r
+        k = np.linalg.solve(s.T, (p @ h.T).T).T  # P H' S^-1 (S symmetric)
+        self.x = self.x + k @ (z - h @ self.x)
+        i_kh = np.eye(len(self.x)) - k @ h
+        self.P = i_kh @ p @ i_kh.T + k @ r @ k.T
+
+
 def body_to_enu(roll: float, pitch: float, heading: float, vec: Vec3) -> NDArray[np.float64]:
     """Rotate a body-FRD vector into ENU (Euler 3-2-1 angles, heading clockwise from north)."""
     cr, sr = math.cos(roll), math.sin(roll)
@@ -103,11 +154,13 @@ class StateEstimator:
     def __init__(self, config: EstimatorConfig | None = None) -> None:
         """Create an uninitialised filter (it initialises on the first GPS or vision fix)."""
         self.config = config or EstimatorConfig()
+        self._warm: tuple[float, float] | None = None
+        """Barometer bias seed for the next initialisation (kept by :meth:`reset`)."""
         self.reset()
 
     def reset(self) -> None:
         """Forget everything; the next position fix initialises the filter again."""
-        self._kf = KalmanFilter(dim_x=_N, dim_z=3, dim_u=3)
+        self._kf = LinearKalman(_N)
         self._initialised = False
         self._time: float | None = None
         self._attitude: AttitudeMeasurement | None = None
@@ -125,11 +178,34 @@ class StateEstimator:
         self._fq_cache = (-1.0, np.eye(_N), np.zeros((_N, _N)), np.zeros((_N, 3)))
         self.rejections = 0
         """Measurements rejected by the innovation gate since the last reset."""
+        self.baro_fault: str | None = None
+        """Why the barometer is excluded (the monitor found it drifting), or None."""
+        self._gps_climb = 0.0
+        self._gps_velocity: tuple[float, float] | None = None
+        self._baro_low: float | None = None
+        self._baro_history: deque[tuple[float, float, float, float | None]] = deque()
+        """(time, barometer height minus GPS climb, GPS climb, filter height) once a second."""
 
     @property
     def initialised(self) -> bool:
         """True once a position fix has initialised the filter."""
         return self._initialised
+
+    def seed_baro_bias(self, bias: float, sigma: float) -> None:
+        """Initialise with this barometer bias (a warm start: ``hdrc3_control.warm_start``).
+
+        The next initialisation (after any :meth:`reset`) takes its height from the barometer
+        minus ``bias`` instead of from the GPS fix, whose vertical error is metres.
+        """
+        if not (math.isfinite(bias) and math.isfinite(sigma) and sigma > 0.0):
+            raise ConfigError(f"barometer bias seed must be finite, got {bias} +- {sigma}")
+        self._warm = (bias, sigma)
+
+    def baro_reference(self) -> tuple[float, float]:
+        """The barometer bias estimate and its standard deviation, m."""
+        if not self._initialised:
+            raise ConfigError("state estimator not initialised")
+        return float(self._kf.x[_BB]), math.sqrt(max(0.0, float(self._kf.P[_BB, _BB])))
 
     # ------------------------------------------------------------------ inputs
     def update_attitude(self, meas: AttitudeMeasurement) -> None:
@@ -169,12 +245,12 @@ class StateEstimator:
             acc = np.zeros(3)
             q = q.copy()
             q[0:6, 0:6] *= (self.config.coast_accel_sigma / self.config.accel_sigma) ** 2
-        self._kf.F, self._kf.Q, self._kf.B = f, q, b
-        self._kf.predict(u=acc)
+        self._kf.predict(f, q, b, acc)
 
     def update_gps(self, meas: GpsMeasurement) -> bool:
         """Correct with a GPS fix; returns False if the gate rejected it."""
         c = self.config
+        self._integrate_climb(meas)
         z = np.array([*meas.position, *meas.velocity])
         if not self._initialised:
             self._initialise(np.array(meas.position), np.array(meas.velocity))
@@ -196,7 +272,8 @@ class StateEstimator:
     def update_baro(self, meas: BaroMeasurement) -> bool:
         """Correct the height with a barometric reading (height + baro bias)."""
         self._baro = meas
-        if not self._initialised:
+        self._monitor_baro(meas)
+        if not self._initialised or self.baro_fault is not None:
             return False
         h = np.zeros((1, _N))
         h[0, 2] = 1.0
@@ -228,6 +305,54 @@ class StateEstimator:
         if accepted:
             self._aiding_time = meas.time
         return accepted
+
+    # ------------------------------------------------------------------ barometer monitor
+    def _integrate_climb(self, meas: GpsMeasurement) -> None:
+        """Integrate the GPS vertical velocity; a gap (> 0.5 s) restarts the comparison."""
+        vz = meas.velocity[2]
+        last = self._gps_velocity
+        self._gps_velocity = (meas.time, vz)
+        if last is None or not 0.0 < meas.time - last[0] <= 0.5:
+            self._baro_history.clear()
+            self._gps_climb = 0.0
+            return
+        self._gps_climb += 0.5 * (vz + last[1]) * (meas.time - last[0])
+
+    def _monitor_baro(self, meas: BaroMeasurement) -> None:
+        """Compare the barometer's height change with the GPS climb (one entry per second)."""
+        c = self.config
+        gps = self._gps_velocity
+        if self.baro_fault is not None or gps is None or meas.time - gps[0] > 0.5:
+            return
+        low = self._baro_low
+        if low is None or not self._baro_history:
+            low = meas.height
+        self._baro_low = low = low + 0.04 * (meas.height - low)  # 1 s at 25 Hz
+        offset = low - self._gps_climb
+        history = self._baro_history
+        while history and meas.time - history[0][0] > c.baro_window:
+            history.popleft()
+        if not history or meas.time - history[-1][0] >= 1.0:
+            height = float(self._kf.x[2]) if self._initialised else None
+            history.append((meas.time, offset, self._gps_climb, height))
+        for then, past, _, _ in history:
+            if abs(offset - past) > c.baro_drift_limit:
+                self.baro_fault = (
+                    f"barometer drifting: its height changed {offset - past:+.1f} m against "
+                    f"the GPS climb in {meas.time - then:.0f} s"
+                )
+                self._exclude_baro(history[0])
+                return
+
+    def _exclude_baro(self, start: tuple[float, float, float, float | None]) -> None:
+        """Back to the height at the start of the window plus the GPS climb since."""
+        _, _, climb, height = start
+        if height is None or not self._initialised:
+            return
+        self._kf.x[2] = height + self._gps_climb - climb
+        self._kf.P[2, :] = 0.0
+        self._kf.P[:, 2] = 0.0
+        self._kf.P[2, 2] = 1.0  # m^2: the window's spread (0.5 m) and the filter's own
 
     # ------------------------------------------------------------------ outputs
     def lost_cause(self, now: float) -> str | None:
@@ -294,17 +419,24 @@ class StateEstimator:
         x = np.zeros(_N)
         x[_P] = position
         x[_V] = velocity
-        if self._baro is not None:
+        height_var, bias_var = c.gps_vertical_sigma**2, 5.0**2
+        if self._baro is not None and self._warm is not None:
+            bias, sigma = self._warm
+            self._warm = None
+            x[2] = self._baro.height - bias
+            x[_BB] = bias
+            height_var, bias_var = sigma**2 + c.baro_sigma**2, sigma**2
+        elif self._baro is not None:
             x[_BB] = self._baro.height - position[2]
         self._kf.x = x
         self._kf.P = np.diag(
             [
                 c.gps_horizontal_sigma**2,
                 c.gps_horizontal_sigma**2,
-                c.gps_vertical_sigma**2,
+                height_var,
                 *([c.gps_velocity_sigma**2] * 3),
                 *([0.1**2] * 3),
-                5.0**2,
+                bias_var,
             ]
         )
         self._initialised = True
@@ -349,6 +481,5 @@ class StateEstimator:
         if not force and nis > self.config.gate_sigma**2 * len(z):
             self.rejections += 1
             return False
-        kf.dim_z = len(z)
-        kf.update(z, R=r, H=h)
+        kf.update(z, h, r)
         return True

@@ -66,7 +66,12 @@ class ParseResult:
 @cache
 def _lark_parser() -> lark.Lark:
     grammar = resources.files("hdrc3_hcsm").joinpath("hcsm.lark").read_text(encoding="utf-8")
-    return lark.Lark(grammar, parser="lalr", propagate_positions=True, maybe_placeholders=False)
+    # cache=True: lark keeps the analysed LALR tables in a file of the temp directory, keyed by
+    # the grammar's hash (a bad or concurrent cache file is rebuilt): building them took 0.85 s
+    # of a restarted kernel's start at load 12 (issue 21)
+    return lark.Lark(
+        grammar, parser="lalr", propagate_positions=True, maybe_placeholders=False, cache=True
+    )
 
 
 class _Builder(Transformer[Token, Model]):

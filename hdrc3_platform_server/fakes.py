@@ -245,6 +245,8 @@ class FakePpc:
 
     def __init__(self, transport: Transport, move_time: float = 0.2) -> None:
         self.transport = transport
+        name = "PPC-Started-EV"  # like the real kernel: announced before any reply
+        self.transport.send(WireEvent(_event_id(name), name, b"", "PPC", "DRC"))
         self.move_time = move_time
         self.now = 0.0
         self.pan = 0.0
@@ -355,6 +357,10 @@ class FakeRig:
                 "DRC",
             )
         )
+
+    def restart_ppc(self) -> None:
+        """The PPC process dies and starts again: nothing pending, a new incarnation."""
+        self.ppc = FakePpc(self.net.endpoint("PPC"))
 
     def restart_server(self, id_start: int) -> None:
         """The Platform Server dies and starts again with empty state and ids from ``id_start``."""

@@ -29,6 +29,8 @@ from hdrc3_platform_server.geo_frame import WorldFrame
 
 LANDING_CONTROLLED = frozenset({Resource.PTU, Resource.CAMERA, Resource.IMAGE_PROCESSING})
 IP_NOT_AVAILABLE = "image processing functions are not available in this version of the PPC"
+RESTARTED_PPC = "perception kernel (PPC) restarted: the command was lost"
+"""Reason of the terminal event of a PPCL command the PPC forgot in a restart."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -261,8 +263,14 @@ class PayloadCommandLayer:
         self.activity = PtuActivity.IDLE
 
     def on_restart(self, computer: str, now: float) -> None:
-        """Nothing yet (README, "Restarts").
+        """A restarted PPC forgot its pending commands: each ends FAILED once, the PTU is idle.
 
-        A PPC restart is heard with its first reply, which cannot tell the commands the old PPC
-        forgot from those the new one runs.
+        The new PPC announces itself (``PPC-Started-EV``) with its first step, before any reply,
+        so the notice comes before the new PPC can finish a command sent to it.
         """
+        if computer != "PPC":
+            return
+        for cid, (command, _) in sorted(self.pending.items()):
+            self._emit(cid, command, EventKind.FAILED, RESTARTED_PPC)
+        self.pending.clear()
+        self.activity = PtuActivity.IDLE

@@ -403,9 +403,9 @@ def test_imu_freeze_fails_the_flyto_and_lands_as_announced(chain: Chain) -> None
         lambda: c.states[-1].failsafe == HelicopterState.FAILSAFE_LAND, 30.0, "failsafe in the DI"
     )
     assert c.states[-1].failsafe_reason == failed.reason
-    c.wait(
+    c.wait(  # the descent without IMU is slow (0.25 m/s from 10 m, about 50 s of sim time)
         lambda: len(failsafe_events(c)) >= 2 and c.states[-1].on_ground_flag,
-        120.0,
+        240.0,
         "landed, failsafe ended",
     )
     assert failsafe_events(c)[1].reason == "failsafe ended: on the ground"
@@ -413,7 +413,7 @@ def test_imu_freeze_fails_the_flyto_and_lands_as_announced(chain: Chain) -> None
     down = c.state_at(ended + 0.5)
     assert down.on_ground_flag and down.failsafe == HelicopterState.FAILSAFE_NONE
     assert [e.kind for e in terminal_events(c, cid)] == [EventKind.FAILED]
-    # how hard it touched down is measured by bench/faults.py (imu_freeze): too hard, still open
+    # how hard it touched down is measured by bench/faults.py (imu_freeze) from ground truth
 
 
 @pytest.mark.slow

@@ -33,7 +33,7 @@ class Rig:
 
     def __init__(self, process: Any) -> None:
         from hdrc3.launcher import STATUS_QOS, STATUS_TOPIC
-        from hdrc3_interfaces.msg import HelicopterState, LaunchStatus, PfcState
+        from hdrc3_interfaces.msg import HelicopterState, LaunchStatus, PfcState, TruthState
         from hdrc3_platform_server.client import PlatformClient
         from hdrc3_platform_server.geo_frame import frame_from_world
         from hdrc3_platform_server.node import STATE_QOS
@@ -68,6 +68,14 @@ class Rig:
             STATE_QOS,
         )
         self.node.create_subscription(LaunchStatus, STATUS_TOPIC, self._on_status, STATUS_QOS)
+        self.truth: Any = None
+        """The simulator's latest ground truth (read only to check the PFC's height)."""
+        self.node.create_subscription(
+            TruthState, f"/{AGENT}/ground_truth/state", self._on_truth, 10
+        )
+
+    def _on_truth(self, msg: Any) -> None:
+        self.truth = msg
 
     def _on_status(self, msg: Any) -> None:
         self.status = msg
@@ -210,6 +218,12 @@ def _kill_mid_flyto(r: Rig, node: str, reason: str) -> None:
         return bool(s.auto_flag and not s.on_ground and s.mode == s.MODE_HOVER)
 
     r.wait(hovering, 120.0, "autonomous hover after the restart")
+    if node == "control_kernel":
+        # the new PFC's height comes from the old one's barometer reference (warm start), not
+        # from GPS: without it the Data Interface was 5.3 m off the truth
+        r.wait(lambda: r.truth is not None, 10.0, "ground truth")
+        error = r.pfc[-1].position_enu[2] - r.truth.position_enu[2]
+        assert abs(error) < 1.5, f"PFC height {error:+.2f} m off the truth after its restart"
     yaw = r.fcl(FclYaw, "yaw", heading=1.0)
     assert yaw.code == FclReturn.FCL_OK, yaw.reason
     done = r.final(yaw.command_id, 120.0)

@@ -95,12 +95,12 @@ def test_plan_namespaces_agent_nodes_and_passes_world_params(tmp_path: Path) -> 
 
 
 @pytest.mark.parametrize("run_dir", [None, "run"])
-def test_only_world_sim_gets_a_checkpoint_in_the_run_directory(
+def test_world_sim_and_each_control_kernel_get_their_own_checkpoint_in_the_run_directory(
     tmp_path: Path, run_dir: str | None
 ) -> None:
     options = LaunchOptions(
-        agents=("uav0",),
-        nodes=("world_sim", "control_kernel"),
+        agents=("uav0", "uav1"),
+        nodes=("world_sim", "control_kernel", "platform_server"),
         world="revinge",
         speed=1.0,
         record=None,
@@ -111,8 +111,19 @@ def test_only_world_sim_gets_a_checkpoint_in_the_run_directory(
         spec.name: [a for a in spec.argv if a.startswith("checkpoint:=")]
         for spec in build_plan(options, launch_plan.CATALOG)
     }
-    expected = [] if run_dir is None else [f"checkpoint:={tmp_path / run_dir}/world_sim.checkpoint"]
-    assert checkpoints == {"world_sim": expected, "uav0/control_kernel": []}
+    files = {
+        "world_sim": "world_sim.checkpoint",
+        "uav0/control_kernel": "uav0.control_kernel.checkpoint",
+        "uav1/control_kernel": "uav1.control_kernel.checkpoint",
+        "uav0/platform_server": None,
+        "uav1/platform_server": None,
+    }
+    assert checkpoints == {
+        name: []
+        if run_dir is None or file is None
+        else [f"checkpoint:={tmp_path / run_dir}/{file}"]
+        for name, file in files.items()
+    }
 
 
 def test_world_sim_is_in_the_catalogue_with_world_parameters() -> None:

@@ -7,15 +7,22 @@ from types import ModuleType
 
 import pytest
 
-from hdrc3_control.commands import EstimatedState
+from hdrc3_control.commands import EstimatedState, EstimatorHealth
 from hdrc3_control.landing import Landing, LandingPhase, LandingTarget
 from hdrc3_control.path_following import PathEvent, PathStatus
 
 PAD = LandingTarget(0.0, 0.0, 0.0, 0.0)
 
 
-def _state(z: float, on_ground: bool = False, vz: float = 0.0) -> EstimatedState:
-    return EstimatedState(0.0, (0.0, 0.0, z), (0.0, 0.0, vz), 0.0, 0.0, 0.0, on_ground=on_ground)
+def _state(
+    z: float,
+    on_ground: bool = False,
+    vz: float = 0.0,
+    health: EstimatorHealth = EstimatorHealth.OK,
+) -> EstimatedState:
+    return EstimatedState(
+        0.0, (0.0, 0.0, z), (0.0, 0.0, vz), 0.0, 0.0, 0.0, on_ground=on_ground, health=health
+    )
 
 
 @pytest.mark.parametrize(("height", "rate"), [(20.0, 1.0), (8.0, 0.5), (4.0, 0.25), (0.6, 0.25)])
@@ -25,6 +32,26 @@ def test_descent_rate_slows_down_near_the_ground(height: float, rate: float) -> 
     out = fn.update(_state(height + 0.45), 0.0, 0.02)
     assert out.phase is LandingPhase.DESCENT
     assert out.command.vertical == pytest.approx(-rate)
+
+
+@pytest.mark.parametrize(
+    ("health", "vz", "vertical"),
+    [
+        (EstimatorHealth.OK, -2.0, -0.25),  # the YACS's climb-rate hold works: the rate as is
+        (EstimatorHealth.DEGRADED, 1.0, -0.25),
+        (EstimatorHealth.LOST, -0.25, -0.25),  # on the rate: no correction
+        (EstimatorHealth.LOST, -2.0, 1.5),  # falling: -0.25 + (-0.25 + 2)
+        (EstimatorHealth.LOST, 1.0, -1.5),  # climbing: -0.25 + (-0.25 - 1)
+    ],
+)
+def test_descent_without_inertial_navigation_feeds_back_the_filters_vertical_rate(
+    health: EstimatorHealth, vz: float, vertical: float
+) -> None:
+    fn = Landing()
+    fn.start(_state(4.45, health=health), PAD)
+    out = fn.update(_state(4.45, vz=vz, health=health), 0.0, 0.02)
+    assert out.phase is LandingPhase.DESCENT
+    assert out.command.vertical == pytest.approx(vertical)
 
 
 def test_touchdown_needs_consecutive_contacts_then_engine_shutdown() -> None:

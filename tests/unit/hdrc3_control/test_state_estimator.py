@@ -31,6 +31,10 @@ class Scenario:
     accel_bias: tuple[float, float, float] = (0.03, -0.03, 0.02)
     gps_off: tuple[float, float] = (math.inf, math.inf)
     vision: bool = False
+    baro_drift: float = 0.0
+    """m/s of barometer drift from t = 40 s on (the filter has converged by then)."""
+    baro_fault_at: float | None = None
+    """When the filter excluded the barometer."""
     est: StateEstimator = field(default_factory=StateEstimator)
     health: dict[float, EstimatorHealth] = field(default_factory=dict)
 
@@ -49,11 +53,15 @@ class Scenario:
                 vel = truth[3:] + 0.1 * rng.standard_normal(3)
                 self.est.update_gps(GpsMeasurement(t, tuple(pos), tuple(vel)))  # type: ignore[arg-type]
             if k % 8 == 0:
-                self.est.update_baro(BaroMeasurement(t, truth[2] + 0.3 * rng.standard_normal()))
+                drift = self.baro_drift * max(0.0, t - 40.0)
+                noise = 0.3 * rng.standard_normal()
+                self.est.update_baro(BaroMeasurement(t, truth[2] + drift + noise))
             if self.vision and k % 10 == 0:
                 pos = truth[:3] + 0.05 * rng.standard_normal(3)
                 self.est.update_vision(VisionPoseMeasurement(t, tuple(pos)))  # type: ignore[arg-type]
             self.health[t] = self.est.health(t)
+            if self.est.baro_fault is not None and self.baro_fault_at is None:
+                self.baro_fault_at = t
             if self.est.initialised:
                 record.append(
                     (t, truth, self.est.state_vector()[:6], self.est.covariance()[:6, :6])
@@ -141,3 +149,28 @@ def test_vision_hook_keeps_the_solution_aided_without_gps() -> None:
     assert sc.est.health(14.99) is EstimatorHealth.OK
     _, truth, x, _ = rec[-1]  # type: ignore[misc]
     assert float(np.linalg.norm(x[:3] - truth[:3])) < 0.2
+
+
+@pytest.mark.parametrize(
+    ("drift", "excluded_after"),
+    [
+        (0.0, None),  # climbing at 0.5 m/s: the barometer agrees with the GPS climb
+        (0.01, None),  # 0.3 m in 30 s: weather, the bias state's job
+        (0.2, (45.0, 60.0)),  # 3 m in 15 s, plus the low-pass and the filter noise
+        (-0.5, (40.0, 47.0)),
+    ],
+)
+def test_a_drifting_barometer_is_excluded_and_the_height_stays(
+    drift: float, excluded_after: tuple[float, float] | None
+) -> None:
+    sc = Scenario(seed=4, baro_drift=drift)
+    record: list[tuple[float, np.ndarray, np.ndarray]] = []
+    sc.run(90.0, record)
+    if excluded_after is None:
+        assert sc.est.baro_fault is None and sc.baro_fault_at is None
+        return
+    assert sc.baro_fault_at is not None
+    assert excluded_after[0] <= sc.baro_fault_at <= excluded_after[1]
+    assert sc.est.baro_fault is not None and "barometer drifting" in sc.est.baro_fault
+    _, truth, x, _ = record[-1]  # type: ignore[misc]
+    assert abs(x[2] - truth[2]) < 1.5  # the height did not follow the barometer

@@ -10,11 +10,19 @@ from __future__ import annotations
 import pytest
 
 from hdrc3_control.pfc_state import FlightMode
-from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
+from hdrc3_platform_server.codes import (
+    EventKind,
+    FclCode,
+    FclCommand,
+    PpclCode,
+    PpclCommand,
+    Resource,
+)
 from hdrc3_platform_server.completion import TERMINAL
 from hdrc3_platform_server.fakes import FakePfcTiming, FakeRig
 from hdrc3_platform_server.fcl_api import RESTARTED_DRC, RESTARTED_PFC
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.ppcl_api import RESTARTED_PPC
 
 FRAME = WorldFrame(55.70, 13.47, 95.0)
 C = FclCommand
@@ -103,3 +111,30 @@ def test_a_final_reply_held_for_the_restarted_server_ends_the_command_once() -> 
     assert terminal(rig, cid) == [EventKind.FAILED]
     assert rig.log.final(cid).reason == RESTARTED_DRC  # type: ignore[union-attr]
     next_command_works(rig)
+
+
+@pytest.mark.parametrize("pending", [0, 1, 2])
+def test_ppc_restart_fails_its_pending_commands_once_and_the_next_works(pending: int) -> None:
+    rig = FakeRig(FRAME, on_ground=False)
+    assert rig.core.ppcl.control(Resource.PTU, True, "exec").code is PpclCode.OK
+    assert rig.core.ppcl.control(Resource.CAMERA, True, "exec").code is PpclCode.OK
+    assert rig.ppc is not None
+    rig.ppc.move_time = 60.0  # still moving when the PPC dies
+    calls = [(PpclCommand.TURN_TO, (0.5, 0.2)), (PpclCommand.ZOOM, (0.0, 0.5))][:pending]
+    ids = []
+    for command, args in calls:
+        answer = rig.core.ppcl.submit(command, args, rig.t)
+        assert answer.code is PpclCode.OK, answer.reason
+        ids.append(answer.command_id)
+    rig.run(0.5)
+    rig.restart_ppc()
+    rig.run(0.5)
+    for cid in ids:
+        assert terminal(rig, cid) == [EventKind.FAILED]
+        assert rig.log.final(cid).reason == RESTARTED_PPC  # type: ignore[union-attr]
+    answer = rig.core.ppcl.submit(PpclCommand.TURN_TO, (0.1, 0.1), rig.t)
+    assert answer.code is PpclCode.OK, answer.reason
+    final = rig.run_until_final(answer.command_id)
+    assert final is not None and final.kind is EventKind.FINISHED
+    rig.run(1.0)
+    assert all(terminal(rig, cid) == [EventKind.FAILED] for cid in ids)
