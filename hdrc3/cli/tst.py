@@ -19,6 +19,7 @@ import argparse
 import csv
 import math
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -135,31 +136,32 @@ def _replies(console: Console, replies: list[Reply] | tuple[Reply, ...]) -> bool
     return all(r.ok for r in replies)
 
 
-def _abort(args: argparse.Namespace) -> int:
+def _on_agents(
+    args: argparse.Namespace,
+    call: Callable[[TstClient, tuple[str, ...]], list[Reply]],
+    refused: int,
+) -> int:
+    """Call every agent given with ``--agents``; print the replies; 0 or ``refused``."""
     console = _console()
     with RosProcess() as process:
-        client = TstClient(process)
-        ok = _replies(console, client.abort(args.mission, parse_agents(args.agents), args.reason))
-    return EXIT_OK if ok else EXIT_REFUSED
+        ok = _replies(console, call(TstClient(process), parse_agents(args.agents)))
+    return EXIT_OK if ok else refused
+
+
+def _abort(args: argparse.Namespace) -> int:
+    return _on_agents(args, lambda c, a: c.abort(args.mission, a, args.reason), EXIT_REFUSED)
 
 
 def _pause(args: argparse.Namespace) -> int:
-    console = _console()
-    with RosProcess() as process:
-        client = TstClient(process)
-        ok = _replies(console, client.pause(args.mission, parse_agents(args.agents), args.resume))
-    return EXIT_OK if ok else EXIT_REFUSED
+    return _on_agents(args, lambda c, a: c.pause(args.mission, a, args.resume), EXIT_REFUSED)
 
 
 def _set(args: argparse.Namespace) -> int:
-    console = _console()
-    with RosProcess() as process:
-        client = TstClient(process)
-        replies = client.set(
-            args.mission, parse_agents(args.agents), args.node, args.param, args.value
-        )
-        ok = _replies(console, replies)
-    return EXIT_OK if ok else EXIT_INVALID
+    return _on_agents(
+        args,
+        lambda c, a: c.set(args.mission, a, args.node, args.param, args.value),
+        EXIT_INVALID,
+    )
 
 
 def _status_line(msg: Any) -> str:

@@ -166,8 +166,12 @@ def system(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[System]:
 
 
 def test_pause_resume_and_abort_mid_scan_leave_both_aircraft_hovering_then_a_goal_is_flown(
-    system: System,
+    system: System, hdrc3_cli: Callable[..., Any]
 ) -> None:
+    def tst_command(*words: str) -> None:
+        done = hdrc3_cli("tst", *words, "abort-me", "--agents", ",".join(AGENTS))
+        assert done.finish(timeout=60.0) == 0, "\n".join(done.lines)
+
     text = (EXAMPLES / "example_6_1.tst").read_text(encoding="utf-8")
     created = system.client.create("abort-me", text, "example_6_1.tst", AGENTS)
     assert created.ok, created.replies
@@ -185,12 +189,12 @@ def test_pause_resume_and_abort_mid_scan_leave_both_aircraft_hovering_then_a_goa
     system.wait(scanning, "both aircraft at scan altitude")
     system.sleep_sim(10.0, "10 s of scanning")
 
-    assert all(r.ok for r in system.client.pause("abort-me", AGENTS, resume=False))
+    tst_command("pause")
     system.wait(lambda: system.state("tau3", "abort-me") == "paused", "uav1's node paused")
     assert system.state("tau2", "abort-me") == "paused"
     system.sleep_sim(20.0, "20 s paused")
     system.assert_hovering()
-    assert all(r.ok for r in system.client.pause("abort-me", AGENTS, resume=True))
+    tst_command("resume")
     system.wait(lambda: system.state("tau3", "abort-me") == "running", "uav1's node resumed")
 
     def moving() -> bool:
@@ -200,8 +204,7 @@ def test_pause_resume_and_abort_mid_scan_leave_both_aircraft_hovering_then_a_goa
         )
 
     system.wait(moving, "both aircraft flying again after resume")
-    replies = system.client.abort("abort-me", AGENTS, "test abort")
-    assert all(r.ok for r in replies), replies
+    tst_command("abort")
     system.wait(lambda: system.state("tau0", "abort-me") == "aborted", "the root aborted")
     assert system.state("tau2", "abort-me") == "aborted"
     system.wait(lambda: system.state("tau3", "abort-me") == "aborted", "uav1's node aborted")
