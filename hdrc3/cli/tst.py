@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from rich.console import Console
+from rosgraph_msgs.msg import Clock
 
 from hdrc3.launch_plan import CATALOG
 from hdrc3.launched_system import LaunchedSystem
@@ -40,6 +41,9 @@ EXIT_FAILED = 1
 EXIT_REFUSED = 3
 EXIT_INVALID = 4
 ABORT_WAIT_S = 30.0
+SETTLE_S = 3.0
+"""Sim seconds a launched run goes on after its root ended."""
+SETTLE_WAIT_S = 30.0
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -256,6 +260,8 @@ def _execute(
             process.stop_requested.clear()
             client.abort(mission, created.involved, reason)
             process.spin_until(root_done, ABORT_WAIT_S)
+        if hand_over_first:
+            _settle(process, client)
         latest = client.latest(mission)
     if out is not None:
         _write_timeline(out / "timeline.csv", latest)
@@ -271,6 +277,23 @@ def _execute(
     what = _status_line(culprit) if culprit is not None else "the root did not end"
     console.print(f"MISSION FAILED: {what}")
     return EXIT_FAILED
+
+
+def _settle(process: RosProcess, client: TstClient) -> None:
+    """Let SETTLE_S of sim time pass before the launch stops.
+
+    The recording then holds the last node statuses (the recorder is another subscriber) and
+    the aircraft's final state.
+    """
+    clock: list[float] = []
+
+    def on_clock(msg: Any) -> None:
+        clock.append(msg.clock.sec + 1e-9 * msg.clock.nanosec)
+
+    client.node.create_subscription(Clock, "/clock", on_clock, 10)
+    if process.spin_until(lambda: bool(clock), SETTLE_WAIT_S):
+        until = clock[-1] + SETTLE_S
+        process.spin_until(lambda: clock[-1] >= until, SETTLE_WAIT_S)
 
 
 def _created(console: Console, created: Created) -> int:

@@ -29,18 +29,20 @@ def stamp_s(stamp: Any) -> float:
     return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
 
 
-def recorded(path: Path, topic_suffix: str) -> list[Any]:
+def recorded(path: Path, *suffixes: str) -> dict[str, list[Any]]:
+    """The recorded messages of every topic ending in one of ``suffixes``, by suffix."""
     from rclpy.serialization import deserialize_message
 
     from hdrc3.mcap_recording import RecordingReader
     from hdrc3.message_types import message_class
 
     recording = RecordingReader.open(path)
-    topics = {t: s for t, s in recording.topics().items() if t.endswith(topic_suffix)}
-    return [
-        deserialize_message(m.data, message_class(topics[m.topic]))
-        for m in recording.messages(list(topics))
-    ]
+    topics = {t: s for t, s in recording.topics().items() if t.endswith(suffixes)}
+    out: dict[str, list[Any]] = {suffix: [] for suffix in suffixes}
+    for m in recording.messages(list(topics)):
+        suffix = next(x for x in suffixes if m.topic.endswith(x))
+        out[suffix].append(deserialize_message(m.data, message_class(topics[m.topic])))
+    return out
 
 
 def constraint_violations(file: Path, times: dict[str, tuple[float, float]]) -> list[str]:
@@ -65,6 +67,7 @@ def constraint_violations(file: Path, times: dict[str, tuple[float, float]]) -> 
     return broken
 
 
+@pytest.mark.timeout(900)
 def test_example_6_1_flies_with_two_aircraft_and_keeps_its_constraints(
     hdrc3_cli: Callable[..., Any], ros_domain: int, tmp_path: Path
 ) -> None:
@@ -80,7 +83,8 @@ def test_example_6_1_flies_with_two_aircraft_and_keeps_its_constraints(
     assert "mission ex61 succeeded" in text
     assert "uav1/tau3 scan-area running" in text  # the distributed node, held by uav1
 
-    statuses = recorded(out / "run.mcap", "/tst_status")
+    messages = recorded(out / "run.mcap", "/tst_status", "/execution_flags")
+    statuses, flags = messages["/tst_status"], messages["/execution_flags"]
     final = {s.node_id: s for s in statuses if s.mission == "ex61"}
     assert set(final) == {"tau0", "tau1", "tau2", "tau3", "tau4"}
     assert {s.node_id: s.agent for s in final.values()} == {
@@ -91,7 +95,6 @@ def test_example_6_1_flies_with_two_aircraft_and_keeps_its_constraints(
     assert constraint_violations(file, times) == []
     assert times["tau2"][1] - times["tau2"][0] > 30.0  # a real scan, not an instant success
 
-    flags = recorded(out / "run.mcap", "/execution_flags")
     assert {(f.agent, f.node_id, f.executing) for f in flags} >= {
         ("uav0", "tau2", True), ("uav0", "tau2", False), ("uav1", "tau3", True),
         ("uav1", "tau3", False), ("uav0", "tau4", True), ("uav0", "tau4", False),
@@ -165,6 +168,7 @@ def system(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[System]:
             print("\n".join(launch.lines[-40:]))  # shown by pytest when the test failed
 
 
+@pytest.mark.timeout(900)
 def test_pause_resume_and_abort_mid_scan_leave_both_aircraft_hovering_then_a_goal_is_flown(
     system: System, hdrc3_cli: Callable[..., Any]
 ) -> None:
