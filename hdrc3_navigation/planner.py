@@ -136,6 +136,10 @@ class PathPlanner:
         )
         return self._roadmap, built
 
+    def use_roadmap(self, roadmap: Roadmap) -> None:
+        """Query this roadmap instead of the cached one (tests, externally built roadmaps)."""
+        self._roadmap = roadmap
+
     # --- validation ----------------------------------------------------------------------
 
     def _check(self, request: PlanRequest, checker: ConstraintChecker | None) -> PlanResult | None:
@@ -257,7 +261,9 @@ class PathPlanner:
         else:
             suspect = np.zeros(len(edges), dtype=bool)
         query = Query(
-            roadmap, start, goal, node_valid, checker.edges_ok(a, b, roadmap.lines), suspect,
+            roadmap, start, goal, node_valid,
+            (checker.edges_ok(a, b, roadmap.lines), checker.edges_ok(b, a, roadmap.lines)),
+            suspect,
             lambda p, q: gis.segment_free(p, q, static=False), checks.line,
             request.criterion, request.speed, self.model, deadline,
         )  # fmt: skip
@@ -280,7 +286,7 @@ class PathPlanner:
     ) -> tuple[NDArray[np.float64], bool] | None:
         """§7.1.2: an RRT bridges the start's and the goal's roadmap components."""
         from_start = sorted(query.component(query.start_id))
-        to_goal = sorted(query.component(query.goal_id))
+        to_goal = sorted(query.component(query.goal_id, reverse=True))
         s_pts = np.array([query.point(i) for i in from_start])
         g_pts = np.array([query.point(i) for i in to_goal])
         d_s, _ = cKDTree(g_pts).query(s_pts)

@@ -42,18 +42,18 @@ class Roadmap:
     key: str
     build_seconds: float
     tree: cKDTree = field(init=False, repr=False)
-    adjacency: list[list[tuple[int, int]]] = field(init=False, repr=False)
-    """Per node: (neighbour, edge index)."""
+    adjacency: list[list[tuple[int, int, bool]]] = field(init=False, repr=False)
+    """Per node: (neighbour, edge index, True if the edge is stored in this direction)."""
     lines: NDArray[np.object_] = field(init=False, repr=False)
     """The edges' ground projections as shapely line strings (for vectorised zone tests)."""
 
     def __post_init__(self) -> None:
         """Build the neighbour index."""
         object.__setattr__(self, "tree", cKDTree(self.nodes))
-        adjacency: list[list[tuple[int, int]]] = [[] for _ in range(len(self.nodes))]
+        adjacency: list[list[tuple[int, int, bool]]] = [[] for _ in range(len(self.nodes))]
         for k, (i, j) in enumerate(self.edges.tolist()):
-            adjacency[i].append((j, k))
-            adjacency[j].append((i, k))
+            adjacency[i].append((j, k, True))
+            adjacency[j].append((i, k, False))
         object.__setattr__(self, "adjacency", adjacency)
         ends = self.nodes[self.edges][:, :, :2] if len(self.edges) else np.empty((0, 2, 2))
         object.__setattr__(self, "lines", shapely.linestrings(ends))

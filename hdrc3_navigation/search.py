@@ -38,8 +38,9 @@ class Query:
     goal: NDArray[np.float64]
     node_valid: NDArray[np.bool_]
     """Per roadmap node: satisfies the query's constraints (and runtime obstacles)."""
-    edge_valid: NDArray[np.bool_]
-    """Per roadmap edge: satisfies the query's constraints."""
+    edge_valid: tuple[NDArray[np.bool_], NDArray[np.bool_]]
+    """Per roadmap edge, flown as stored and reversed: satisfies the query's constraints
+    (climb and descent limits depend on the direction)."""
     edge_suspect: NDArray[np.bool_]
     """Per roadmap edge: near a runtime obstacle, to be tested with ``runtime_ok``."""
     runtime_ok: SegmentTest
@@ -49,18 +50,20 @@ class Query:
     speed: float
     model: FlightModel
     deadline: float
-    _extra: dict[int, list[int]] = field(default_factory=dict)
+    _out: dict[int, list[int]] = field(default_factory=dict)
+    _in: dict[int, list[int]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         """Connect start and goal to their nearest valid roadmap nodes (and to each other)."""
         n = len(self.roadmap.nodes)
         self.start_id, self.goal_id = n, n + 1
-        self._extra = {n: [], n + 1: []}
         self._suspect_memo: dict[int, bool] = {}
         nodes, edges = self.roadmap.nodes, self.roadmap.edges
-        self._edge_cost: list[float] = self.model.cost(
-            self.criterion, nodes[edges[:, 0]], nodes[edges[:, 1]], self.speed
-        ).tolist()
+        a, b = nodes[edges[:, 0]], nodes[edges[:, 1]]
+        self._edge_cost: tuple[list[float], list[float]] = (
+            self.model.cost(self.criterion, a, b, self.speed).tolist(),
+            self.model.cost(self.criterion, b, a, self.speed).tolist(),
+        )
         self._all = np.vstack([nodes, self.start, self.goal])
         if self.connect_ok(self.start, self.goal):
             self._link(n, n + 1)
@@ -68,12 +71,18 @@ class Query:
             _, idx = self.roadmap.tree.query(p, k=min(CONNECT_NEIGHBOURS, n))
             for j in np.atleast_1d(idx).tolist():
                 self._tick()
-                if self.node_valid[j] and self.connect_ok(p, self.roadmap.nodes[j]):
-                    self._link(vid, j)
+                if not self.node_valid[j]:
+                    continue
+                q = self.roadmap.nodes[j]
+                if vid == n and self.connect_ok(p, q):
+                    self._link(n, j)
+                elif vid == n + 1 and self.connect_ok(q, p):
+                    self._link(j, n + 1)
 
     def _link(self, a: int, b: int) -> None:
-        self._extra.setdefault(a, []).append(b)
-        self._extra.setdefault(b, []).append(a)
+        """A valid connection flown from a to b."""
+        self._out.setdefault(a, []).append(b)
+        self._in.setdefault(b, []).append(a)
 
     def _tick(self) -> None:
         if time.perf_counter() > self.deadline:
@@ -87,8 +96,8 @@ class Query:
             return self.goal
         return self.roadmap.nodes[i]
 
-    def _edge_ok(self, u: int, v: int, k: int) -> bool:
-        if not (self.edge_valid[k] and self.node_valid[v]):
+    def _edge_ok(self, u: int, v: int, k: int, forward: bool) -> bool:
+        if not (self.edge_valid[0 if forward else 1][k] and self.node_valid[v]):
             return False
         if not self.edge_suspect[k]:
             return True
@@ -98,15 +107,30 @@ class Query:
         return ok
 
     def neighbours(self, u: int) -> list[tuple[int, float]]:
-        """(neighbour, edge cost) of node u, for edges valid under the query's constraints."""
+        """(v, cost) of the valid edges u -> v."""
         pu = self.point(u)
         out = [
             (v, float(self.model.cost(self.criterion, pu, self.point(v), self.speed)))
-            for v in self._extra.get(u, ())
+            for v in self._out.get(u, ())
         ]
         if u < len(self.roadmap.nodes):
-            cost = self._edge_cost
-            out += [(v, cost[k]) for v, k in self.roadmap.adjacency[u] if self._edge_ok(u, v, k)]
+            fwd, bwd = self._edge_cost
+            out += [
+                (v, fwd[k] if forward else bwd[k])
+                for v, k, forward in self.roadmap.adjacency[u]
+                if self._edge_ok(u, v, k, forward)
+            ]
+        return out
+
+    def predecessors(self, u: int) -> list[int]:
+        """The nodes v with a valid edge v -> u."""
+        out = list(self._in.get(u, ()))
+        if u < len(self.roadmap.nodes):
+            out += [
+                v
+                for v, k, forward in self.roadmap.adjacency[u]
+                if self._edge_ok(v, u, k, not forward) and self.node_valid[v]
+            ]
         return out
 
     def astar(self, source: int, target: int) -> list[int] | None:
@@ -140,15 +164,16 @@ class Query:
                     heapq.heappush(heap, (cost + h[v], v))
         return None
 
-    def component(self, source: int) -> set[int]:
-        """Nodes reachable from source under the constraints (breadth first)."""
+    def component(self, source: int, reverse: bool = False) -> set[int]:
+        """Nodes reachable from source (``reverse``: that reach source), breadth first."""
         seen = {source}
         frontier = [source]
         while frontier:
             self._tick()
             nxt = []
             for u in frontier:
-                for v, _ in self.neighbours(u):
+                step = self.predecessors(u) if reverse else [v for v, _ in self.neighbours(u)]
+                for v in step:
                     if v not in seen:
                         seen.add(v)
                         nxt.append(v)
