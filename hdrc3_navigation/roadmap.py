@@ -13,6 +13,7 @@ import hashlib
 import json
 import os
 import time
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -123,7 +124,7 @@ class RoadmapCache:
                     str(meta["key"]),
                     float(meta["build_seconds"]),
                 )
-        except (OSError, ValueError, KeyError, TypeError, json.JSONDecodeError, EOFError):
+        except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile):
             return None
         if meta.get("format") != _FORMAT or roadmap.key != key:
             return None
