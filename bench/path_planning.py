@@ -138,7 +138,9 @@ def main() -> None:
         zoned = []
         for a, b in pairs:
             zone = Constraints(no_fly=(random_zone(rng, gis, a, b),))
-            zoned.append(planner.plan(PlanRequest(a, b, 10.0, zone, PlannerKind.PRM_RRT, timeout=5.0)))
+            zoned.append(
+                planner.plan(PlanRequest(a, b, 10.0, zone, PlannerKind.PRM_RRT, timeout=5.0))
+            )
         summary("PRM+RRT, random query no-fly zone", zoned)
         print(
             f"  of which reconnected by RRT: {sum(r.reconnected for r in zoned)}; "

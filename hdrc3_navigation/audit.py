@@ -34,7 +34,11 @@ class Violation:
 class WorldAudit:
     """Clearance and no-fly checks of positions in one world."""
 
-    def __init__(self, world: World, zones: Iterable[tuple[str, Sequence[tuple[float, float]], float, float]] = ()):
+    def __init__(
+        self,
+        world: World,
+        zones: Iterable[tuple[str, Sequence[tuple[float, float]], float, float]] = (),
+    ):
         self.world = world
         solids: list[tuple[str, Polygon, float]] = []
         for b in world.buildings:

@@ -10,7 +10,6 @@ flown at the requested speed). No-fly polygons are grown by the safety margin.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -20,7 +19,7 @@ from shapely.geometry import LineString, Point
 from shapely.prepared import prep
 
 from hdrc3_base.errors import ConfigError
-from hdrc3_navigation.gis import Gis, Point2, Zone
+from hdrc3_navigation.gis import Gis, Point2, Point3, Zone
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,7 +80,7 @@ class ConstraintChecker:
         union = shapely.union_all([shape for _, shape, _, _ in self._zones])
         self._union = prep(union) if self._zones else None
 
-    def zone_at(self, p: Sequence[float]) -> str | None:
+    def zone_at(self, p: Point3) -> str | None:
         """Name of the (grown) no-fly zone containing ``p``, or None."""
         if self._union is None:
             return None
@@ -102,7 +101,7 @@ class ConstraintChecker:
             return f"height {z:.1f} m is above the maximum altitude {c.max_altitude} m"
         return None
 
-    def point_ok(self, p: Sequence[float]) -> bool:
+    def point_ok(self, p: Point3) -> bool:
         """Configuration test: altitude limits and no-fly zones."""
         return self.altitude_problem(p[2]) is None and self.zone_at(p) is None
 

@@ -30,6 +30,8 @@ from hdrc3_base.errors import ConfigError
 from sim.world import World
 
 Vec3 = tuple[float, float, float]
+Point3 = Sequence[float] | NDArray[np.float64]
+"""A position: a sequence or an array of (east, north, up)."""
 Point2 = tuple[float, float]
 DEFAULT_MARGIN = 6.0
 """Safety margin around every solid, m (issue 13)."""
@@ -64,9 +66,9 @@ def _polygon(points: Sequence[Point2], what: str) -> Polygon:
 
 def _convex_prism(triangle: NDArray[np.float64], bottom: float, top: NDArray[np.float64]) -> Any:
     """A convex prism over one triangle: bottom at a height, top at per-vertex heights."""
-    verts = np.array(
-        [[x, y, bottom] for x, y in triangle] + [[x, y, z] for (x, y), z in zip(triangle, top)],
-        dtype=np.float64,
+    xy = np.asarray(triangle, dtype=np.float64)
+    verts = np.vstack(
+        [np.column_stack([xy, np.full(3, bottom)]), np.column_stack([xy, np.asarray(top)])]
     )
     # faces: count followed by vertex indices, outward orientation is not required by GJK
     faces = np.array(
@@ -82,7 +84,6 @@ def _prism_pieces(footprint: Polygon, base: float, top: float) -> list[Any]:
         xy = np.asarray(tri.exterior.coords[:3], dtype=np.float64)
         pieces.append(_convex_prism(xy, base, np.full(3, top)))
     return pieces
-
 
 
 class Gis:
@@ -161,7 +162,7 @@ class Gis:
 
     # --- queries -------------------------------------------------------------------------
 
-    def inside_bounds(self, p: Sequence[float]) -> bool:
+    def inside_bounds(self, p: Point3) -> bool:
         """Whether a point lies inside the planning volume."""
         lo, hi = self.bounds
         return all(lo[i] <= p[i] <= hi[i] for i in range(3))
@@ -177,7 +178,7 @@ class Gis:
                 return True
         return False
 
-    def point_free(self, p: Sequence[float], static: bool = True) -> bool:
+    def point_free(self, p: Point3, static: bool = True) -> bool:
         """True if a sphere of the margin's radius at ``p`` touches no solid.
 
         With ``static`` False only the runtime obstacles are tested (roadmap nodes are known
@@ -186,7 +187,7 @@ class Gis:
         obj = fcl.CollisionObject(self._sphere, fcl.Transform(np.asarray(p, dtype=np.float64)))
         return not self._hits(obj, static)
 
-    def segment_free(self, a: Sequence[float], b: Sequence[float], static: bool = True) -> bool:
+    def segment_free(self, a: Point3, b: Point3, static: bool = True) -> bool:
         """True if the straight motion a->b, swept by the margin sphere, touches no solid.
 
         With ``static`` False only the runtime obstacles are tested.
@@ -195,9 +196,7 @@ class Gis:
             return True
         return self._capsule_free(a, b, self.margin, static)
 
-    def _capsule_free(
-        self, a: Sequence[float], b: Sequence[float], radius: float, static: bool = True
-    ) -> bool:
+    def _capsule_free(self, a: Point3, b: Point3, radius: float, static: bool = True) -> bool:
         pa, pb = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
         d = pb - pa
         length = float(np.linalg.norm(d))
@@ -253,9 +252,7 @@ class Gis:
         """Names of the runtime obstacles."""
         return tuple(self._runtime_objects)
 
-    def add_obstacle(
-        self, name: str, footprint: Sequence[Point2], base: float, top: float
-    ) -> None:
+    def add_obstacle(self, name: str, footprint: Sequence[Point2], base: float, top: float) -> None:
         """Add (or replace) a runtime obstacle: a vertical prism over a footprint."""
         poly = _polygon(footprint, f"obstacle {name!r}")
         if not (math.isfinite(base) and math.isfinite(top) and base < top):
@@ -293,7 +290,9 @@ class Gis:
         if source is not None and source.is_file():
             h.update(source.read_bytes())
         else:
-            h.update(repr((self.world.terrain, self.world.buildings, self.world.vegetation)).encode())
+            h.update(
+                repr((self.world.terrain, self.world.buildings, self.world.vegetation)).encode()
+            )
         h.update(repr((self.margin, self.bounds)).encode())
         return h.hexdigest()[:20]
 

@@ -20,8 +20,9 @@ from numpy.typing import NDArray
 
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_control.velocity_profile import ProfileLimits, compatible_speed
+from hdrc3_navigation.gis import Point3
 
-LineTest = Callable[[Sequence[float], Sequence[float]], bool]
+LineTest = Callable[[Point3, Point3], bool]
 CurveTest = Callable[[NDArray[np.float64]], bool]
 SAMPLE_SPACING = 3.0
 """Curves are checked as polylines with pieces of at most this length, m."""
@@ -48,7 +49,9 @@ def align(points: NDArray[np.float64], checks: Checks) -> NDArray[np.float64]:
     return out
 
 
-def _direction(points: NDArray[np.float64], k: int, smooth: Sequence[bool], incoming: bool) -> NDArray[np.float64]:
+def _direction(
+    points: NDArray[np.float64], k: int, smooth: Sequence[bool], incoming: bool
+) -> NDArray[np.float64]:
     if smooth[k]:
         out: NDArray[np.float64] = points[k + 1] - points[k - 1]
     elif incoming:
@@ -56,7 +59,6 @@ def _direction(points: NDArray[np.float64], k: int, smooth: Sequence[bool], inco
     else:
         out = points[k + 1] - points[k]
     return out
-
 
 
 def _segment(

@@ -7,16 +7,18 @@ straight edges, where OMPL's default validator would only sample points).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 from ompl import base as ob
 from ompl import util as ou
 
-from hdrc3_navigation.gis import Gis
+from hdrc3_navigation.gis import Gis, Point3
 
-PointTest = Callable[[Sequence[float]], bool]
-SegmentTest = Callable[[Sequence[float], Sequence[float]], bool]
+PointTest = Callable[[Point3], bool]
+SegmentTest = Callable[[Point3, Point3], bool]
 
 ou.setLogLevel(ou.LOG_WARN)
 
@@ -32,7 +34,7 @@ class _CapsuleMotionValidator(ob.MotionValidator):  # type: ignore[misc]
         super().__init__(si)
         self._segment_ok = segment_ok
 
-    def checkMotion(self, s1: object, s2: object, *rest: object) -> bool:  # noqa: N802
+    def checkMotion(self, s1: object, s2: object, *rest: object) -> bool:
         """OMPL callback: is the straight motion s1 -> s2 valid."""
         return self._segment_ok(_xyz(s1), _xyz(s2))
 
@@ -59,7 +61,7 @@ class OmplSpace:
             p = _xyz(state)
             return bool(extra_point(p) and gis.point_free(p))
 
-        def motion(a: Sequence[float], b: Sequence[float]) -> bool:
+        def motion(a: Point3, b: Point3) -> bool:
             return bool(extra_segment(a, b) and gis.segment_free(a, b))
 
         self._valid = valid  # OMPL keeps only a reference: keep the callables alive
@@ -68,7 +70,7 @@ class OmplSpace:
         self.si.setMotionValidator(self._validator)
         self.si.setup()
 
-    def state(self, p: Sequence[float]) -> object:
+    def state(self, p: Point3) -> object:
         """A new OMPL state at p."""
         s = self.space.allocState()
         for i in range(3):
@@ -76,10 +78,10 @@ class OmplSpace:
         return s
 
     @staticmethod
-    def path_points(path: object) -> np.ndarray:  # type: ignore[type-arg]
+    def path_points(path: Any) -> NDArray[np.float64]:
         """Waypoints of an OMPL geometric path as an (n, 3) array."""
-        n = path.getStateCount()  # type: ignore[attr-defined]
-        return np.array([_xyz(path.getState(i)) for i in range(n)], dtype=np.float64)  # type: ignore[attr-defined]
+        n = path.getStateCount()
+        return np.array([_xyz(path.getState(i)) for i in range(n)], dtype=np.float64)
 
 
 def seed_rng(seed: int) -> None:

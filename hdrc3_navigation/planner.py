@@ -10,7 +10,6 @@ from __future__ import annotations
 import enum
 import math
 import time
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -22,7 +21,7 @@ from hdrc3_control.path_segment import PathSegment
 from hdrc3_control.velocity_profile import ProfileLimits
 from hdrc3_navigation.constraints import ConstraintChecker, Constraints
 from hdrc3_navigation.cost import Criterion, FlightModel
-from hdrc3_navigation.gis import DEFAULT_MARGIN, Gis
+from hdrc3_navigation.gis import DEFAULT_MARGIN, Gis, Point3
 from hdrc3_navigation.multilevel import Checks, Smoothed, multilevel, sample
 from hdrc3_navigation.ompl_space import OmplSpace
 from hdrc3_navigation.roadmap import DEFAULT_NODES, Roadmap, RoadmapCache, default_cache_dir
@@ -218,14 +217,12 @@ class PathPlanner:
             return _timed(PlanResult(PlanStatus.NO_PATH, reason), t0, request.planner)
         waypoints, reconnected = found
         smoothed = multilevel(waypoints, self._checks(checker), request.speed, self.limits)
-        return _timed(
-            self._result(smoothed, request.speed, reconnected), t0, request.planner
-        )
+        return _timed(self._result(smoothed, request.speed, reconnected), t0, request.planner)
 
     def _checks(self, checker: ConstraintChecker) -> Checks:
         gis = self.gis
 
-        def line(a: Sequence[float], b: Sequence[float]) -> bool:
+        def line(a: Point3, b: Point3) -> bool:
             return checker.polyline_ok(np.array([a, b], float)) and gis.segment_free(a, b)
 
         def curve(points: NDArray[np.float64]) -> bool:
@@ -365,5 +362,5 @@ def _timed(result: PlanResult, t0: float, planner: PlannerKind) -> PlanResult:
     )
 
 
-def _fmt(p: Sequence[float]) -> str:
+def _fmt(p: Point3) -> str:
     return "(" + ", ".join(f"{v:.1f}" for v in p) + ")"

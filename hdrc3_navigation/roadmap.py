@@ -59,7 +59,6 @@ class Roadmap:
         ends = self.nodes[self.edges][:, :, :2] if len(self.edges) else np.empty((0, 2, 2))
         object.__setattr__(self, "lines", shapely.linestrings(ends))
 
-
     @property
     def size(self) -> tuple[int, int]:
         """(nodes, edges)."""

@@ -11,16 +11,17 @@ from __future__ import annotations
 
 import heapq
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
 from hdrc3_navigation.cost import Criterion, FlightModel
+from hdrc3_navigation.gis import Point3
 from hdrc3_navigation.roadmap import Roadmap
 
-SegmentTest = Callable[[Sequence[float], Sequence[float]], bool]
+SegmentTest = Callable[[Point3, Point3], bool]
 CONNECT_NEIGHBOURS = 15
 """Roadmap nodes tried when connecting a start or goal configuration."""
 
@@ -94,7 +95,8 @@ class Query:
             return self.start
         if i == self.goal_id:
             return self.goal
-        return self.roadmap.nodes[i]
+        out: NDArray[np.float64] = self.roadmap.nodes[i]
+        return out
 
     def _edge_ok(self, u: int, v: int, k: int, forward: bool) -> bool:
         if not (self.edge_valid[0 if forward else 1][k] and self.node_valid[v]):

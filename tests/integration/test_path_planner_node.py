@@ -62,7 +62,9 @@ def test_plan_service_of_a_launched_node(
     from sim.world_loader import load_world
 
     monkeypatch.setenv("HDRC3_CACHE_DIR", str(tmp_path))
-    launch = hdrc3_cli("launch", "--agents", AGENT, "--nodes", "path_planner", "--world", str(WORLD))
+    launch = hdrc3_cli(
+        "launch", "--agents", AGENT, "--nodes", "path_planner", "--world", str(WORLD)
+    )
     launch.wait_for_line("READY", timeout=90)
     node = Node("path_client", context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)

@@ -28,7 +28,9 @@ def test_roadmap_is_built_then_cached(cache: str, capsys: pytest.CaptureFixture[
     assert "roadmap cached: " in out and " nodes, " in out and "build time" in out
 
 
-def test_plan_json_has_the_documented_fields(cache: str, capsys: pytest.CaptureFixture[str]) -> None:
+def test_plan_json_has_the_documented_fields(
+    cache: str, capsys: pytest.CaptureFixture[str]
+) -> None:
     argv = ["path", "plan", *base(cache), "--from=-60,0,15", "--to", "60,0,15", "--json",
             "--max-alt", "22", "--no-fly=-30,-100;30,-100;30,-20;-30,-20"]  # fmt: skip
     assert main(argv) == 0
@@ -54,7 +56,11 @@ def test_plan_json_has_the_documented_fields(cache: str, capsys: pytest.CaptureF
     [
         (["--from=0,0,10", "--to", "60,0,15"], 4, "start_in_obstacle"),
         (["--from=-60,0,15", "--to", "65,-65,20"], 4, "goal_in_no_fly_zone"),
-        (["--from=-60,0,15", "--to", "60,0,15", "--min-alt", "30", "--max-alt", "20"], 4, "invalid"),
+        (
+            ["--from=-60,0,15", "--to", "60,0,15", "--min-alt", "30", "--max-alt", "20"],
+            4,
+            "invalid",
+        ),
         (["--from=-60,0,15", "--to", "60,0,15", "--timeout", "0.000001"], 3, "timeout"),
     ],
 )
@@ -74,7 +80,9 @@ def test_plan_failures_have_statuses_and_exit_codes(
         ["--from=-60,0,15", "--to", "60,0,15", "--no-fly", "1,2;3"],
     ],
 )
-def test_malformed_arguments_exit_2(cache: str, capsys: pytest.CaptureFixture[str], extra: list[str]) -> None:
+def test_malformed_arguments_exit_2(
+    cache: str, capsys: pytest.CaptureFixture[str], extra: list[str]
+) -> None:
     assert main(["path", "plan", *base(cache), *extra]) == 2
     assert "error" in capsys.readouterr().err
 

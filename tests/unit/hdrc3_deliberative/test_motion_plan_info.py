@@ -76,7 +76,9 @@ def test_task_planner_grounds_flights_with_the_path_planner(planned: PlannedMoti
     ]:  # fmt: skip
         scenario = scenario.replace(old, new)
     tp = TaskPlanner(planned)
-    domain, problem, _ = tp.read(PlanRequest(UAV_DOMAIN.read_text(), scenario, "", "d.tal", "p.tal"))
+    domain, problem, _ = tp.read(
+        PlanRequest(UAV_DOMAIN.read_text(), scenario, "", "d.tal", "p.tal")
+    )
     task = tp.ground(domain, problem)
     fly = next(op for op in task.ops if op.label == "(fly-to heli1 supply1 body1)")
     info = planned.query("heli1", (-60.0, -20.0, 0.0), (60.0, 0.0, 0.0))

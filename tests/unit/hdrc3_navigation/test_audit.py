@@ -20,13 +20,18 @@ from sim.world import World
     ],
 )
 def test_audit_finds_what_a_segment_touches(
-    small_world: World, start, end, found: set[str]  # type: ignore[no-untyped-def]
+    small_world: World,
+    start,
+    end,
+    found: set[str],  # type: ignore[no-untyped-def]
 ) -> None:
     seg = PathSegment.straight(start, end, 5.0)
     assert {v.what for v in WorldAudit(small_world).check_segments([seg], 5.9)} == found
 
 
 def test_extra_zones_and_flown_tracks(small_world: World) -> None:
-    audit = WorldAudit(small_world, [("temp", ((-70.0, -10.0), (-50.0, -10.0), (-50.0, 10.0)), 0.0, 50.0)])
+    audit = WorldAudit(
+        small_world, [("temp", ((-70.0, -10.0), (-50.0, -10.0), (-50.0, 10.0)), 0.0, 50.0)]
+    )
     track = np.array([[-60.0, -30.0, 15.0], [-55.0, -5.0, 15.0], [-60.0, 30.0, 15.0]])
     assert [v.what for v in audit.check_points(track, 5.9)] == ["no-fly zone temp"]

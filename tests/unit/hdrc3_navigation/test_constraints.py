@@ -86,7 +86,9 @@ def test_a_zone_band_is_entered_only_where_the_piece_is_inside_the_band(gis: Gis
 
 def test_vectorised_and_scalar_tests_agree(gis: Gis) -> None:
     rng = np.random.default_rng(3)
-    c = Constraints(min_altitude=5.0, max_altitude=50.0, max_climb_rate=3.0, max_descent_rate=2.0, no_fly=(BOX,))
+    c = Constraints(
+        min_altitude=5.0, max_altitude=50.0, max_climb_rate=3.0, max_descent_rate=2.0, no_fly=(BOX,)
+    )
     checker = ConstraintChecker(gis, c, 10.0)
     a = rng.uniform((-100, -100, 0), (100, 100, 60), (400, 3))
     b = a + rng.normal(0.0, 25.0, (400, 3))

@@ -18,7 +18,9 @@ MODEL = FlightModel()
     ],
 )
 def test_piece_time(a, b, speed: float, seconds: float) -> None:  # type: ignore[no-untyped-def]
-    assert float(MODEL.piece_time(np.array(a, float), np.array(b, float), speed)) == pytest.approx(seconds)
+    assert float(MODEL.piece_time(np.array(a, float), np.array(b, float), speed)) == pytest.approx(
+        seconds
+    )
 
 
 @pytest.mark.parametrize("criterion", list(Criterion))
@@ -28,7 +30,10 @@ def test_heuristic_is_a_lower_bound_and_costs_vectorise(criterion: Criterion) ->
     goal = np.array([10.0, 20.0, 30.0])
     for p in pts:
         path = np.array([p, (p + goal) / 2 + rng.normal(0, 10, 3), goal])
-        assert MODEL.heuristic(criterion, p, goal, 8.0) <= MODEL.polyline_cost(criterion, path, 8.0) + 1e-9
+        assert (
+            MODEL.heuristic(criterion, p, goal, 8.0)
+            <= MODEL.polyline_cost(criterion, path, 8.0) + 1e-9
+        )
     vec = MODEL.cost(criterion, pts[:-1], pts[1:], 8.0)
     one = [float(MODEL.cost(criterion, pts[i], pts[i + 1], 8.0)) for i in range(len(pts) - 1)]
     assert np.allclose(vec, one)

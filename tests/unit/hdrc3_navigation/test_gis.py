@@ -32,7 +32,9 @@ POINTS = [
 
 
 @pytest.mark.parametrize(("p", "free"), POINTS)
-def test_point_clearance_follows_solids_and_margin(gis: Gis, p: tuple[float, float, float], free: bool) -> None:
+def test_point_clearance_follows_solids_and_margin(
+    gis: Gis, p: tuple[float, float, float], free: bool
+) -> None:
     assert gis.point_free(p) is free
 
 
@@ -64,7 +66,9 @@ def test_polyline_test_is_conservative_on_curves(gis: Gis) -> None:
 def test_runtime_obstacles_and_zones_can_be_added_and_removed(gis: Gis) -> None:
     p = (-60.0, -60.0, 15.0)
     rev = gis.revision
-    gis.add_obstacle("crane", ((-65.0, -65.0), (-55.0, -65.0), (-55.0, -55.0), (-65.0, -55.0)), 0.0, 40.0)
+    gis.add_obstacle(
+        "crane", ((-65.0, -65.0), (-55.0, -65.0), (-55.0, -55.0), (-65.0, -55.0)), 0.0, 40.0
+    )
     assert not gis.point_free(p)
     assert gis.point_free(p, static=True) is False and gis.obstacle_names == ("crane",)
     assert not gis.segment_free((-80.0, -60.0, 15.0), (-40.0, -60.0, 15.0), static=False)

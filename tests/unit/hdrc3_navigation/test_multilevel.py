@@ -56,10 +56,10 @@ def test_alignment_stops_half_way_when_the_midpoint_is_blocked() -> None:
 
 def test_elimination_removes_nodes_that_the_neighbours_see() -> None:
     pts = np.array([[0.0, 0, 10], [50, 0, 10], [100, 0, 10], [100, 50, 10]])
-    out, flags = eliminate(pts, replace_curves(pts, free_space()), free_space())
+    out, _ = eliminate(pts, replace_curves(pts, free_space()), free_space())
     assert len(out) == 2  # even the corner goes: the diagonal is free
     checks = forbidden_box((60, 10, 0), (90, 40, 20))  # blocks the diagonal and short cuts
-    out, flags = eliminate(pts, replace_curves(pts, checks), checks)
+    out, _flags = eliminate(pts, replace_curves(pts, checks), checks)
     assert [list(p) for p in out] == [[0, 0, 10], [100, 0, 10], [100, 50, 10]]
 
 
@@ -83,7 +83,10 @@ def test_velocities_follow_speed_and_curvature_limit() -> None:
     out = segments_with_velocities(pts, [False, True, True, False], 30.0, LIMITS)
     for seg in out.segments:
         kmax = max(seg.curvature(float(s)) for s in np.linspace(0, 1, 17))
-        assert seg.target_velocity <= min(LIMITS.max_speed, compatible_speed(kmax, LIMITS.max_roll)) + 1e-9
+        assert (
+            seg.target_velocity
+            <= min(LIMITS.max_speed, compatible_speed(kmax, LIMITS.max_roll)) + 1e-9
+        )
     assert out.segments[0].end_velocity > 0.0  # smooth: no stop
     assert out.segments[-1].end_velocity == 0.0
     assert out.segments[0].end == out.segments[1].start

@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -23,7 +24,7 @@ def audit(world: World, result, clearance: float = MARGIN - 0.05, zones=()) -> l
 
 def assert_continuous(result) -> None:  # type: ignore[no-untyped-def]
     segs = result.segments
-    for a, b in zip(segs, segs[1:], strict=False):
+    for a, b in itertools.pairwise(segs):
         assert a.end == b.start
         if a.end_velocity > 0.0:  # no stop: the tangents agree in direction
             da, db = np.array(a.end_direction), np.array(b.start_direction)
@@ -36,7 +37,9 @@ def assert_continuous(result) -> None:  # type: ignore[no-untyped-def]
 def test_paths_around_the_wall_are_clear_of_the_world(
     planner: PathPlanner, small_world: World, kind: PlannerKind, criterion: Criterion
 ) -> None:
-    result = planner.plan(PlanRequest(WEST, EAST, 8.0, planner=kind, criterion=criterion, timeout=5.0))
+    result = planner.plan(
+        PlanRequest(WEST, EAST, 8.0, planner=kind, criterion=criterion, timeout=5.0)
+    )
     assert result.status is PlanStatus.SOLVED, result.reason
     assert result.segments[0].start == WEST and result.segments[-1].end == EAST
     assert_continuous(result)
@@ -56,7 +59,7 @@ def test_query_no_fly_zone_and_altitude_limits_are_honoured(
     assert result.status is PlanStatus.SOLVED, result.reason
     assert audit(small_world, result, zones=[("south", south, -math.inf, math.inf)]) == []
     heights = [seg.position(s)[2] for seg in result.segments for s in np.linspace(0, 1, 21)]
-    assert 10.0 - 1e-6 <= min(heights) and max(heights) <= 22.0 + 1e-6
+    assert min(heights) >= 10.0 - 1e-6 and max(heights) <= 22.0 + 1e-6
     ys = [seg.position(s)[1] for seg in result.segments for s in np.linspace(0, 1, 21)]
     assert max(ys) > 60.0  # north of the wall's end
 
@@ -87,7 +90,12 @@ def test_runtime_obstacle_and_no_fly_zone_change_the_answer(
     assert gone == []
     clear = [seg for seg in around.segments]
     pts = np.array([seg.position(s) for seg in clear for s in np.linspace(0, 1, 41)])
-    inside = (pts[:, 0] > -80 - 5.9) & (pts[:, 0] < -40 + 5.9) & (pts[:, 1] > -25 - 5.9) & (pts[:, 1] < -15 + 5.9)
+    inside = (
+        (pts[:, 0] > -80 - 5.9)
+        & (pts[:, 0] < -40 + 5.9)
+        & (pts[:, 1] > -25 - 5.9)
+        & (pts[:, 1] < -15 + 5.9)
+    )
     assert not inside.any()
     planner.gis.remove_obstacle("truck")
     again = planner.plan(PlanRequest(a, b, 8.0, timeout=5.0))
@@ -102,10 +110,20 @@ BAD = [
     ((65.0, -65.0, 20.0), WEST, {}, PlanStatus.START_IN_NO_FLY_ZONE),
     (WEST, (0.0, 500.0, 20.0), {}, PlanStatus.GOAL_OUTSIDE_WORLD),
     ((-60.0, 0.0, 900.0), EAST, {}, PlanStatus.START_OUTSIDE_WORLD),
-    (WEST, EAST, {"constraints": Constraints(min_altitude=30.0, max_altitude=20.0)}, PlanStatus.INVALID),
+    (
+        WEST,
+        EAST,
+        {"constraints": Constraints(min_altitude=30.0, max_altitude=20.0)},
+        PlanStatus.INVALID,
+    ),
     (WEST, EAST, {"constraints": Constraints(max_altitude=12.0)}, PlanStatus.INVALID),
     (WEST, EAST, {"constraints": Constraints(max_climb_rate=-1.0)}, PlanStatus.INVALID),
-    (WEST, EAST, {"constraints": Constraints(no_fly=(((0.0, 0.0), (1.0, 1.0)),))}, PlanStatus.INVALID),
+    (
+        WEST,
+        EAST,
+        {"constraints": Constraints(no_fly=(((0.0, 0.0), (1.0, 1.0)),))},
+        PlanStatus.INVALID,
+    ),
     (WEST, EAST, {"speed": 0.0}, PlanStatus.INVALID),
     (WEST, EAST, {"speed": math.nan}, PlanStatus.INVALID),
     (WEST, EAST, {"timeout": -1.0}, PlanStatus.INVALID),
@@ -116,7 +134,11 @@ BAD = [
 
 @pytest.mark.parametrize(("start", "goal", "extra", "status"), BAD)
 def test_bad_requests_get_a_defined_status_and_reason(
-    planner: PathPlanner, start, goal, extra, status  # type: ignore[no-untyped-def]
+    planner: PathPlanner,
+    start,
+    goal,
+    extra,
+    status,  # type: ignore[no-untyped-def]
 ) -> None:
     result = planner.plan(PlanRequest(start, goal, **{"speed": 8.0, **extra}))
     assert result.status is status
@@ -170,7 +192,9 @@ def test_prm_rrt_reconnects_a_roadmap_cut_by_a_no_fly_zone(small_world: World, t
     constraints = Constraints(no_fly=(cut,))
     prm = planner.plan(PlanRequest(start, goal, 8.0, constraints, PlannerKind.PRM, timeout=5.0))
     assert prm.status is PlanStatus.NO_PATH
-    both = planner.plan(PlanRequest(start, goal, 8.0, constraints, PlannerKind.PRM_RRT, timeout=10.0))
+    both = planner.plan(
+        PlanRequest(start, goal, 8.0, constraints, PlannerKind.PRM_RRT, timeout=10.0)
+    )
     assert both.status is PlanStatus.SOLVED, both.reason
     assert both.reconnected
     assert audit(small_world, both, zones=[("cut", cut, -math.inf, math.inf)]) == []
