@@ -136,10 +136,14 @@ class ConstraintChecker:
         a: NDArray[np.float64],
         b: NDArray[np.float64],
         lines: NDArray[np.object_] | None = None,
-    ) -> NDArray[np.bool_]:
+        zone_cache: dict[bytes, NDArray[np.intp]] | None = None,
+    ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
         """Vectorised curve test of the straight edges a[i]-b[i] ((m, 3) arrays).
 
-        ``lines`` are the edges' ground projections if already built (the roadmap keeps them).
+        Returns the answers for flying a->b and b->a (rate limits depend on the direction).
+        ``lines`` are the edges' ground projections if already built (the roadmap keeps them);
+        ``zone_cache`` keeps, per zone, which of those lines cross its footprint (valid only
+        for the same ``lines``).
         """
         ok = np.ones(len(a), dtype=bool)
         z_lo, z_hi = np.minimum(a[:, 2], b[:, 2]), np.maximum(a[:, 2], b[:, 2])
@@ -148,30 +152,33 @@ class ConstraintChecker:
             ok &= z_lo >= c.min_altitude - 1e-6
         if c.max_altitude is not None:
             ok &= z_hi <= c.max_altitude + 1e-6
-        if c.max_climb_rate is not None or c.max_descent_rate is not None:
-            d = b - a
-            length = np.maximum(np.linalg.norm(d, axis=1), 1e-9)
-            vz = d[:, 2] / length * self.speed
-            if c.max_climb_rate is not None:
-                ok &= vz <= c.max_climb_rate + 1e-9
-            if c.max_descent_rate is not None:
-                ok &= -vz <= c.max_descent_rate + 1e-9
-        if not self._zones:
-            return ok
-        if lines is None:
+        if self._zones and lines is None:
             lines = shapely.linestrings(np.stack([a[:, :2], b[:, :2]], axis=1))
         for _, shape, floor, ceiling in self._zones:
-            near = ok & (z_hi >= floor) & (z_lo <= ceiling)
-            idx = np.flatnonzero(near)
-            if not len(idx):
-                continue
-            hit = idx[shapely.intersects(shape, lines[idx])]
+            key = shapely.to_wkb(shape) + np.array([floor, ceiling]).tobytes()
+            crossing = None if zone_cache is None else zone_cache.get(key)
+            if crossing is None:
+                crossing = np.flatnonzero(shapely.intersects(shape, lines))
+                if zone_cache is not None:
+                    zone_cache[key] = crossing
+            hit = crossing[ok[crossing] & (z_hi[crossing] >= floor) & (z_lo[crossing] <= ceiling)]
             inside = (z_lo[hit] >= floor) & (z_hi[hit] <= ceiling)
             ok[hit[inside]] = False  # crosses the footprint within the zone's height band
             for i in hit[~inside]:
                 if _piece_enters(a[i], b[i], shape, floor, ceiling):
                     ok[i] = False
-        return ok
+        if c.max_climb_rate is None and c.max_descent_rate is None:
+            return ok, ok
+        d = b - a
+        vz = d[:, 2] / np.maximum(np.linalg.norm(d, axis=1), 1e-9) * self.speed
+        up, down = np.ones(len(a), dtype=bool), np.ones(len(a), dtype=bool)
+        if c.max_climb_rate is not None:
+            up &= vz <= c.max_climb_rate + 1e-9
+            down &= -vz <= c.max_climb_rate + 1e-9
+        if c.max_descent_rate is not None:
+            up &= -vz <= c.max_descent_rate + 1e-9
+            down &= vz <= c.max_descent_rate + 1e-9
+        return ok & up, ok & down
 
     def _rates_ok(self, points: NDArray[np.float64]) -> bool:
         c = self.constraints

@@ -26,7 +26,7 @@ from hdrc3_navigation.multilevel import Checks, Smoothed, multilevel, sample
 from hdrc3_navigation.ompl_space import OmplSpace
 from hdrc3_navigation.roadmap import DEFAULT_NODES, Roadmap, RoadmapCache, default_cache_dir
 from hdrc3_navigation.rrt import rrt_connect
-from hdrc3_navigation.search import Deadline, Query
+from hdrc3_navigation.search import Deadline, Query, edge_costs
 from sim.world import World
 
 Vec3 = tuple[float, float, float]
@@ -125,6 +125,10 @@ class PathPlanner:
         self.limits = limits or ProfileLimits()
         self.model = model or FlightModel()
         self._roadmap: Roadmap | None = None
+        self._zone_cache: dict[str, dict[bytes, NDArray[np.intp]]] = {}
+        """Per roadmap key: which edges cross each no-fly zone seen so far."""
+        self._cost_cache: dict[tuple[str, Criterion, float], tuple[list[float], list[float]]] = {}
+        """Edge costs per (roadmap, criterion, speed)."""
 
     def roadmap(self, rebuild: bool = False) -> tuple[Roadmap, bool]:
         """The roadmap (loaded from the cache or built); True if it was built now."""
@@ -259,10 +263,11 @@ class PathPlanner:
             suspect = np.zeros(len(edges), dtype=bool)
         query = Query(
             roadmap, start, goal, node_valid,
-            (checker.edges_ok(a, b, roadmap.lines), checker.edges_ok(b, a, roadmap.lines)),
+            checker.edges_ok(a, b, roadmap.lines, self._zone_cache.setdefault(roadmap.key, {})),
             suspect,
             lambda p, q: gis.segment_free(p, q, static=False), checks.line,
             request.criterion, request.speed, self.model, deadline,
+            self._costs(roadmap, request.criterion, request.speed),
         )  # fmt: skip
         ids = query.astar(query.start_id, query.goal_id)
         if ids is not None:
@@ -270,6 +275,17 @@ class PathPlanner:
         if request.planner is PlannerKind.PRM:
             return None
         return self._reconnect(query, checker, deadline)
+
+    def _costs(
+        self, roadmap: Roadmap, criterion: Criterion, speed: float
+    ) -> tuple[list[float], list[float]]:
+        key = (roadmap.key, criterion, 0.0 if criterion is Criterion.LENGTH else speed)
+        costs = self._cost_cache.get(key)
+        if costs is None:
+            if len(self._cost_cache) >= 16:
+                self._cost_cache.clear()
+            costs = self._cost_cache[key] = edge_costs(roadmap, self.model, criterion, speed)
+        return costs
 
     def _space(self, checker: ConstraintChecker) -> OmplSpace:
         return OmplSpace(

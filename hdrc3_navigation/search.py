@@ -23,7 +23,20 @@ from hdrc3_navigation.roadmap import Roadmap
 
 SegmentTest = Callable[[Point3, Point3], bool]
 CONNECT_NEIGHBOURS = 15
-"""Roadmap nodes tried when connecting a start or goal configuration."""
+"""Roadmap nodes tried when connecting a start or goal configuration (nearest first)."""
+CONNECT_LINKS = 6
+"""Connections made at most for a start or goal configuration."""
+
+
+def edge_costs(
+    roadmap: Roadmap, model: FlightModel, criterion: Criterion, speed: float
+) -> tuple[list[float], list[float]]:
+    """Costs of every roadmap edge in both directions under a criterion."""
+    a, b = roadmap.nodes[roadmap.edges[:, 0]], roadmap.nodes[roadmap.edges[:, 1]]
+    return (
+        model.cost(criterion, a, b, speed).tolist(),
+        model.cost(criterion, b, a, speed).tolist(),
+    )
 
 
 class Deadline(Exception):
@@ -51,6 +64,8 @@ class Query:
     speed: float
     model: FlightModel
     deadline: float
+    edge_cost: tuple[list[float], list[float]]
+    """Per roadmap edge, flown as stored and reversed: its cost (see :func:`edge_costs`)."""
     _out: dict[int, list[int]] = field(default_factory=dict)
     _in: dict[int, list[int]] = field(default_factory=dict)
 
@@ -59,26 +74,25 @@ class Query:
         n = len(self.roadmap.nodes)
         self.start_id, self.goal_id = n, n + 1
         self._suspect_memo: dict[int, bool] = {}
-        nodes, edges = self.roadmap.nodes, self.roadmap.edges
-        a, b = nodes[edges[:, 0]], nodes[edges[:, 1]]
-        self._edge_cost: tuple[list[float], list[float]] = (
-            self.model.cost(self.criterion, a, b, self.speed).tolist(),
-            self.model.cost(self.criterion, b, a, self.speed).tolist(),
-        )
-        self._all = np.vstack([nodes, self.start, self.goal])
+        self._all = np.vstack([self.roadmap.nodes, self.start, self.goal])
         if self.connect_ok(self.start, self.goal):
             self._link(n, n + 1)
         for vid, p in ((n, self.start), (n + 1, self.goal)):
             _, idx = self.roadmap.tree.query(p, k=min(CONNECT_NEIGHBOURS, n))
+            linked = 0
             for j in np.atleast_1d(idx).tolist():
                 self._tick()
+                if linked >= CONNECT_LINKS:
+                    break
                 if not self.node_valid[j]:
                     continue
                 q = self.roadmap.nodes[j]
                 if vid == n and self.connect_ok(p, q):
                     self._link(n, j)
+                    linked += 1
                 elif vid == n + 1 and self.connect_ok(q, p):
                     self._link(j, n + 1)
+                    linked += 1
 
     def _link(self, a: int, b: int) -> None:
         """A valid connection flown from a to b."""
@@ -116,7 +130,7 @@ class Query:
             for v in self._out.get(u, ())
         ]
         if u < len(self.roadmap.nodes):
-            fwd, bwd = self._edge_cost
+            fwd, bwd = self.edge_cost
             out += [
                 (v, fwd[k] if forward else bwd[k])
                 for v, k, forward in self.roadmap.adjacency[u]

@@ -71,7 +71,9 @@ EDGES = [
 def test_straight_pieces(gis: Gis, constraints: Constraints, a, b, ok: bool) -> None:  # type: ignore[no-untyped-def]
     checker = ConstraintChecker(gis, constraints, 10.0)
     assert checker.polyline_ok(np.array([a, b])) is ok
-    assert bool(checker.edges_ok(np.array([a]), np.array([b]))[0]) is ok
+    fwd, bwd = checker.edges_ok(np.array([a]), np.array([b]))
+    assert bool(fwd[0]) is ok
+    assert bool(bwd[0]) is checker.polyline_ok(np.array([b, a]))
 
 
 def test_a_zone_band_is_entered_only_where_the_piece_is_inside_the_band(gis: Gis) -> None:
@@ -92,8 +94,16 @@ def test_vectorised_and_scalar_tests_agree(gis: Gis) -> None:
     checker = ConstraintChecker(gis, c, 10.0)
     a = rng.uniform((-100, -100, 0), (100, 100, 60), (400, 3))
     b = a + rng.normal(0.0, 25.0, (400, 3))
-    vec = checker.edges_ok(a, b)
-    assert list(vec) == [checker.polyline_ok(np.array([p, q])) for p, q in zip(a, b, strict=True)]
+    cache: dict[bytes, np.ndarray] = {}  # type: ignore[type-arg]
+    for _ in range(2):  # the second time with the zone's crossings from the cache
+        vec, back = checker.edges_ok(a, b, zone_cache=cache)
+        assert list(vec) == [
+            checker.polyline_ok(np.array([p, q])) for p, q in zip(a, b, strict=True)
+        ]
+        assert list(back) == [
+            checker.polyline_ok(np.array([q, p])) for p, q in zip(a, b, strict=True)
+        ]
+        assert len(cache) == 2  # the world's zone and BOX
     assert 0 < vec.sum() < len(vec)
     pts = checker.points_ok(a)
     assert list(pts) == [checker.point_ok(p) for p in a]
