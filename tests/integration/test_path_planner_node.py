@@ -17,15 +17,15 @@ WAIT_S = 60.0
 NAN = math.nan
 
 
-def _call(node: Any, executor: Any, srv: Any, name: str, **fields: Any) -> Any:
-    client = node.create_client(srv, f"/{AGENT}/path_planner/{name}")
-    assert client.wait_for_service(timeout_sec=WAIT_S), f"{name} not discovered"
+def _call(node: Any, executor: Any, srv: Any, service: str, **fields: Any) -> Any:
+    client = node.create_client(srv, f"/{AGENT}/path_planner/{service}")
+    assert client.wait_for_service(timeout_sec=WAIT_S), f"{service} not discovered"
     request = srv.Request()
     for key, value in fields.items():
         setattr(request, key, value)
     future = client.call_async(request)
     executor.spin_until_future_complete(future, timeout_sec=WAIT_S)
-    assert future.done(), f"no answer from {name} within the bounded wait"
+    assert future.done(), f"no answer from {service} within the bounded wait"
     return future.result()
 
 
@@ -103,7 +103,7 @@ def test_plan_service_of_a_launched_node(
 
         info = _call(
             node, executor, MotionPlanInfo, "motion_plan_info",
-            **{k: v for k, v in _plan_fields(west, (60.0, 40.0, 15.0)).items()
+            **{k: v for k, v in _plan_fields(west, (80.0, 20.0, 15.0)).items()
                if k in ("start", "goal", "speed", "timeout")},
         )  # fmt: skip
         assert info.feasible and info.length > 120.0 and info.duration > info.length / 8.0
@@ -122,7 +122,7 @@ def test_plan_service_of_a_launched_node(
             operation=GisUpdate.Request.REMOVE_OBSTACLE, name="nothing",
         )  # fmt: skip
         assert not bad_zone.success and "nothing" in bad_zone.reason
-        again = _call(node, executor, PlanPath, "plan", **_plan_fields(west, (60.0, 40.0, 15.0)))
+        again = _call(node, executor, PlanPath, "plan", **_plan_fields(west, (80.0, 20.0, 15.0)))
         assert again.status == PlanPath.Response.STATUS_SOLVED, again.reason
     finally:
         executor.shutdown()
