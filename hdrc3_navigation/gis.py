@@ -129,10 +129,10 @@ class Gis:
         self._runtime_objects: dict[str, list[Any]] = {}
         self._runtime_boxes: dict[str, tuple[float, ...]] = {}
         self._zones: dict[str, Zone] = {}
+        self.revision = 0
+        """Incremented on every update (the world file's zones included)."""
         for zone in world.no_fly_zones:
             self.add_no_fly_zone(Zone(zone.name, zone.polygon, zone.floor, zone.ceiling))
-        self.revision = 0
-        """Incremented on every runtime update."""
 
     def _add_static(self, geoms: Iterable[Any]) -> None:
         for geom in geoms:
@@ -239,7 +239,7 @@ class Gis:
         if not zone.floor < zone.ceiling:
             raise ConfigError(f"no-fly zone {zone.name!r}: floor must be below ceiling")
         self._zones[zone.name] = zone
-        self.revision = getattr(self, "revision", 0) + 1
+        self.revision += 1
 
     def remove_no_fly_zone(self, name: str) -> None:
         """Remove a no-fly zone (ConfigError if unknown)."""

@@ -145,8 +145,13 @@ class PathPlanner:
 
     # --- validation ----------------------------------------------------------------------
 
-    def _check(self, request: PlanRequest, checker: ConstraintChecker | None) -> PlanResult | None:
-        values = (*request.start, *request.goal, request.speed, request.timeout)
+    @staticmethod
+    def _validate(request: PlanRequest) -> PlanResult | None:
+        """Numbers and constraints of a request (before any geometry)."""
+        try:
+            values = (*request.start, *request.goal, request.speed, request.timeout)
+        except TypeError:
+            return PlanResult(PlanStatus.INVALID, "start and goal must be (east, north, up)")
         if len(request.start) != 3 or len(request.goal) != 3:
             return PlanResult(PlanStatus.INVALID, "start and goal must be (east, north, up)")
         if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
@@ -160,7 +165,10 @@ class PathPlanner:
             return PlanResult(PlanStatus.INVALID, "; ".join(problems))
         if math.dist(request.start, request.goal) < 0.5:
             return PlanResult(PlanStatus.INVALID, "start and goal are closer than 0.5 m")
-        assert checker is not None
+        return None
+
+    def _check_ends(self, request: PlanRequest, checker: ConstraintChecker) -> PlanResult | None:
+        """Start and goal: inside the volume, the altitude limits, clear, outside the zones."""
         lo, hi = self.gis.bounds
         for which, p in (("start", request.start), ("goal", request.goal)):
             if not self.gis.inside_bounds(p):
@@ -191,11 +199,11 @@ class PathPlanner:
     def plan(self, request: PlanRequest) -> PlanResult:
         """Answer one query; never raises on bad input."""
         t0 = time.perf_counter()
-        early = self._check(request, None) if _malformed(request) else None
-        if early is not None:
-            return _timed(early, t0, request.planner)
+        bad = self._validate(request)
+        if bad is not None:
+            return _timed(bad, t0, request.planner)
         checker = ConstraintChecker(self.gis, request.constraints, request.speed)
-        bad = self._check(request, checker)
+        bad = self._check_ends(request, checker)
         if bad is not None:
             return _timed(bad, t0, request.planner)
         deadline = t0 + request.timeout
@@ -221,7 +229,7 @@ class PathPlanner:
             return _timed(PlanResult(PlanStatus.NO_PATH, reason), t0, request.planner)
         waypoints, reconnected = found
         smoothed = multilevel(waypoints, self._checks(checker), request.speed, self.limits)
-        return _timed(self._result(smoothed, request.speed, reconnected), t0, request.planner)
+        return _timed(self._result(smoothed, reconnected), t0, request.planner)
 
     def _checks(self, checker: ConstraintChecker) -> Checks:
         gis = self.gis
@@ -324,7 +332,7 @@ class PathPlanner:
         pts += [query.point(i) for i in tail]
         return np.array(pts), True
 
-    def _result(self, smoothed: Smoothed, speed: float, reconnected: bool) -> PlanResult:
+    def _result(self, smoothed: Smoothed, reconnected: bool) -> PlanResult:
         duration = 0.0
         energy = 0.0
         decel = self.limits.braking_decel
@@ -337,7 +345,6 @@ class PathPlanner:
             previous_end = seg.end_velocity
             pts = sample(seg)
             energy += self.model.polyline_cost(Criterion.ENERGY, pts, v)
-        del speed
         return PlanResult(
             PlanStatus.SOLVED,
             f"{len(smoothed.segments)} segments, {smoothed.corners} hover stops",
@@ -348,19 +355,6 @@ class PathPlanner:
             reconnected=reconnected,
             hover_stops=smoothed.corners,
         )
-
-
-def _malformed(request: PlanRequest) -> bool:
-    """Requests rejected before a constraint checker can be built."""
-    try:
-        values = (*request.start, *request.goal, request.speed, request.timeout)
-        floats_ok = all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
-    except TypeError:
-        return True
-    shape_ok = len(request.start) == 3 and len(request.goal) == 3
-    return not (floats_ok and shape_ok and request.speed > 0 and request.timeout > 0) or bool(
-        request.constraints.problems()
-    )
 
 
 def _timed(result: PlanResult, t0: float, planner: PlannerKind) -> PlanResult:
