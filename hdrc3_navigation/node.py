@@ -111,8 +111,8 @@ def request_from_msg(request: Any) -> PlanRequest:
         request.speed,
         constraints,
         planner,
-        criterion,
         request.timeout,
+        criterion,
     )
 
 

@@ -66,8 +66,9 @@ class PlanRequest:
     speed: float = 10.0
     constraints: Constraints = field(default_factory=Constraints)
     planner: PlannerKind = PlannerKind.PRM_RRT
-    criterion: Criterion = Criterion.LENGTH
     timeout: float = 1.0
+    """Seconds; the query answers TIMEOUT when it runs out."""
+    criterion: Criterion = Criterion.LENGTH
 
 
 @dataclass(frozen=True, slots=True)

@@ -141,8 +141,8 @@ def _plan(args: argparse.Namespace) -> int:
         args.speed,
         constraints,
         PlannerKind(args.planner),
-        Criterion(args.criterion),
         args.timeout,
+        Criterion(args.criterion),
     )
     planner = _planner(args)
     console = Console(stderr=True)
