@@ -89,6 +89,13 @@ CATALOG: tuple[NodeKind, ...] = (
         world_params=True,
     ),
     NodeKind(
+        "path_planner",
+        "hdrc3-path-planner",
+        Scope.AGENT,
+        "path planner: PRM/RRT on OMPL with GIS on FCL, plan and motion_plan_info (chapter 7)",
+        world_params=True,
+    ),
+    NodeKind(
         "dyknow",
         "hdrc3-dyknow",
         Scope.AGENT,
@@ -99,7 +106,8 @@ CATALOG: tuple[NodeKind, ...] = (
         "task_planner",
         "hdrc3-task-planner",
         Scope.AGENT,
-        "TALplanner plan service (chapter 9.2)",
+        "TALplanner plan service (chapter 9.2); flights from the path planner in the world",
+        world_params=True,
         default=False,
     ),
 )

@@ -13,9 +13,12 @@ from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 
 from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_deliberative.motion_plan_info import PlannedMotionPlanInfo
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
 from hdrc3_deliberative.result import PlanResult, PlanStatus
 from hdrc3_interfaces.srv import Plan
+from hdrc3_navigation.planner import PathPlanner
+from sim.world_loader import load_world
 
 _STATUS = {
     PlanStatus.SOLVED: Plan.Response.STATUS_SOLVED,
@@ -30,7 +33,14 @@ class TaskPlannerNode(Node):
 
     def __init__(self, context: Context | None = None, planner: TaskPlanner | None = None) -> None:
         super().__init__("task_planner", context=context)
-        self._planner = planner or TaskPlanner()
+        world = str(self.declare_parameter("world", "").value)
+        if planner is None:
+            motion = None
+            if world:  # flights planned by the path planner in this world (§9.2, Figure 27)
+                motion = PlannedMotionPlanInfo(PathPlanner(load_world(world)))
+                self.get_logger().info(f"motion plan info: path planner in world {world!r}")
+            planner = TaskPlanner(motion)
+        self._planner = planner
         self._max_timeout = float(self.declare_parameter("max_timeout", 120.0).value)
         self.create_service(Plan, "plan", self._on_plan)
 

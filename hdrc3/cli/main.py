@@ -26,6 +26,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "hdrc3.cli.hcsm",
     "hdrc3.cli.world",
     "hdrc3.cli.plan",
+    "hdrc3.cli.path",
     "hdrc3.cli.tst",
     "hdrc3.cli.monitor",
     "hdrc3.cli.fcl",

@@ -21,6 +21,7 @@ LAYERS: dict[str, int] = {
     "sim": 1,
     "hdrc3_control": 2,
     "hdrc3_platform_server": 3,
+    "hdrc3_navigation": 3,  # path planning needs the PFC's segment type and limits (layer 2)
     "hdrc3_deliberative": 4,
     "hdrc3_tst": 5,  # executors call the Platform Server; goal nodes use TALplanner's domains
     "hdrc3": 9,  # the CLI, launcher and demo: the top, imported by nobody

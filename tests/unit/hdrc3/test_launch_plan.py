@@ -144,3 +144,14 @@ def test_check_world_accepts_shipped_names_and_world_files(tmp_path: Path) -> No
 def test_unknown_world_names_the_shipped_ones(world: str) -> None:
     with pytest.raises(ConfigError, match=f"unknown world '{world}'.*shipped worlds: revinge"):
         check_world(world)
+
+
+def test_the_path_planner_runs_per_agent_by_default_with_the_world() -> None:
+    kind = {k.name: k for k in launch_plan.CATALOG}["path_planner"]
+    assert (kind.executable, kind.scope, kind.default, kind.world_params) == (
+        "hdrc3-path-planner",
+        Scope.AGENT,
+        True,
+        True,
+    )
+    assert "path_planner" in parse_nodes(None)

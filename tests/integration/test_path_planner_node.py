@@ -1,0 +1,130 @@
+"""A launched path_planner node answers plan, motion_plan_info and gis_update over real DDS."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+pytestmark = pytest.mark.ros
+
+WORLD = Path(__file__).parents[1] / "unit" / "hdrc3_navigation" / "small_world.toml"
+AGENT = "uav0"
+WAIT_S = 60.0
+NAN = math.nan
+
+
+def _call(node: Any, executor: Any, srv: Any, service: str, **fields: Any) -> Any:
+    client = node.create_client(srv, f"/{AGENT}/path_planner/{service}")
+    assert client.wait_for_service(timeout_sec=WAIT_S), f"{service} not discovered"
+    request = srv.Request()
+    for key, value in fields.items():
+        setattr(request, key, value)
+    future = client.call_async(request)
+    executor.spin_until_future_complete(future, timeout_sec=WAIT_S)
+    assert future.done(), f"no answer from {service} within the bounded wait"
+    return future.result()
+
+
+def _plan_fields(start: tuple[float, ...], goal: tuple[float, ...], **extra: Any) -> dict[str, Any]:
+    from geometry_msgs.msg import Point
+
+    fields: dict[str, Any] = {
+        "start": Point(x=start[0], y=start[1], z=start[2]),
+        "goal": Point(x=goal[0], y=goal[1], z=goal[2]),
+        "speed": 8.0,
+        "min_altitude": NAN,
+        "max_altitude": NAN,
+        "max_climb_rate": NAN,
+        "max_descent_rate": NAN,
+        "timeout": 10.0,
+    }
+    fields.update(extra)
+    return fields
+
+
+@pytest.mark.slow
+def test_plan_service_of_a_launched_node(
+    hdrc3_cli: Callable[..., Any],
+    ros_context: Any,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.node import Node
+
+    from hdrc3_control.path_segment import PathSegment
+    from hdrc3_interfaces.srv import GisUpdate, MotionPlanInfo, PlanPath
+    from hdrc3_navigation.audit import WorldAudit
+    from sim.world_loader import load_world
+
+    monkeypatch.setenv("HDRC3_CACHE_DIR", str(tmp_path))
+    launch = hdrc3_cli(
+        "launch", "--agents", AGENT, "--nodes", "path_planner", "--world", str(WORLD)
+    )
+    launch.wait_for_line("READY", timeout=90)
+    node = Node("path_client", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    try:
+        west, east = (-60.0, 0.0, 15.0), (60.0, 0.0, 15.0)
+        answer = _call(node, executor, PlanPath, "plan", **_plan_fields(west, east))
+        assert answer.status == PlanPath.Response.STATUS_SOLVED, answer.reason
+        assert answer.status_name == "solved" and answer.planning_time > 0.0
+        segments = [
+            PathSegment(
+                (s.start_point.x, s.start_point.y, s.start_point.z),
+                (s.end_point.x, s.end_point.y, s.end_point.z),
+                (s.start_direction.x, s.start_direction.y, s.start_direction.z),
+                (s.end_direction.x, s.end_direction.y, s.end_direction.z),
+                s.target_velocity,
+                s.end_velocity,
+            )
+            for s in answer.segments
+        ]
+        assert segments[0].start == west and segments[-1].end == east
+        assert sum(s.arc_length() for s in segments) == pytest.approx(answer.length, rel=1e-6)
+        assert WorldAudit(load_world(WORLD)).check_segments(segments, 5.9) == []
+
+        # a no-fly zone added at runtime is honoured by the next query
+        zone = _call(
+            node, executor, GisUpdate, "gis_update",
+            operation=GisUpdate.Request.ADD_NO_FLY_ZONE, name="fire",
+            polygon_east=[50.0, 70.0, 70.0, 50.0], polygon_north=[-10.0, -10.0, 10.0, 10.0],
+            floor=-10.0, ceiling=100.0,
+        )  # fmt: skip
+        assert zone.success, zone.reason
+        blocked = _call(node, executor, PlanPath, "plan", **_plan_fields(west, east))
+        assert blocked.status == PlanPath.Response.STATUS_GOAL_IN_NO_FLY_ZONE
+        assert "fire" in blocked.reason and not blocked.segments
+
+        info = _call(
+            node, executor, MotionPlanInfo, "motion_plan_info",
+            **{k: v for k, v in _plan_fields(west, (80.0, 20.0, 15.0)).items()
+               if k in ("start", "goal", "speed", "timeout")},
+        )  # fmt: skip
+        assert info.feasible and info.length > 120.0 and info.duration > info.length / 8.0
+        assert info.energy > 0.0
+
+        # malformed requests are answered, and the node keeps serving
+        bad = _call(node, executor, PlanPath, "plan", **_plan_fields(west, east, planner="astar"))
+        assert bad.status == PlanPath.Response.STATUS_INVALID and "astar" in bad.reason
+        bad = _call(
+            node, executor, PlanPath, "plan",
+            **_plan_fields(west, east, no_fly_sizes=[3], no_fly_east=[0.0], no_fly_north=[0.0]),
+        )  # fmt: skip
+        assert bad.status == PlanPath.Response.STATUS_INVALID
+        bad_zone = _call(
+            node, executor, GisUpdate, "gis_update",
+            operation=GisUpdate.Request.REMOVE_OBSTACLE, name="nothing",
+        )  # fmt: skip
+        assert not bad_zone.success and "nothing" in bad_zone.reason
+        again = _call(node, executor, PlanPath, "plan", **_plan_fields(west, (80.0, 20.0, 15.0)))
+        assert again.status == PlanPath.Response.STATUS_SOLVED, again.reason
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+    assert launch.interrupt(timeout=30.0) == 0
