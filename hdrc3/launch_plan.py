@@ -39,6 +39,8 @@ class NodeKind:
     """True if the node takes the launch's agents/world/speed as ROS parameters."""
     default: bool = True
     """Started without --nodes; optional nodes start only when named."""
+    seeded: bool = False
+    """True if the node takes the launch's ``seed`` (the simulator)."""
     checkpoint: bool = False
     """True if the node takes a ``checkpoint`` file in the launch's run directory (to resume
     its state when the launcher restarts it)."""
@@ -57,6 +59,7 @@ CATALOG: tuple[NodeKind, ...] = (
         Scope.GLOBAL,
         "simulated world: /clock, the aircraft of every agent, their sensors and ground truth",
         world_params=True,
+        seeded=True,
         checkpoint=True,
     ),
     NodeKind(
@@ -127,6 +130,8 @@ class LaunchOptions:
     domain_id: int | None
     run_dir: Path | None = None
     """Directory of this launch's run files (checkpoints); None: no checkpoints."""
+    seed: int = 0
+    """The simulation's seed (sensor noise and outages, wind): the same seed, the same world."""
 
 
 def parse_nodes(text: str | None, catalog: Sequence[NodeKind] = CATALOG) -> tuple[str, ...]:
@@ -171,6 +176,13 @@ def check_world(world: str) -> str:
     )
 
 
+def check_seed(seed: int) -> int:
+    """A simulation seed, or ConfigError."""
+    if seed < 0:
+        raise ConfigError(f"seed must be an integer >= 0, got {seed}")
+    return seed
+
+
 def check_domain_id(domain_id: int | None) -> int | None:
     """Reject ROS domain ids outside 0..101."""
     if domain_id is not None and not 0 <= domain_id <= MAX_DOMAIN_ID:
@@ -210,6 +222,8 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             speed = "0.0" if math.isinf(options.speed) else repr(options.speed)
             args += ["-p", f"agents:=[{agents}]", "-p", f"world:={options.world}"]
             args += ["-p", f"speed:={speed}"]
+        if kind.seeded:
+            args += ["-p", f"seed:={options.seed}"]
         if kind.scope is Scope.GLOBAL:
             if kind.checkpoint and options.run_dir is not None:
                 args += ["-p", f"checkpoint:={options.run_dir / kind.name}.checkpoint"]

@@ -33,11 +33,12 @@ class LaunchedSystem:
         record: Path | None = None,
         nodes: Sequence[str] = (),
         log: Callable[[str], None] = print,
+        seed: int = 0,
     ) -> None:
         """Prepare the command line (``nodes`` empty: the launcher's default nodes)."""
         hdrc3 = str(Path(sys.executable).parent / "hdrc3")
         self.command = [hdrc3, "launch", "--agents", ",".join(agents), "--world", world]
-        self.command += ["--speed", speed, "--domain-id", str(domain_id)]
+        self.command += ["--speed", speed, "--domain-id", str(domain_id), "--seed", str(seed)]
         if record is not None:
             self.command += ["--record", str(record)]
         if nodes:

@@ -16,6 +16,7 @@ from hdrc3.launch_plan import (
     build_plan,
     check_domain_id,
     check_record_path,
+    check_seed,
     check_world,
     parse_nodes,
     parse_speed,
@@ -43,6 +44,9 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("--domain-id", type=int, help="ROS_DOMAIN_ID for every node (0..101)")
     parser.add_argument("--nodes", help="comma-separated subset of nodes to start")
     parser.add_argument(
+        "--seed", type=int, default=0, help="simulation seed: sensor noise, outages (default 0)"
+    )
+    parser.add_argument(
         "--ready-timeout", type=float, default=60.0, help="seconds to wait for every node"
     )
     parser.set_defaults(handler=run)
@@ -57,6 +61,7 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
         speed=parse_speed(args.speed),
         record=check_record_path(args.record),
         domain_id=check_domain_id(args.domain_id),
+        seed=check_seed(args.seed),
     )
 
 

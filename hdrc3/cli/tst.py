@@ -75,6 +75,9 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     run.add_argument("--world", default=None, help="with --launch: world (default: the file's)")
     run.add_argument("--speed", default="max", help="with --launch: real-time factor or 'max'")
     run.add_argument("--domain-id", type=int, default=43, help="with --launch: ROS domain")
+    run.add_argument(
+        "--seed", type=int, default=0, help="with --launch: simulation seed (sensor outages)"
+    )
     run.add_argument("--out", default=None, help="directory for run.mcap and timeline.csv")
     run.add_argument(
         "--timeout", type=float, default=3600.0, help="wall seconds to wait for the root"
@@ -215,7 +218,7 @@ def _run(args: argparse.Namespace) -> int:
     nodes = [k.name for k in CATALOG if k.default] + ["task_planner"]
     record = out / "run.mcap" if out is not None else None
     system = LaunchedSystem(
-        agents, world, args.speed, args.domain_id, record, nodes, log=console.print
+        agents, world, args.speed, args.domain_id, record, nodes, console.print, args.seed
     )
     with system:
         code = _execute(console, path, mission, agents, out, args.timeout, hand_over_first=True)

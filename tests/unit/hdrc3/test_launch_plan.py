@@ -155,3 +155,26 @@ def test_the_path_planner_runs_per_agent_by_default_with_the_world() -> None:
         True,
     )
     assert "path_planner" in parse_nodes(None)
+
+
+@pytest.mark.parametrize("seed", [0, 7])
+def test_only_the_simulator_gets_the_seed(seed: int) -> None:
+    options = LaunchOptions(
+        agents=("uav0",),
+        nodes=("world_sim", "control_kernel"),
+        world="revinge",
+        speed=1.0,
+        record=None,
+        domain_id=None,
+        seed=launch_plan.check_seed(seed),
+    )
+    seeds = {
+        spec.name: [a for a in spec.argv if a.startswith("seed:=")]
+        for spec in build_plan(options, launch_plan.CATALOG)
+    }
+    assert seeds == {"world_sim": [f"seed:={seed}"], "uav0/control_kernel": []}
+
+
+def test_a_negative_seed_is_refused() -> None:
+    with pytest.raises(ConfigError, match="seed must be an integer >= 0, got -1"):
+        launch_plan.check_seed(-1)
