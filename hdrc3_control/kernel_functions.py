@@ -315,7 +315,8 @@ class Traj3DFunction(_PathBase):
             return
         status = self.follower.offer(segment)
         if status is OfferStatus.ACCEPTED:
-            self.ctx.post("Fn-Offer-Ok-EV", encode(cid))
+            # the whole payload: Traj3D (C.8) keeps it, C.10 makes it Command-DO once flown
+            self.ctx.post("Fn-Offer-Ok-EV", data)
         else:
             reason = {
                 OfferStatus.BUSY: "a next segment is already queued",

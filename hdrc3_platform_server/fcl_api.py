@@ -116,6 +116,10 @@ class _Active:
         """Ids whose final reply ends the whole command: a path ends with a started segment."""
         return [s for s in self.open_ids() if not self.queued(s)]
 
+    def running_id(self) -> int:
+        """Id of what the PFC executes now: for a path, the segment in flight (not the first)."""
+        return next(reversed(self.ending_ids()), self.command_id)
+
 
 class IdSource:
     """Command ids shared by FCL and PPCL: unique, never 0 (0 means "not accepted")."""
@@ -363,7 +367,7 @@ class FlightCommandLayer:
             cur = self.current
             self.sink(
                 CompletionEvent(
-                    cur.command_id if cur else 0,
+                    cur.running_id() if cur else 0,
                     cur.command.label if cur else "pfc_fault",
                     EventKind.INFO,
                     f"PFC fault: {text}",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import struct
+from collections.abc import Callable
 
 import pytest
 
@@ -123,6 +124,55 @@ def test_segments_in_sequence_request_and_switch() -> None:
     ]
     assert answers(f, c2) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
     assert request_delay > 0.0
+
+
+FIRST_OF_TWO = ["Cmd-Accepted-EV", "Request-Segment-EV", "Cmd-Finished-EV"]
+
+
+def _drop_gps(f: KernelFlight) -> None:
+    f.sim.agents[f.agent].sensors.sensors()["gps"].fault.set(FaultMode.DROP, (0.0,))
+
+
+def _rc_manual(f: KernelFlight) -> None:
+    f.set_mode(False)
+
+
+def _brake(f: KernelFlight) -> None:
+    f.send("Emergency-Brake-EV")
+
+
+def _cancel(f: KernelFlight) -> None:
+    f.send("FCL-Cancel-EV")
+
+
+@pytest.mark.parametrize(
+    ("interrupt", "reply", "reason"),
+    [
+        (_drop_gps, "Cmd-Failed-EV", "failsafe: GPS lost for 3.0 s"),
+        (_rc_manual, "Cmd-Cancelled-EV", "RC switch to manual"),
+        (_brake, "Cmd-Cancelled-EV", "emergency brake"),
+        (_cancel, "Cmd-Cancelled-EV", "cancelled"),
+    ],
+)
+def test_an_interrupted_path_ends_the_segment_in_flight(
+    interrupt: Callable[[KernelFlight], None], reply: str, reason: str
+) -> None:
+    # The replies the Mode Switch sends "data Command-DO" named the path's first segment, which
+    # had long finished: the protocol dropped them and the segment in flight never ended.
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    mid = (p[0] + 20.0, p[1], p[2])
+    c1 = f.send_segment(PathSegment.straight(p, mid, 5.0, 5.0))
+    assert f.run_until(lambda: f.reply("Request-Segment-EV", c1) is not None, 5)
+    c2 = f.send_segment(PathSegment.straight(mid, (mid[0] + 80.0, mid[1], p[2]), 5.0, 0.0))
+    assert f.run_until(lambda: finished(f, c1), 20)
+    assert answers(f, c1)[-1] == ("Cmd-Finished-EV", "")  # the PFCM flies c2 now
+    interrupt(f)
+    assert f.run_until(lambda: finished(f, c2), 5)
+    f.run(1.0)  # nothing more for either segment: exactly one final reply each
+    assert [n for n, _ in answers(f, c2)] == ["Cmd-Accepted-EV", reply]
+    assert answers(f, c2)[-1][1].startswith(reason), answers(f, c2)
+    assert [n for n, _ in answers(f, c1)] == FIRST_OF_TWO
 
 
 def test_safety_braking_when_the_next_segment_is_withheld() -> None:

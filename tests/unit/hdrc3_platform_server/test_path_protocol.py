@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import pytest
+
+from hdrc3_hcsm.event import WireEvent
 from hdrc3_platform_server.codes import EventKind, FclCode, FclCommand
 from hdrc3_platform_server.fakes import FakeRig
 from hdrc3_platform_server.geo_frame import WorldFrame
@@ -110,3 +113,24 @@ def test_last_segment_without_a_request_still_finishes_the_path() -> None:
     assert final is not None and final.kind is EventKind.FINISHED
     assert kinds(rig, first.command_id) == [EventKind.SEGMENT_REQUEST, EventKind.FINISHED]
     assert kinds(rig, last.command_id) == [EventKind.FINISHED]
+
+
+@pytest.mark.parametrize(("first_flown", "in_flight"), [(False, 0), (True, 1)])
+def test_a_pfc_fault_during_a_path_goes_to_the_segment_in_flight(
+    first_flown: bool, in_flight: int
+) -> None:
+    # it went to the path's first segment, also when that one had long finished
+    rig = hover_rig()
+    rig.pfc.quiet_last_segment = True  # as the real PFC: the last segment is not requested
+    ids = [
+        rig.core.fcl.submit(FclCommand.TRAJ3D, seg(x0, x1, end), rig.t).command_id
+        for x0, x1, end in ((0, 50, 5.0), (50, 100, 0.0))
+    ]
+    rig.run(0.04)
+    if first_flown:
+        rig.run_until_final(ids[0])
+    assert rig.log.final(ids[1]) is None
+    rig.pfc.transport.send(WireEvent(2108, "PFC-Fault-EV", b"GPS lost", "PFC", "DRC"))
+    rig.run(0.04)
+    info = [e for e in rig.log.events if e.reason == "PFC fault: GPS lost"]
+    assert [(e.command_id, e.kind) for e in info] == [(ids[in_flight], EventKind.INFO)]
