@@ -13,7 +13,9 @@ from __future__ import annotations
 import gc
 import math
 import sys
+import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 from rclpy.clock import Clock
@@ -48,6 +50,8 @@ from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
 from hdrc3_tst.ros_platform import RosPlatform
 
 TICK_PERIOD_S = 0.05
+PEER_WAIT_S = 10.0
+"""Wall seconds a call to another agent's manager waits for its service before giving up."""
 PLAN_TIMEOUT_S = 60.0
 MAX_TEXT = 1_000_000
 """Characters of TST text a create request may carry."""
@@ -153,6 +157,7 @@ class TstManagerNode(Node):
         self._flag_pub = self.create_publisher(ExecutionFlag, "execution_flags", STATUS_QOS)
         self._followed: set[str] = set()
         self._peers: dict[tuple[str, str], Any] = {}
+        self._waiting: list[_PeerCall] = []
         for srv_type, name, handler in (
             (TstCreate, "create", self._on_create),
             (TstExecute, "execute", self._on_execute),
@@ -173,6 +178,7 @@ class TstManagerNode(Node):
         return float(self.get_clock().now().nanoseconds) * 1e-9
 
     def _tick(self) -> None:
+        self._retry_peers()
         now = self.sim_now()
         for engine in self.engines.values():
             engine.tick(now)
@@ -358,6 +364,9 @@ class TstManagerNode(Node):
         self.create_subscription(
             TstNodeStatus, f"/{agent}/tst_status", self._on_peer_status, STATUS_QOS
         )
+        # the clients match the peer's services while the mission is being set up
+        self._peer(TstExecute, agent, "execute")
+        self._peer(TstAbort, agent, "abort")
 
     def _on_peer_status(self, msg: Any) -> None:
         engine = self.engines.get(str(msg.mission))
@@ -382,14 +391,8 @@ class TstManagerNode(Node):
 
     def call_remote(self, mission: str, ref: NodeRef, epoch: float) -> None:
         """Ask another agent's manager to execute a child; a refusal fails the child."""
-        client = self._peer(TstExecute, ref.agent, "execute")
         engine = self.engines[mission]
-        if not client.service_is_ready():
-            engine.on_remote_failure(ref.node_id, f"no TST manager answers for agent {ref.agent}")
-            return
-        future = client.call_async(
-            TstExecute.Request(mission=mission, node_id=ref.node_id, epoch=epoch)
-        )
+        request = TstExecute.Request(mission=mission, node_id=ref.node_id, epoch=epoch)
 
         def done(f: Any) -> None:
             result = f.result().result
@@ -399,13 +402,57 @@ class TstManagerNode(Node):
                 )
             engine.tick(self.sim_now())
 
-        future.add_done_callback(done)
+        def unreachable() -> None:
+            engine.on_remote_failure(
+                ref.node_id, f"no TST manager answers for agent {ref.agent} in {PEER_WAIT_S:g} s"
+            )
+            engine.tick(self.sim_now())
+
+        self._send(
+            _PeerCall(self._peer(TstExecute, ref.agent, "execute"), request, done, unreachable)
+        )
 
     def abort_remote(self, mission: str, ref: NodeRef, reason: str) -> None:
         """Ask another agent's manager to abort a subtree."""
+        request = TstAbort.Request(mission=mission, node_id=ref.node_id, reason=reason)
         client = self._peer(TstAbort, ref.agent, "abort")
-        if client.service_is_ready():
-            client.call_async(TstAbort.Request(mission=mission, node_id=ref.node_id, reason=reason))
+
+        def unreachable() -> None:
+            self.get_logger().error(f"could not abort {ref}: no TST manager answers")
+
+        self._send(_PeerCall(client, request, lambda _f: None, unreachable))
+
+    def _send(self, call: _PeerCall) -> None:
+        """Call now when the peer's service is matched, else retry on the tick until it is."""
+        if call.client.service_is_ready():
+            future: Any = call.client.call_async(call.request)  # rclpy's Future is untyped
+            future.add_done_callback(call.done)
+            return
+        if call.deadline == 0.0:
+            call.deadline = time.monotonic() + PEER_WAIT_S
+            self._waiting.append(call)
+        elif time.monotonic() > call.deadline:
+            call.unreachable()
+
+    def _retry_peers(self) -> None:
+        waiting, self._waiting = self._waiting, []
+        for call in waiting:
+            if call.client.service_is_ready() or time.monotonic() > call.deadline:
+                self._send(call)
+            else:
+                self._waiting.append(call)
+
+
+@dataclass
+class _PeerCall:
+    """A call to another agent's TST manager, waiting for its service to be matched."""
+
+    client: Any
+    request: Any
+    done: Callable[[Any], None]
+    unreachable: Callable[[], None]
+    deadline: float = 0.0
+    """Wall-clock (monotonic) end of the wait; 0 until the first attempt failed."""
 
 
 def _answer(response: Any, code: int, reason: str, conflict: list[str] | None = None) -> Any:
