@@ -90,6 +90,7 @@ CATALOG: tuple[NodeKind, ...] = (
         Scope.AGENT,
         "TST factory and executors: missions as task specification trees (chapter 6.3)",
         world_params=True,
+        default=False,
     ),
     NodeKind(
         "path_planner",
@@ -97,6 +98,7 @@ CATALOG: tuple[NodeKind, ...] = (
         Scope.AGENT,
         "path planner: PRM/RRT on OMPL with GIS on FCL, plan and motion_plan_info (chapter 7)",
         world_params=True,
+        default=False,
     ),
     NodeKind(
         "dyknow",

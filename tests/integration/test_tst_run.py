@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 
-pytestmark = [pytest.mark.ros, pytest.mark.slow]
+pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tst"
 AGENTS = ("uav0", "uav1")

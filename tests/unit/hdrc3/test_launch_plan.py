@@ -146,15 +146,20 @@ def test_unknown_world_names_the_shipped_ones(world: str) -> None:
         check_world(world)
 
 
-def test_the_path_planner_runs_per_agent_by_default_with_the_world() -> None:
-    kind = {k.name: k for k in launch_plan.CATALOG}["path_planner"]
+@pytest.mark.parametrize(
+    ("name", "executable"),
+    [("path_planner", "hdrc3-path-planner"), ("tst_manager", "hdrc3-tst-manager")],
+)
+def test_planner_and_tst_manager_run_per_agent_when_named(name: str, executable: str) -> None:
+    kind = {k.name: k for k in launch_plan.CATALOG}[name]
     assert (kind.executable, kind.scope, kind.default, kind.world_params) == (
-        "hdrc3-path-planner",
+        executable,
         Scope.AGENT,
-        True,
+        False,
         True,
     )
-    assert "path_planner" in parse_nodes(None)
+    assert name not in parse_nodes(None)
+    assert name in parse_nodes(name)
 
 
 @pytest.mark.parametrize("seed", [0, 7])
