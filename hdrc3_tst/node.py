@@ -286,23 +286,33 @@ class TstManagerNode(Node):
             return _answer(response, TstReturn.TST_BUSY, reason)
         return _answer(response, TstReturn.TST_OK, "")
 
-    def _on_abort(self, request: Any, response: Any) -> Any:
+    def _subtree(self, request: Any, response: Any) -> tuple[ExecutionEngine, str | None] | None:
+        """The mission's engine and the request's subtree root (None: the whole mission).
+
+        None when the mission or the node is unknown; ``response`` then holds the answer.
+        """
         engine = self._engine(str(request.mission), response)
         if engine is None:
-            return response
+            return None
         node_id = str(request.node_id) or None
         if node_id is not None and node_id not in engine.records:
-            return _answer(response, TstReturn.TST_UNKNOWN_NODE, f"no node {node_id!r}")
+            _answer(response, TstReturn.TST_UNKNOWN_NODE, f"no node {node_id!r}")
+            return None
+        return engine, node_id
+
+    def _on_abort(self, request: Any, response: Any) -> Any:
+        found = self._subtree(request, response)
+        if found is None:
+            return response
+        engine, node_id = found
         engine.abort(str(request.reason)[:500] or "aborted", node_id)
         return _answer(response, TstReturn.TST_OK, "")
 
     def _on_pause(self, request: Any, response: Any) -> Any:
-        engine = self._engine(str(request.mission), response)
-        if engine is None:
+        found = self._subtree(request, response)
+        if found is None:
             return response
-        node_id = str(request.node_id) or None
-        if node_id is not None and node_id not in engine.records:
-            return _answer(response, TstReturn.TST_UNKNOWN_NODE, f"no node {node_id!r}")
+        engine, node_id = found
         changed = engine.resume(node_id) if request.resume else engine.pause(node_id)
         return _answer(response, TstReturn.TST_OK, f"{len(changed)} node(s)")
 
