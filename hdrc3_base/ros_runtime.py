@@ -25,7 +25,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
-from hdrc3_base.errors import Hdrc3Error
+from hdrc3_base.errors import ConfigError, Hdrc3Error
 from hdrc3_base.ros_env import apply_localhost_default
 
 SERVICE_QOS = QoSProfile(
@@ -178,6 +178,29 @@ def run_stepped_node(
                 node.destroy_node()
     except Hdrc3Error as exc:
         print(f"{label}: error: {exc}", file=sys.stderr, flush=True)
+        return 2
+    return 0
+
+
+def run_events_node(factory: Callable[[Context], Node], label: str) -> int:
+    """Entry-point body of a node on the light events executor (fast state streams).
+
+    Returns:
+        0 after SIGINT/SIGTERM, 2 (with ``label: reason`` on stderr) on bad parameters.
+    """
+    try:
+        with RosProcess(args=sys.argv) as process:
+            node = factory(process.context)
+            executor = EventsExecutor(context=process.context)
+            executor.add_node(node)
+            try:
+                while not process.stop_requested.is_set() and process.context.ok():
+                    executor.spin_once(timeout_sec=0.1)
+            finally:
+                executor.shutdown()
+                node.destroy_node()
+    except ConfigError as exc:
+        print(f"{label}: {exc}", file=sys.stderr)
         return 2
     return 0
 

@@ -20,13 +20,11 @@ from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.clock import Clock
 from rclpy.clock_type import ClockType
 from rclpy.context import Context
-from rclpy.experimental.events_executor import EventsExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from hdrc3_base.errors import ConfigError
-from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
+from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import (
     CameraState,
@@ -322,22 +320,7 @@ class PlatformServerNode(Node):
 
 def main() -> int:
     """Console script `hdrc3-platform-server`: exit 0 on SIGINT/SIGTERM, 2 on bad parameters."""
-    try:
-        with RosProcess(args=sys.argv) as process:
-            node = PlatformServerNode(process.context)
-            # The events executor keeps up with 50 Hz state streams at many times real time.
-            executor = EventsExecutor(context=process.context)
-            executor.add_node(node)
-            try:
-                while not process.stop_requested.is_set() and process.context.ok():
-                    executor.spin_once(timeout_sec=0.1)
-            finally:
-                executor.shutdown()
-                node.destroy_node()
-    except ConfigError as exc:
-        print(f"hdrc3-platform-server: {exc}", file=sys.stderr)
-        return 2
-    return 0
+    return run_events_node(PlatformServerNode, "hdrc3-platform-server")
 
 
 if __name__ == "__main__":

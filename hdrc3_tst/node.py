@@ -21,14 +21,13 @@ from typing import Any
 from rclpy.clock import Clock
 from rclpy.clock_type import ClockType
 from rclpy.context import Context
-from rclpy.experimental.events_executor import EventsExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Header
 
 from hdrc3_base.errors import ConfigError
-from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
+from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
 from hdrc3_interfaces.msg import ExecutionFlag, TstNodeStatus, TstReturn
 from hdrc3_interfaces.srv import (
     Plan,
@@ -472,21 +471,7 @@ def _answer(response: Any, code: int, reason: str, conflict: list[str] | None = 
 
 def main() -> int:
     """Console script ``hdrc3-tst-manager``: exit 0 on SIGINT/SIGTERM, 2 on bad parameters."""
-    try:
-        with RosProcess(args=sys.argv) as process:
-            node = TstManagerNode(process.context)
-            executor = EventsExecutor(context=process.context)
-            executor.add_node(node)
-            try:
-                while not process.stop_requested.is_set() and process.context.ok():
-                    executor.spin_once(timeout_sec=0.1)
-            finally:
-                executor.shutdown()
-                node.destroy_node()
-    except ConfigError as exc:
-        print(f"hdrc3-tst-manager: {exc}", file=sys.stderr)
-        return 2
-    return 0
+    return run_events_node(TstManagerNode, "hdrc3-tst-manager")
 
 
 if __name__ == "__main__":
