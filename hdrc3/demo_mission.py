@@ -12,13 +12,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from geometry_msgs.msg import Point, Vector3
-
 from hdrc3_base.errors import Hdrc3Error
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_interfaces.msg import FclReturn
-from hdrc3_interfaces.msg import PathSegment as PathSegmentMsg
 from hdrc3_interfaces.srv import FclLand, FclTakeoff, FclTraj3d, FclTraj3dFlyto
+from hdrc3_navigation.messages import segment_to_msg
 from hdrc3_platform_server.client import PlatformClient
 from hdrc3_platform_server.codes import EventKind
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
@@ -41,24 +39,6 @@ class MissionStep:
     command_id: int
     outcome: str
     reason: str
-
-
-def segment_msg(segment: PathSegment) -> PathSegmentMsg:
-    """The ROS message of a cubic segment."""
-    return PathSegmentMsg(
-        start_point=Point(x=segment.start[0], y=segment.start[1], z=segment.start[2]),
-        end_point=Point(x=segment.end[0], y=segment.end[1], z=segment.end[2]),
-        start_direction=Vector3(
-            x=segment.start_direction[0],
-            y=segment.start_direction[1],
-            z=segment.start_direction[2],
-        ),
-        end_direction=Vector3(
-            x=segment.end_direction[0], y=segment.end_direction[1], z=segment.end_direction[2]
-        ),
-        target_velocity=segment.target_velocity,
-        end_velocity=segment.end_velocity,
-    )
 
 
 class SurveyMission:
@@ -148,7 +128,7 @@ class SurveyMission:
         self.segment_ids = ids
         for index, segment in enumerate(path):
             request = FclTraj3d.Request(
-                segment=segment_msg(segment),
+                segment=segment_to_msg(segment),
                 velocity=segment.target_velocity,
                 end_velocity=segment.end_velocity,
             )

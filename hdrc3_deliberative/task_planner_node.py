@@ -7,12 +7,10 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-import rclpy
 from rclpy.context import Context
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 
-from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_runtime import run_node
 from hdrc3_deliberative.motion_plan_info import PlannedMotionPlanInfo
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
 from hdrc3_deliberative.result import PlanResult, PlanStatus
@@ -94,20 +92,7 @@ def _fill(response: Any, result: PlanResult) -> Any:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the task planner node until shutdown."""
-    apply_localhost_default()
-    rclpy.init(args=list(argv) if argv is not None else sys.argv)
-    node = TaskPlannerNode()
-    executor = SingleThreadedExecutor()
-    executor.add_node(node)
-    try:
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        executor.shutdown()
-        node.destroy_node()
-        rclpy.try_shutdown()  # type: ignore[attr-defined]
-    return 0
+    return run_node(TaskPlannerNode, argv)
 
 
 if __name__ == "__main__":

@@ -129,6 +129,8 @@ class Gis:
         self._runtime_objects: dict[str, list[Any]] = {}
         self._runtime_boxes: dict[str, tuple[float, ...]] = {}
         self._zones: dict[str, Zone] = {}
+        self._obstacles: dict[str, Zone] = {}
+        """Runtime obstacles as prisms (floor = base, ceiling = top)."""
         self.revision = 0
         """Incremented on every update (the world file's zones included)."""
         for zone in world.no_fly_zones:
@@ -266,6 +268,7 @@ class Gis:
         self._runtime_objects[name] = objs
         e0, n0, e1, n1 = poly.bounds
         self._runtime_boxes[name] = (e0, n0, base, e1, n1, top)
+        self._obstacles[name] = Zone(name, tuple(footprint), base, top)
         self.revision += 1
 
     def runtime_boxes(self) -> NDArray[np.float64]:
@@ -278,10 +281,20 @@ class Gis:
         if objs is None:
             raise ConfigError(f"no obstacle named {name!r}")
         del self._runtime_boxes[name]
+        del self._obstacles[name]
         for obj in objs:
             self._runtime.unregisterObject(obj)
         self._runtime.setup()
         self.revision += 1
+
+    def runtime_regions(self) -> tuple[tuple[Zone, ...], tuple[Zone, ...]]:
+        """What changed at runtime: (no-fly zones not as in the world file, obstacles)."""
+        from_file = {
+            z.name: Zone(z.name, tuple(z.polygon), z.floor, z.ceiling)
+            for z in self.world.no_fly_zones
+        }
+        zones = tuple(z for z in self._zones.values() if from_file.get(z.name) != z)
+        return zones, tuple(self._obstacles.values())
 
     def static_key(self) -> str:
         """Hash of what a roadmap depends on: the world's static geometry and the margin."""

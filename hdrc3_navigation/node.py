@@ -6,6 +6,9 @@ Services (private names, e.g. ``/uav1/path_planner/plan``):
 - ``~/motion_plan_info`` (``MotionPlanInfo``): feasibility, length, duration, energy (§9.2);
 - ``~/gis_update`` (``GisUpdate``): add/remove a no-fly zone or an obstacle at runtime.
 
+Topic ``~/gis_state`` (``GisState``, reliable, transient local): what changed at runtime, after
+every update, so that a fly-to executor can tell whether the path it flies is still valid (§7).
+
 Parameters: ``world`` (shipped name or .toml path), ``margin`` (m), ``cache_dir`` (roadmap cache,
 "" = default), ``roadmap_nodes``, ``max_timeout`` (s). The roadmap is loaded (or built) at start.
 """
@@ -18,22 +21,28 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import rclpy
-from geometry_msgs.msg import Point, Vector3
 from rclpy.context import Context
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from hdrc3_base.errors import Hdrc3Error
-from hdrc3_base.ros_env import apply_localhost_default
-from hdrc3_control.path_segment import PathSegment
-from hdrc3_interfaces.msg import PathSegment as PathSegmentMsg
+from hdrc3_base.ros_runtime import run_node
+from hdrc3_interfaces.msg import GisState
 from hdrc3_interfaces.srv import GisUpdate, MotionPlanInfo, PlanPath
 from hdrc3_navigation.constraints import Constraints
 from hdrc3_navigation.cost import Criterion
 from hdrc3_navigation.gis import DEFAULT_MARGIN, Zone
+from hdrc3_navigation.messages import segment_to_msg, triple, world_to_msg
 from hdrc3_navigation.planner import PathPlanner, PlannerKind, PlanRequest, PlanResult, PlanStatus
+from hdrc3_navigation.runtime_world import RuntimeWorld
 from sim.world_loader import load_world
+
+GIS_STATE_QOS = QoSProfile(
+    depth=1,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+)
+"""Latched: a subscriber that joins late gets the current runtime world model."""
 
 STATUS_CODES: dict[PlanStatus, int] = {
     PlanStatus.SOLVED: PlanPath.Response.STATUS_SOLVED,
@@ -47,24 +56,6 @@ STATUS_CODES: dict[PlanStatus, int] = {
     PlanStatus.START_IN_NO_FLY_ZONE: PlanPath.Response.STATUS_START_IN_NO_FLY_ZONE,
     PlanStatus.GOAL_IN_NO_FLY_ZONE: PlanPath.Response.STATUS_GOAL_IN_NO_FLY_ZONE,
 }
-
-
-def segment_to_msg(segment: PathSegment) -> Any:
-    """A planned segment as ``hdrc3_interfaces/PathSegment``."""
-    return PathSegmentMsg(
-        start_point=Point(x=segment.start[0], y=segment.start[1], z=segment.start[2]),
-        end_point=Point(x=segment.end[0], y=segment.end[1], z=segment.end[2]),
-        start_direction=Vector3(
-            x=segment.start_direction[0],
-            y=segment.start_direction[1],
-            z=segment.start_direction[2],
-        ),
-        end_direction=Vector3(
-            x=segment.end_direction[0], y=segment.end_direction[1], z=segment.end_direction[2]
-        ),
-        target_velocity=segment.target_velocity,
-        end_velocity=segment.end_velocity,
-    )
 
 
 def _limit(value: float) -> float | None:
@@ -105,14 +96,16 @@ def request_from_msg(request: Any) -> PlanRequest:
         _limit(request.max_descent_rate),
         _polygons(request.no_fly_sizes, request.no_fly_east, request.no_fly_north),
     )
+    direction = triple(request.start_direction)
     return PlanRequest(
-        (request.start.x, request.start.y, request.start.z),
-        (request.goal.x, request.goal.y, request.goal.z),
+        triple(request.start),
+        triple(request.goal),
         request.speed,
         constraints,
         planner,
         request.timeout,
         criterion,
+        direction if any(direction) else None,
     )
 
 
@@ -139,6 +132,8 @@ class PathPlannerNode(Node):
         self.create_service(PlanPath, "~/plan", self._on_plan)
         self.create_service(MotionPlanInfo, "~/motion_plan_info", self._on_info)
         self.create_service(GisUpdate, "~/gis_update", self._on_gis_update)
+        self._gis_pub = self.create_publisher(GisState, "~/gis_state", GIS_STATE_QOS)
+        self._gis_pub.publish(world_to_msg(RuntimeWorld.of(planner.gis)))
 
     def _run(self, request: PlanRequest) -> PlanResult:
         if request.timeout > self._max_timeout:
@@ -210,25 +205,13 @@ class PathPlannerNode(Node):
             return response
         response.success = True
         response.reason = f"GIS revision {gis.revision}"
+        self._gis_pub.publish(world_to_msg(RuntimeWorld.of(gis)))
         return response
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the path planner node until shutdown."""
-    apply_localhost_default()
-    rclpy.init(args=list(argv) if argv is not None else sys.argv)
-    node = PathPlannerNode()
-    executor = SingleThreadedExecutor()
-    executor.add_node(node)
-    try:
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        executor.shutdown()
-        node.destroy_node()
-        rclpy.try_shutdown()  # type: ignore[attr-defined]
-    return 0
+    return run_node(PathPlannerNode, argv)
 
 
 if __name__ == "__main__":

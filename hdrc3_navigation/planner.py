@@ -69,6 +69,9 @@ class PlanRequest:
     timeout: float = 1.0
     """Seconds; the query answers TIMEOUT when it runs out."""
     criterion: Criterion = Criterion.LENGTH
+    start_direction: Vec3 | None = None
+    """Tangent the first segment must leave the start with (a replan joining the segment in
+    flight); None: free."""
 
 
 @dataclass(frozen=True, slots=True)

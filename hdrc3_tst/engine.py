@@ -42,6 +42,7 @@ from hdrc3_tst.goal_planning import (
     plan_steps,
 )
 from hdrc3_tst.model import Node, NodeKind, NodeRef, NodeState
+from hdrc3_tst.navigation_port import NavigationPort
 from hdrc3_tst.network import FixStatus
 from hdrc3_tst.platform_port import PlatformPort
 from hdrc3_tst.queries import Answer, ask
@@ -84,6 +85,9 @@ class EngineSink(Protocol):
     def abort_remote(self, ref: NodeRef, reason: str) -> None:
         """Ask ``ref.agent``'s manager to abort ``ref.node_id``."""
 
+    def note(self, node_id: str, text: str) -> None:
+        """An executor of a node said what it did (a plan, a replan)."""
+
 
 @dataclass
 class EngineContext:
@@ -95,6 +99,8 @@ class EngineContext:
     sink: EngineSink
     frame: WorldFrame
     executors: Mapping[str, type[ActionExecutor]]
+    navigation: NavigationPort | None = None
+    """The agent's path planner for flight executors (None: straight flights)."""
 
 
 class ExecutionEngine:
@@ -326,6 +332,7 @@ class ExecutionEngine:
             self.ctx.frame,
             started,
             self.now,
+            navigation=self.ctx.navigation,
         )
         rec.stepper = Stepper(executor(), action_ctx)
         self.ctx.sink.flag(node.node_id, node.action, True)
@@ -357,6 +364,9 @@ class ExecutionEngine:
             status = rec.stepper.step(self.now)
         except Exception as exc:  # an executor bug fails its node, never the manager
             status = Status(Progress.FAILED, f"executor error: {exc!r}")
+        for text in rec.stepper.ctx.notes:
+            self.ctx.sink.note(node.node_id, text)
+        rec.stepper.ctx.notes.clear()
         if status.progress is Progress.RUNNING:
             return
         self.ctx.sink.flag(node.node_id, node.action, False)

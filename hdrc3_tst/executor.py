@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_tst.actions import ActionSpec
+from hdrc3_tst.navigation_port import NavigationPort
 from hdrc3_tst.platform_port import Command, PlatformPort, PlatformState
 
 
@@ -65,6 +66,11 @@ class ActionContext:
     """Mission time (s) of the current tick."""
     commands: list[Command] = field(default_factory=list)
     """Every command sent for this node, in order (the engine stops them on abort)."""
+    navigation: NavigationPort | None = None
+    """The agent's path planner (None: the platform has none, flights go straight)."""
+    notes: list[str] = field(default_factory=list)
+    """What the executor did beyond its commands (plans, replans) since the last tick; the
+    engine hands them to its sink after every tick."""
 
     def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
         """Send a command for this node."""

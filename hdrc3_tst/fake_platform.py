@@ -2,7 +2,9 @@
 
 :class:`FakePlatform` answers commands the way the Platform Server's semantics table says, with
 outcomes a test scripts per command, and moves a point aircraft to where a fly command goes when
-the test says the command finished. Nothing here talks to ROS.
+the test says the command finished. :class:`FakePathFollowing` adds the Platform Server's
+path-following events for ``traj3d`` segments (Request-Segment, segment flown, a queued segment
+replaced). Nothing here talks to ROS.
 """
 
 from __future__ import annotations
@@ -51,6 +53,12 @@ class FakePlatform:
         """Commands not ended yet."""
         return [c for c in self.sent if not c.state.ended]
 
+    def move_to(self, point: tuple[float, float, float]) -> None:
+        """Put the aircraft (in the air) at ``point``."""
+        s = self.sample
+        autonomous = True if s is None else s.autonomous
+        self.sample = PlatformState(point[0], point[1], point[2], False, autonomous)
+
     def complete(self, command: Command, ok: bool = True, reason: str = "") -> None:
         """End a command; a finished take-off leaves the ground, a finished land touches down."""
         command.end(CommandState.FINISHED if ok else CommandState.FAILED, reason)
@@ -60,6 +68,57 @@ class FakePlatform:
         if ok and self.sample is not None and command.command is FclCommand.LAND:
             s = self.sample
             self.sample = PlatformState(s.east, s.north, 0.0, True, s.autonomous)
+
+
+@dataclass
+class FakePathFollowing:
+    """``traj3d`` segments on a :class:`FakePlatform` as the Platform Server reports them.
+
+    The first segment of a path flies at once (and requests its successor unless it ends at
+    rest); a further one is queued; a segment sent while another is queued replaces it (the
+    older one ends "CANCELLED replaced by segment N"). :meth:`advance` flies the segment in
+    flight to its end: it finishes, the aircraft is at its end, and the queued one flies.
+    """
+
+    platform: FakePlatform
+    flying: Command | None = None
+    queued: Command | None = None
+    flown: list[Command] = field(default_factory=list)
+    """Segments flown to their end, in order."""
+
+    def tick(self) -> None:
+        """Take in the traj3d commands sent since the last tick."""
+        for command in self.platform.sent:
+            if command.command is not FclCommand.TRAJ3D or command.state.ended:
+                continue
+            if command in (self.flying, self.queued):
+                continue
+            if self.flying is None or self.flying.state.ended:
+                self.flying, self.queued = command, None
+                command.segment_requested = command.args["end_velocity"] > 0.0
+            elif self.queued is None:
+                self.queued = command
+            else:
+                self.queued.end(
+                    CommandState.FAILED, f"CANCELLED replaced by segment {command.command_id}"
+                )
+                self.queued = command
+        if self.flying is not None and self.flying.state.ended:
+            self.flying = None
+
+    def advance(self) -> None:
+        """Fly the segment in flight to its end."""
+        self.tick()
+        flying = self.flying
+        if flying is None:
+            return
+        a = flying.args
+        self.platform.move_to((a["end_x"], a["end_y"], a["end_z"]))
+        flying.end(CommandState.FINISHED, "segment flown")
+        self.flown.append(flying)
+        self.flying, self.queued = self.queued, None
+        if self.flying is not None:
+            self.flying.segment_requested = self.flying.args["end_velocity"] > 0.0
 
 
 @dataclass
@@ -83,6 +142,7 @@ class RecordingSink:
     flags: list[tuple[str, str, bool]] = field(default_factory=list)
     remote_starts: list[NodeRef] = field(default_factory=list)
     remote_aborts: list[tuple[NodeRef, str]] = field(default_factory=list)
+    notes: list[tuple[str, str]] = field(default_factory=list)
 
     def status(self, record: NodeRecord) -> None:
         """Record a state change."""
@@ -99,3 +159,7 @@ class RecordingSink:
     def abort_remote(self, ref: NodeRef, reason: str) -> None:
         """Record a remote abort."""
         self.remote_aborts.append((ref, reason))
+
+    def note(self, node_id: str, text: str) -> None:
+        """Record an executor's note."""
+        self.notes.append((node_id, text))

@@ -5,7 +5,9 @@ answer with a ``TstReturn`` code and reason; nothing a caller sends crashes the 
 changes go to ``/<agent>/tst_status`` and execution flags to ``/<agent>/execution_flags`` (both
 recorded). A child held by another agent is started through that agent's ``execute`` service and
 followed on its status topic. The engines tick on a steady 20 Hz timer and whenever a command's
-state changes, with the sim time of ``/clock``.
+state changes, with the sim time of ``/clock``. Fly-to plans its path with
+``/<agent>/path_planner`` and replans when that planner's world model changes (parameter
+``path_planner``, default true; false: fly straight).
 """
 
 from __future__ import annotations
@@ -46,6 +48,7 @@ from hdrc3_tst.goal_planning import PlanHandle
 from hdrc3_tst.model import NodeKind, NodeRef, NodeState
 from hdrc3_tst.network import FixStatus
 from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
+from hdrc3_tst.ros_navigation import RosNavigation
 from hdrc3_tst.ros_platform import RosPlatform
 
 TICK_PERIOD_S = 0.05
@@ -107,6 +110,9 @@ class _Sink:
     def abort_remote(self, ref: NodeRef, reason: str) -> None:
         self._manager.abort_remote(self._mission, ref, reason)
 
+    def note(self, node_id: str, text: str) -> None:
+        self._manager.get_logger().info(f"{self._mission}/{node_id}: {text}")
+
 
 class _Planner:
     """The ``task_planner`` service of this agent as the engine's planner port."""
@@ -141,6 +147,7 @@ class TstManagerNode(Node):
         self.declare_parameter("agents", [""])
         self.declare_parameter("speed", 1.0)
         self.declare_parameter("sim_time", True)
+        self.declare_parameter("path_planner", True)
         if self.get_parameter("sim_time").value:
             self.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])
         self.agent = self.get_namespace().strip("/")
@@ -150,6 +157,11 @@ class TstManagerNode(Node):
             )
         self.frame = frame_from_world(str(self.get_parameter("world").value))
         self.platform = RosPlatform(self, self.agent, self.frame, self._tick)
+        self.navigation = (
+            RosNavigation(self, self.agent, self._tick)
+            if self.get_parameter("path_planner").value
+            else None
+        )
         self.planner = _Planner(self)
         self.engines: dict[str, ExecutionEngine] = {}
         self._status_pub = self.create_publisher(TstNodeStatus, "tst_status", STATUS_QOS)
@@ -258,6 +270,7 @@ class TstManagerNode(Node):
             _Sink(self, mission),
             self.frame,
             RMAX_EXECUTORS,
+            self.navigation,
         )
         engine = ExecutionEngine(mission, tst, context)
         self.engines[mission] = engine

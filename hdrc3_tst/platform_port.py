@@ -42,6 +42,8 @@ class Command:
     command_id: int = 0
     segment_requested: bool = False
     """A traj3d segment whose path following asks for the next segment (§7.2)."""
+    busy: bool = False
+    """Refused BUSY: the platform still runs another command (it may be sent again)."""
 
     @property
     def label(self) -> str:

@@ -6,7 +6,9 @@ aircraft is still on the ground (a mission need not start with ``take-off``; Exa
 not). Paths are streamed as the chapter's path following expects them (§7.2): the first
 segment, then each next one when the control kernel asks for it.
 
-Straight fly-to uses ``traj3d_flyto``; the navigation issue replaces it by planned segments.
+Fly-to is a planned flight (:mod:`hdrc3_tst.planned_flight`): the agent's path planner gives the
+segments, a change of its world model during the flight makes it replan. An agent without a path
+planner flies straight with ``traj3d_flyto``.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from hdrc3_tst.executor import (
     Status,
     failed,
 )
+from hdrc3_tst.planned_flight import PlannedFlight, segment_args
 from hdrc3_tst.platform_port import Command, CommandState
 
 Steps = Generator[None, None, Status]
@@ -94,26 +97,13 @@ def fly_to(ctx: ActionContext, point: tuple[float, ...], speed: float) -> Steps:
     return (yield from finish(ctx, command, flight_bound(length, speed)))
 
 
-def _segment_args(segment: PathSegment) -> dict[str, float]:
-    args: dict[str, float] = {"velocity": segment.target_velocity}
-    args["end_velocity"] = segment.end_velocity
-    for name, vec in (
-        ("start", segment.start),
-        ("end", segment.end),
-        ("start_direction", segment.start_direction),
-        ("end_direction", segment.end_direction),
-    ):
-        args.update({f"{name}_{axis}": float(v) for axis, v in zip("xyz", vec, strict=True)})
-    return args
-
-
 def stream(ctx: ActionContext, segments: list[PathSegment]) -> Steps:
     """Fly to the first segment's start, then send each segment when the previous asks (§7.2)."""
     first = segments[0]
     outcome = yield from fly_to(ctx, first.start, first.target_velocity)
     if outcome.progress is not Progress.SUCCEEDED:
         return outcome
-    previous, flying = ctx.send(FclCommand.TRAJ3D, **_segment_args(first)), first
+    previous, flying = ctx.send(FclCommand.TRAJ3D, **segment_args(first)), first
     for index, segment in enumerate(segments[1:], start=1):
         bound = flight_bound(flying.arc_length(), flying.target_velocity)
         outcome = yield from finish(ctx, previous, bound, lambda c: c.segment_requested)
@@ -121,7 +111,7 @@ def stream(ctx: ActionContext, segments: list[PathSegment]) -> Steps:
             return failed(f"segment {index - 1}: {outcome.reason}")
         if not previous.segment_requested:
             return failed(f"path following ended after segment {index - 1} of {len(segments)}")
-        previous, flying = ctx.send(FclCommand.TRAJ3D, **_segment_args(segment)), segment
+        previous, flying = ctx.send(FclCommand.TRAJ3D, **segment_args(segment)), segment
     bound = flight_bound(flying.arc_length(), flying.target_velocity)
     outcome = yield from finish(ctx, previous, bound)
     if outcome.progress is not Progress.SUCCEEDED:
@@ -176,7 +166,7 @@ class Hover(ActionExecutor):
 
 
 class FlyTo(ActionExecutor):
-    """``fly-to(speed, destination)``: straight traj3d_flyto."""
+    """``fly-to(speed, destination)``: a planned flight (straight without a path planner)."""
 
     def run(self, ctx: ActionContext) -> Steps:
         """Take off if needed, then fly to the destination."""
@@ -184,7 +174,11 @@ class FlyTo(ActionExecutor):
         if outcome.progress is not Progress.SUCCEEDED:
             return outcome
         (point,) = ctx.place("destination")
-        return (yield from fly_to(ctx, point, ctx.number("speed")))
+        speed = ctx.number("speed")
+        if ctx.navigation is None:
+            return (yield from fly_to(ctx, point, speed))
+        goal = (float(point[0]), float(point[1]), float(point[2]))
+        return (yield from PlannedFlight(ctx, ctx.navigation, goal, speed).run())
 
 
 class FlyPath(ActionExecutor):

@@ -151,6 +151,7 @@ class RosPlatform:
         ok = FclReturn.FCL_OK if isinstance(handle.command, FclCommand) else PpclReturn.PPCL_OK
         if result.code != ok:
             names = _FCL_CODES if isinstance(handle.command, FclCommand) else _PPCL_CODES
+            handle.busy = names.get(result.code) == "BUSY"
             handle.end(
                 CommandState.FAILED,
                 f"refused ({names.get(result.code, result.code)}): {result.reason}",

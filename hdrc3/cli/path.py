@@ -1,4 +1,10 @@
-"""`hdrc3 path`: plan a path in a world, build or refresh its cached PRM roadmap (chapter 7).
+"""`hdrc3 path`: plan a path, build a roadmap, change a running planner's world (chapter 7).
+
+``path plan`` plans in a world file; ``path roadmap`` builds or refreshes its cached PRM roadmap.
+
+``path gis`` adds or removes a no-fly zone or an obstacle in ``/<agent>/path_planner`` at
+runtime; a fly-to in progress on that agent replans if its path no longer holds. Exit 0 when the
+planner took the change, 1 when it refused it (the reason is printed), 4 when no planner answers.
 
 Exit codes of ``path plan``: 0 solved, 2 no path, 3 timeout, 4 invalid request (start/goal
 outside the world, in an obstacle or a no-fly zone, inconsistent constraints).
@@ -24,6 +30,8 @@ from sim.world_loader import WorldError, load_world
 
 EXIT_CODES = {PlanStatus.SOLVED: 0, PlanStatus.NO_PATH: 2, PlanStatus.TIMEOUT: 3}
 INVALID_EXIT = 4
+GIS_OPERATIONS = {"add-zone": 0, "remove-zone": 1, "add-obstacle": 2, "remove-obstacle": 3}
+"""``GisUpdate.Request`` operation of each ``path gis`` word (a test checks them)."""
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -52,6 +60,15 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     _common(roadmap)
     roadmap.add_argument("--rebuild", action="store_true", help="rebuild even if cached")
     roadmap.set_defaults(handler=_roadmap)
+    gis = actions.add_parser("gis", help="change a running path planner's world model")
+    gis.add_argument("operation", choices=sorted(GIS_OPERATIONS), help="what to change")
+    gis.add_argument("--agent", default="uav0", help="whose path planner")
+    gis.add_argument("--name", required=True, help="name of the zone or obstacle")
+    gis.add_argument("--polygon", metavar="E,N;E,N;...", help="footprint (add-*)")
+    gis.add_argument("--floor", type=float, default=-1e3, help="zone floor / obstacle base, m up")
+    gis.add_argument("--ceiling", type=float, default=1e3, help="zone ceiling / obstacle top, m up")
+    gis.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the planner")
+    gis.set_defaults(handler=_gis)
 
 
 def _common(parser: argparse.ArgumentParser) -> None:
@@ -72,7 +89,7 @@ def parse_point(text: str, what: str) -> tuple[float, float, float]:
     return values[0], values[1], values[2]
 
 
-def parse_polygon(text: str) -> tuple[tuple[float, float], ...]:
+def parse_polygon(text: str, option: str = "--no-fly") -> tuple[tuple[float, float], ...]:
     """Parse ``e,n;e,n;...`` (at least 3 vertices)."""
     points = []
     for pair in text.split(";"):
@@ -82,9 +99,9 @@ def parse_polygon(text: str) -> tuple[tuple[float, float], ...]:
                 raise ValueError
             points.append((float(parts[0]), float(parts[1])))
         except ValueError:
-            raise ConfigError(f"--no-fly {text!r}: expected e,n;e,n;... in metres") from None
+            raise ConfigError(f"{option} {text!r}: expected e,n;e,n;... in metres") from None
     if len(points) < 3:
-        raise ConfigError(f"--no-fly {text!r}: a polygon needs at least 3 vertices")
+        raise ConfigError(f"{option} {text!r}: a polygon needs at least 3 vertices")
     return tuple(points)
 
 
@@ -188,3 +205,47 @@ def _roadmap(args: argparse.Namespace) -> int:
     )
     print(f"  file {planner.cache.path(roadmap.key)}", flush=True)
     return 0
+
+
+def _gis(args: argparse.Namespace) -> int:
+    from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
+    from hdrc3_interfaces.srv import GisUpdate
+    from hdrc3_platform_server.client import check_agent
+
+    check_agent(args.agent)
+    operation = GIS_OPERATIONS[args.operation]
+    polygon: tuple[tuple[float, float], ...] = ()
+    if args.operation.startswith("add-"):
+        if args.polygon is None:
+            raise ConfigError(f"path gis {args.operation} needs --polygon")
+        polygon = parse_polygon(args.polygon, "--polygon")
+    request = GisUpdate.Request(
+        operation=operation,
+        name=args.name,
+        polygon_east=[p[0] for p in polygon],
+        polygon_north=[p[1] for p in polygon],
+        floor=args.floor,
+        ceiling=args.ceiling,
+    )
+    service = f"/{args.agent}/path_planner/gis_update"
+    with RosProcess(args=[]) as process:
+        node = process.add_node(_client_node(process.context))
+        client = node.create_client(GisUpdate, service, qos_profile=SERVICE_QOS)
+        if not process.spin_until(client.service_is_ready, args.timeout):
+            print(f"{args.operation} {args.name}: no service {service}", flush=True)
+            return INVALID_EXIT
+        future: Any = client.call_async(request)  # rclpy's Future is untyped
+        if not process.spin_until(lambda: bool(future.done()), args.timeout):
+            print(f"{args.operation} {args.name}: no answer from {service}", flush=True)
+            return INVALID_EXIT
+        node.destroy_node()
+    answer = future.result()
+    verdict = "done" if answer.success else "refused"
+    print(f"{args.operation} {args.name}: {verdict}: {answer.reason}", flush=True)
+    return 0 if answer.success else 1
+
+
+def _client_node(context: Any) -> Any:
+    from rclpy.node import Node
+
+    return Node("hdrc3_path_gis", context=context)

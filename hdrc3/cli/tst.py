@@ -215,7 +215,7 @@ def _run(args: argparse.Namespace) -> int:
     world = args.world or check.tst.world
     if world is None:
         raise ConfigError("--launch needs a world: the file declares none; give --world")
-    nodes = [k.name for k in CATALOG if k.default] + ["tst_manager", "task_planner"]
+    nodes = [k.name for k in CATALOG if k.default] + ["tst_manager", "task_planner", "path_planner"]
     record = out / "run.mcap" if out is not None else None
     system = LaunchedSystem(
         agents, world, args.speed, args.domain_id, record, nodes, console.print, args.seed

@@ -157,7 +157,7 @@ def chain(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[Chain]:
 
 @pytest.mark.slow
 def test_fcl_flight_through_the_whole_chain(chain: Chain) -> None:
-    from hdrc3.demo_mission import SurveyMission, segment_msg
+    from hdrc3.demo_mission import SurveyMission
     from hdrc3.safety_pilot import Switch, set_rc
     from hdrc3.survey import SurveyArea, lawn_mower
     from hdrc3_control.path_segment import PathSegment
@@ -169,6 +169,7 @@ def test_fcl_flight_through_the_whole_chain(chain: Chain) -> None:
         FclTraj3dFlyto,
         SimInjectFault,
     )
+    from hdrc3_navigation.messages import segment_to_msg
     from hdrc3_platform_server.codes import EventKind
 
     c = chain
@@ -220,7 +221,7 @@ def test_fcl_flight_through_the_whole_chain(chain: Chain) -> None:
     p = c.enu(end)
     goal = (p[0], p[1] + 40.0, ALTITUDE)
     seg = PathSegment.straight(p, goal, 6.0, 6.0)
-    sent = c.fcl(FclTraj3d, "traj3d", segment=segment_msg(seg), velocity=6.0, end_velocity=6.0)
+    sent = c.fcl(FclTraj3d, "traj3d", segment=segment_to_msg(seg), velocity=6.0, end_velocity=6.0)
     assert sent.code == FclReturn.FCL_OK, sent.reason
     failed = c.final(sent.command_id, 120.0)
     kinds = [e.kind for e in c.events_of(sent.command_id) if e.kind is not EventKind.INFO]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -56,9 +57,11 @@ def test_plan_service_of_a_launched_node(
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
 
-    from hdrc3_control.path_segment import PathSegment
+    from hdrc3_interfaces.msg import GisState
     from hdrc3_interfaces.srv import GisUpdate, MotionPlanInfo, PlanPath
     from hdrc3_navigation.audit import WorldAudit
+    from hdrc3_navigation.messages import segment_from_msg, world_from_msg
+    from hdrc3_navigation.node import GIS_STATE_QOS
     from sim.world_loader import load_world
 
     monkeypatch.setenv("HDRC3_CACHE_DIR", str(tmp_path))
@@ -74,29 +77,31 @@ def test_plan_service_of_a_launched_node(
         answer = _call(node, executor, PlanPath, "plan", **_plan_fields(west, east))
         assert answer.status == PlanPath.Response.STATUS_SOLVED, answer.reason
         assert answer.status_name == "solved" and answer.planning_time > 0.0
-        segments = [
-            PathSegment(
-                (s.start_point.x, s.start_point.y, s.start_point.z),
-                (s.end_point.x, s.end_point.y, s.end_point.z),
-                (s.start_direction.x, s.start_direction.y, s.start_direction.z),
-                (s.end_direction.x, s.end_direction.y, s.end_direction.z),
-                s.target_velocity,
-                s.end_velocity,
-            )
-            for s in answer.segments
-        ]
+        segments = [segment_from_msg(s) for s in answer.segments]
         assert segments[0].start == west and segments[-1].end == east
         assert sum(s.arc_length() for s in segments) == pytest.approx(answer.length, rel=1e-6)
         assert WorldAudit(load_world(WORLD)).check_segments(segments, 5.9) == []
 
-        # a no-fly zone added at runtime is honoured by the next query
-        zone = _call(
-            node, executor, GisUpdate, "gis_update",
-            operation=GisUpdate.Request.ADD_NO_FLY_ZONE, name="fire",
-            polygon_east=[50.0, 70.0, 70.0, 50.0], polygon_north=[-10.0, -10.0, 10.0, 10.0],
-            floor=-10.0, ceiling=100.0,
+        # a no-fly zone added at runtime (with the CLI) is published on gis_state (latched) and
+        # honoured by the next query
+        worlds: list[Any] = []
+        node.create_subscription(
+            GisState, f"/{AGENT}/path_planner/gis_state",
+            lambda m: worlds.append(world_from_msg(m)), GIS_STATE_QOS,
         )  # fmt: skip
-        assert zone.success, zone.reason
+        gis = hdrc3_cli(
+            "path", "gis", "add-zone", "--agent", AGENT, "--name", "fire",
+            "--polygon", "50,-10;70,-10;70,10;50,10", "--floor=-10", "--ceiling", "100",
+        )  # fmt: skip
+        assert gis.finish(timeout=WAIT_S) == 0, gis.lines
+        assert "add-zone fire: done: GIS revision" in "\n".join(gis.lines)
+        deadline = time.monotonic() + WAIT_S
+        while not any(w.no_fly_zones for w in worlds):
+            assert time.monotonic() < deadline, "no gis_state with the new zone"
+            executor.spin_once(timeout_sec=0.2)
+        (fire,) = worlds[-1].no_fly_zones
+        assert (fire.name, fire.floor, fire.ceiling) == ("fire", -10.0, 100.0)
+        assert worlds[-1].revision > 0
         blocked = _call(node, executor, PlanPath, "plan", **_plan_fields(west, east))
         assert blocked.status == PlanPath.Response.STATUS_GOAL_IN_NO_FLY_ZONE
         assert "fire" in blocked.reason and not blocked.segments

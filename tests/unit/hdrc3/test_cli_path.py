@@ -90,3 +90,37 @@ def test_malformed_arguments_exit_2(
 def test_unknown_world_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["path", "roadmap", "--world", "atlantis"]) == 2
     assert "atlantis" in capsys.readouterr().err
+
+
+def test_gis_words_are_the_services_operations() -> None:
+    from hdrc3.cli.path import GIS_OPERATIONS
+    from hdrc3_interfaces.srv import GisUpdate
+
+    r = GisUpdate.Request
+    assert GIS_OPERATIONS == {
+        "add-zone": r.ADD_NO_FLY_ZONE, "remove-zone": r.REMOVE_NO_FLY_ZONE,
+        "add-obstacle": r.ADD_OBSTACLE, "remove-obstacle": r.REMOVE_OBSTACLE,
+    }  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["add-zone", "--name", "z"], "needs --polygon"),
+        (["add-zone", "--name", "z", "--polygon", "1,2;3,4"], "at least 3 vertices"),
+        (["add-obstacle", "--name", "z", "--polygon", "1,2;x,4;5,6"], "--polygon"),
+        (["remove-zone", "--name", "z", "--agent", "bad agent"], "agent"),
+    ],
+)
+def test_gis_bad_arguments_exit_2_with_the_reason(
+    argv: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["path", "gis", *argv]) == 2
+    assert message in capsys.readouterr().err
+
+
+@pytest.mark.ros
+def test_gis_without_a_planner_says_so(ros_domain: int, capsys: pytest.CaptureFixture[str]) -> None:
+    argv = ["path", "gis", "remove-zone", "--name", "z", "--timeout", "0.5"]
+    assert main(argv) == 4
+    assert "no service /uav0/path_planner/gis_update" in capsys.readouterr().out

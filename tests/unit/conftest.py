@@ -1,4 +1,5 @@
-"""Fixtures: the small test world, its GIS and a roadmap built once per session."""
+"""Fixtures shared by the unit tests: the small navigation world, its GIS and a roadmap built once
+per session (the navigation and the TST fly-to tests plan in it)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from hdrc3_navigation.roadmap import Roadmap, RoadmapCache
 from sim.world import World
 from sim.world_loader import load_world
 
-SMALL_WORLD = Path(__file__).with_name("small_world.toml")
+SMALL_WORLD = Path(__file__).parent / "hdrc3_navigation" / "small_world.toml"
 ROADMAP_NODES = 400
 
 
