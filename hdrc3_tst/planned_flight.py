@@ -14,8 +14,8 @@ appears that the part of the path not yet flown would enter:
   segment's end tangent, and sends the new first segment in place of the queued one (the PFC
   replaces a queued, not yet flown segment). The PFC always has a queued segment while the
   replan runs, so it never reaches its safety-braking point for want of one;
-- if the segment in flight itself conflicts, it stops it (the aircraft brakes and hovers) and
-  replans from the hover point.
+- if the segment in flight itself conflicts, or no path joins it, it stops it (the aircraft
+  brakes and hovers where it is) and replans from the hover point.
 
 A flight that cannot be planned, or whose path becomes invalid with no new path, fails its node
 with the planner's reason.
@@ -261,7 +261,10 @@ class PlannedFlight:
         # replan from where the aircraft will be when the next segment is due (§7, Figure 18)
         result = yield from self._query(flying.segment.end, flying.segment.end_direction)
         if not result.ok:
-            return self._give_up(f"{why}; path planner: {result.status.value}: {result.reason}")
+            # no path joins the segment in flight (e.g. the new zone is just ahead of its end):
+            # brake to a hover now, far from the zone, and plan from there without a tangent
+            note = f"{why}; no path joins the segment in flight ({result.reason})"
+            return (yield from self._stop_and_replan(note))
         if self.flying is not flying:
             self.revision = RECHECK  # path following moved on meanwhile: check again from there
             return None

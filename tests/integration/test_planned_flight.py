@@ -23,8 +23,8 @@ from tests.integration.test_tst_run import SEED, recorded, stamp_s
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tst"
-CLOSURE = [(40.0, -110.0), (70.0, -110.0), (70.0, 70.0), (40.0, 70.0)]
-"""A strip across the town (east 40-70 m, north -110..70 m): the crossing's way east."""
+CLOSURE = [(150.0, -110.0), (175.0, -110.0), (175.0, 60.0), (150.0, 60.0)]
+"""A strip across the east of the town (east 150-175 m, north -110..60 m): the way east."""
 ADD_WHEN_EAST_OF = -150.0
 """The zone is declared once the aircraft flies east of this (m): well before the strip."""
 CLEARANCE = 2.0

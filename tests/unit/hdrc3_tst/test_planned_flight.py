@@ -11,7 +11,7 @@ import pytest
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_navigation.audit import WorldAudit
 from hdrc3_navigation.gis import Zone
-from hdrc3_navigation.planner import PathPlanner, PlanRequest
+from hdrc3_navigation.planner import PathPlanner, PlanRequest, PlanResult, PlanStatus
 from hdrc3_navigation.runtime_world import RuntimeWorld
 from hdrc3_platform_server.codes import FclCommand
 from hdrc3_platform_server.geo_frame import frame_from_world
@@ -115,53 +115,132 @@ def zone_across(segment: PathSegment, s: float = 0.5, half: float = 4.0) -> Zone
                         (e - half, n + half)))  # fmt: skip
 
 
-@pytest.mark.parametrize(
-    ("where", "expect"),
-    [
-        # a zone on a segment after the queued one: the replan joins the segment in flight
-        ("later", "replan: "),
-        # a zone on the segment in flight: brake to a hover, plan anew from there
-        ("in_flight", "stop: "),
-    ],
-)
+def farthest_from_the_ends(segments: tuple[PathSegment, ...]) -> tuple[PathSegment, float]:
+    """The point of a path farthest from both its start and its goal (segment, parameter)."""
+    candidates = [(seg, float(s)) for seg in segments for s in np.linspace(0.0, 1.0, 21)]
+    ends = (np.array(segments[0].start), np.array(segments[-1].end))
+    return max(
+        candidates, key=lambda c: min(float(np.linalg.norm(c[0].position(c[1]) - e)) for e in ends)
+    )
+
+
+@pytest.mark.parametrize("after", [0, 1, 2])
 def test_a_zone_added_in_flight_is_never_entered(
-    planner: PathPlanner, small_world: World, where: str, expect: str
+    planner: PathPlanner, small_world: World, after: int
 ) -> None:
+    """Whatever the (random) roadmap's path, a zone across its middle is avoided.
+
+    The zone is declared before segment ``after`` is flown, or the latest segment before it that
+    starts at least 15 m from the zone and not after the segment the zone lies on; what is flown
+    from then on must stay out of it.
+    """
     plan = planner.plan(PlanRequest(WEST, EAST, 8.0, timeout=5.0))
-    assert plan.ok and len(plan.segments) >= 3, plan.reason
+    assert plan.ok, plan.reason
     flight = Flight(LocalNavigation(planner), EAST)
-    added: list[Zone] = []
+    segment, s = farthest_from_the_ends(plan.segments)
+    zone = zone_across(segment, s, 3.0)
+    centre = segment.position(s)
+    last = plan.segments.index(segment)
+    when = max(
+        k for k in range(min(after, last) + 1)
+        if float(np.linalg.norm(np.array(plan.segments[k].start) - centre)) > 15.0
+    )  # fmt: skip
+    declared: list[int] = []
 
     def add_zone(index: int) -> None:
-        if index == 1 and not added:  # segment 1 is about to be flown, segment 2 is queued
-            target = flight.follow.flying if where == "in_flight" else None
-            if target is None:  # on the last segment, well after the queued one's start
-                added.append(zone_across(plan.segments[-1], 0.6))
-            else:
-                added.append(zone_across(segment_of(target)))
-            planner.gis.add_no_fly_zone(added[0])
+        if index == when and not declared:
+            planner.gis.add_no_fly_zone(zone)
+            declared.append(index)
 
     status = flight.fly(add_zone)
-    assert status.progress is Progress.SUCCEEDED, status.reason
-    assert added and any(note.startswith(expect) for note in flight.notes), flight.notes
+    assert status.progress is Progress.SUCCEEDED, (status.reason, flight.notes)
     flown = flight.flown()
-    assert audit(small_world, flown, tuple(added)) == []
     assert flown[-1].end == EAST
+    assert declared == [when]
+    assert audit(small_world, flown[when:], (zone,)) == []
+    assert [n for n in flight.notes if n.startswith(("replan: ", "stop: "))], flight.notes
 
 
-def test_a_replacement_goes_out_while_a_segment_is_queued(
-    planner: PathPlanner,
+def straight(*points: tuple[float, float, float]) -> list[PathSegment]:
+    """Straight segments through ``points`` at 8 m/s, at rest only at the end."""
+    pairs = list(itertools.pairwise(points))
+    return [
+        PathSegment.straight(a, b, 8.0, 0.0 if i == len(pairs) - 1 else 8.0, i)
+        for i, (a, b) in enumerate(pairs)
+    ]
+
+
+class ScriptedNavigation:
+    """Answers each query with the next scripted path; the test sets the world model."""
+
+    def __init__(self, *paths: list[PathSegment]) -> None:
+        self.paths = list(paths)
+        self.requests: list[PlanRequest] = []
+        self.runtime = RuntimeWorld()
+
+    def plan(self, request: PlanRequest) -> PlanJob:
+        self.requests.append(request)
+        segments = tuple(self.paths.pop(0))
+        return PlanJob(request, PlanResult(PlanStatus.SOLVED, "", segments, 1.0))
+
+    def world(self) -> RuntimeWorld:
+        return self.runtime
+
+    def declare(self, *zones: Zone) -> None:
+        self.runtime = RuntimeWorld(self.runtime.revision + 1, 2.0, zones)
+
+
+A = (-60.0, 0.0, 15.0)
+ROUTE = straight(A, (-20.0, 0.0, 15.0), (20.0, 0.0, 15.0), (60.0, 0.0, 15.0))
+"""Three straight segments east; the last one crosses (40, 0)."""
+AROUND = straight((20.0, 0.0, 15.0), (40.0, 30.0, 15.0), (60.0, 0.0, 15.0))
+"""From the end of the second segment, north of (40, 0)."""
+FROM_HOVER = straight((-20.0, 0.0, 15.0), (0.0, -30.0, 15.0), (60.0, 0.0, 15.0))
+BLOCK_LAST = Zone("late", ((35.0, -5.0), (45.0, -5.0), (45.0, 5.0), (35.0, 5.0)))
+BLOCK_SECOND = Zone("near", ((-5.0, -5.0), (5.0, -5.0), (5.0, 5.0), (-5.0, 5.0)))
+
+
+@pytest.mark.parametrize(
+    ("zone", "paths", "replan_start", "direction", "flown_ends", "note"),
+    [
+        # the zone lies after the queued segment: the replan leaves the end of the segment in
+        # flight with its tangent and replaces the queued segment
+        (BLOCK_LAST, (ROUTE, AROUND), (20.0, 0.0, 15.0), (40.0, 0.0, 0.0),
+         [(-20.0, 0.0, 15.0), (20.0, 0.0, 15.0), (40.0, 30.0, 15.0), (60.0, 0.0, 15.0)],
+         "replan: "),
+        # the zone lies on the segment in flight: brake to a hover, plan from where it holds
+        (BLOCK_SECOND, (ROUTE, FROM_HOVER), (-20.0, 0.0, 15.0), None,
+         [(-20.0, 0.0, 15.0), (0.0, -30.0, 15.0), (60.0, 0.0, 15.0)], "stop: "),
+    ],
+)  # fmt: skip
+def test_a_world_change_replans_where_the_chapter_says(
+    zone: Zone,
+    paths: tuple[list[PathSegment], ...],
+    replan_start: tuple[float, float, float],
+    direction: tuple[float, float, float] | None,
+    flown_ends: list[tuple[float, float, float]],
+    note: str,
 ) -> None:
-    plan = planner.plan(PlanRequest(WEST, EAST, 8.0, timeout=5.0))
-    flight = Flight(LocalNavigation(planner), EAST)
+    nav = ScriptedNavigation(*paths)
+    flight = Flight(None, (60.0, 0.0, 15.0))
+    flight.ctx.navigation = nav
 
-    def add_zone(index: int) -> None:
-        if index == 1 and flight.follow.queued is not None and not planner.gis.no_fly_zones[1:]:
-            planner.gis.add_no_fly_zone(zone_across(plan.segments[-1], 0.6))
+    def declare(index: int) -> None:
+        if index == 1 and not nav.runtime.no_fly_zones:  # segment 1 flies, segment 2 queued
+            nav.declare(zone)
 
-    assert flight.fly(add_zone).progress is Progress.SUCCEEDED
+    status = flight.fly(declare)
+    assert status.progress is Progress.SUCCEEDED, (status.reason, flight.notes)
+    assert [r.start for r in nav.requests] == [A, replan_start]
+    assert nav.requests[1].start_direction == direction
+    assert [s.end for s in flight.flown()] == flown_ends
+    assert any(n.startswith(note) for n in flight.notes), flight.notes
     replaced = [c for c in flight.traj3d() if "replaced by segment" in c.reason]
-    assert len(replaced) == 1  # the queued segment was replaced, not braked for
+    stopped = [c for c, _ in flight.platform.stopped]
+    if note == "replan: ":
+        assert len(replaced) == 1 and stopped == []  # no braking: the queued one was replaced
+    else:
+        assert replaced == [] and len(stopped) == 2  # the one in flight and the queued one
 
 
 @pytest.mark.parametrize(
