@@ -85,6 +85,8 @@ class FakePathFollowing:
     queued: Command | None = None
     flown: list[Command] = field(default_factory=list)
     """Segments flown to their end, in order."""
+    replace: bool = True
+    """False: refuse a segment while one is queued (a PFC without the replace operation)."""
 
     def tick(self) -> None:
         """Take in the traj3d commands sent since the last tick."""
@@ -98,6 +100,8 @@ class FakePathFollowing:
                 command.segment_requested = command.args["end_velocity"] > 0.0
             elif self.queued is None:
                 self.queued = command
+            elif not self.replace:
+                command.end(CommandState.FAILED, "rejected by the PFC: a segment is queued")
             else:
                 self.queued.end(
                     CommandState.FAILED, f"CANCELLED replaced by segment {command.command_id}"

@@ -97,6 +97,8 @@ class PlannedFlight:
     revision: int = 0
     """World model revision the remaining path was last checked against."""
     replans: int = 0
+    replaced: _Sent | None = None
+    """The queued segment a replacement was sent for, until the PFC took the replacement."""
 
     def run(self) -> Steps:
         """Plan from the aircraft's position, then stream, watch and replan until arrival."""
@@ -108,6 +110,12 @@ class PlannedFlight:
         if outcome is not None:
             return outcome
         while True:
+            refused = self._refused_replacement()
+            if refused is not None:
+                outcome = yield from self._stop_and_replan(refused)
+                if outcome is not None:
+                    return outcome
+                continue
             self._follow_progress()
             problem = self._command_problem()
             if problem is not None:
@@ -145,6 +153,18 @@ class PlannedFlight:
             and flying.command.state is CommandState.FINISHED
         ):
             self.flying = None  # the leg arrived (its last segment ends at rest)
+
+    def _refused_replacement(self) -> str | None:
+        """The PFC refused a replacement: the old segment, which conflicts, is still queued."""
+        queued, old = self.queued, self.replaced
+        if old is None or queued is None:
+            return None
+        if queued.command.state is CommandState.FAILED:
+            self.queued, self.replaced = old, None  # the PFC still has the old one queued
+            return f"the replacement of the queued segment was refused ({queued.command.reason})"
+        if queued.command.state is not CommandState.SENT:
+            self.replaced = None  # accepted: the old one is gone
+        return None
 
     def _command_problem(self) -> Status | None:
         """A failed segment, or one flown far longer than it should take, fails the flight."""
@@ -274,6 +294,7 @@ class PlannedFlight:
             f"in {result.planning_time * 1e3:.0f} ms"
         )
         if self.queued is not None:
+            self.replaced = self.queued
             self.queued = self._send(segments.pop(0))  # the PFC replaces the queued segment
         self.todo = segments
         return None
@@ -289,7 +310,7 @@ class PlannedFlight:
         for sent in (self.flying, self.queued):
             if sent is not None:
                 self.ctx.platform.stop(sent.command, why)
-        self.flying = self.queued = None
+        self.flying = self.queued = self.replaced = None
         self.todo = []
         if self._count_replan():
             return failed(f"{why}; more than {MAX_REPLANS} replans")

@@ -292,3 +292,20 @@ def test_without_a_path_planner_fly_to_goes_straight() -> None:
     flight = Flight(None, EAST)
     flight.step()
     assert [c.command for c in flight.platform.sent] == [FclCommand.TRAJ3D_FLYTO]
+
+
+def test_a_refused_replacement_brakes_and_plans_from_the_hover_point() -> None:
+    nav = ScriptedNavigation(ROUTE, AROUND, AROUND)
+    flight = Flight(None, (60.0, 0.0, 15.0))
+    flight.ctx.navigation = nav
+    flight.follow.replace = False
+
+    def declare(index: int) -> None:
+        if index == 1 and not nav.runtime.no_fly_zones:
+            nav.declare(BLOCK_LAST)
+
+    status = flight.fly(declare)
+    assert status.progress is Progress.SUCCEEDED, (status.reason, flight.notes)
+    assert [r.start for r in nav.requests] == [A, (20.0, 0.0, 15.0), (20.0, 0.0, 15.0)]
+    assert any("replacement of the queued segment was refused" in n for n in flight.notes)
+    assert (40.0, 0.0, 15.0) not in [s.end for s in flight.flown()]
