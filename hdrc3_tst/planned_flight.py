@@ -155,15 +155,20 @@ class PlannedFlight:
             self.flying = None  # the leg arrived (its last segment ends at rest)
 
     def _refused_replacement(self) -> str | None:
-        """The PFC refused a replacement: the old segment, which conflicts, is still queued."""
+        """The PFC refused a replacement: the old segment, which conflicts, is still queued.
+
+        The Platform Server answers a replacement OK at once; the PFC's verdict follows: the old
+        segment ends CANCELLED ("replaced by segment N") when it took the new one, the new one
+        ends FAILED ("rejected by the PFC: ...") when it did not.
+        """
         queued, old = self.queued, self.replaced
         if old is None or queued is None:
             return None
-        if queued.command.state is CommandState.FAILED:
+        if old.command.state.ended:
+            self.replaced = None  # taken: the new segment is the queued one
+        elif queued.command.state is CommandState.FAILED:
             self.queued, self.replaced = old, None  # the PFC still has the old one queued
             return f"the replacement of the queued segment was refused ({queued.command.reason})"
-        if queued.command.state is not CommandState.SENT:
-            self.replaced = None  # accepted: the old one is gone
         return None
 
     def _command_problem(self) -> Status | None:

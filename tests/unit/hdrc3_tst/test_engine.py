@@ -310,3 +310,40 @@ def test_a_paused_node_still_misses_its_deadline() -> None:
     rig.run(25)
     assert rig.state("m") is NodeState.FAILED
     assert rig.reason("m").startswith("deadline")
+
+
+def test_an_executors_notes_reach_the_sink_and_fly_to_uses_the_agents_planner() -> None:
+    from hdrc3_control.path_segment import PathSegment
+    from hdrc3_navigation.planner import PlanRequest, PlanResult, PlanStatus
+    from hdrc3_navigation.runtime_world import RuntimeWorld
+    from hdrc3_tst.navigation_port import PlanJob
+
+    class OneSegment:
+        """A planner answering every query with one straight segment to the goal."""
+
+        def __init__(self) -> None:
+            self.requests: list[PlanRequest] = []
+
+        def plan(self, request: PlanRequest) -> PlanJob:
+            self.requests.append(request)
+            segment = PathSegment.straight(request.start, request.goal, 8.0, 0.0)
+            return PlanJob(request, PlanResult(PlanStatus.SOLVED, "", (segment,), 1.0))
+
+        def world(self) -> RuntimeWorld:
+            return RuntimeWorld()
+
+    rig = Rig(mission("m(TS, TE) = fly-to(TS, TE, 8, Sq)\n"))
+    nav = OneSegment()
+    rig.engine.ctx.navigation = nav
+    rig.platform.sample = PlatformState(0.0, 0.0, 30.0, on_ground=False, autonomous=True)
+    rig.start("m")
+
+    def arrive(command: Command) -> None:  # the one segment is flown to its end
+        rig.platform.move_to(nav.requests[0].goal)
+        rig.platform.complete(command)
+
+    rig.run(5, arrive)
+    assert rig.state("m") is NodeState.SUCCEEDED, rig.reason("m")
+    assert [c.command for c in rig.platform.sent] == [FclCommand.TRAJ3D]
+    assert nav.requests[0].start == (0.0, 0.0, 30.0)
+    assert [(n, t.split(" ")[0]) for n, t in rig.sink.notes] == [("m", "planned")]
