@@ -39,7 +39,7 @@ Vec3 = tuple[float, float, float]
 
 PLAN_TIMEOUT_S = 2.0
 """The planner's own time budget per query (wall seconds)."""
-ANSWER_WAIT_S = 30.0
+ANSWER_WAIT_S = 60.0
 """Mission seconds to wait for the planner's answer (a path planner node may still start)."""
 BUSY_RETRY_S = 20.0
 """Mission seconds a path start may be refused BUSY after a stop (the PFC is still braking)."""

@@ -20,7 +20,7 @@ import pytest
 
 from tests.integration.test_tst_run import SEED, recorded, stamp_s
 
-pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
+pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tst"
 CLOSURE = [(150.0, -110.0), (175.0, -110.0), (175.0, 60.0), (150.0, 60.0)]
@@ -92,7 +92,9 @@ def test_a_fly_to_across_revinge_replans_around_a_zone_declared_in_flight(
         out / "run.mcap", "/tst_status", "/uav0/ground_truth/state", "/uav0/platform_events"
     )
     final = {s.node_id: s for s in messages["/tst_status"] if s.mission == "cross"}
-    start, end = final["cross"].start, final["cross"].end
+    cross = final["cross"]  # times are mission seconds; the stamp is the sim time of the end
+    end = stamp_s(cross.header.stamp)
+    start = end - (cross.end - cross.start)
     track = np.array([
         m.position_enu for m in messages["/uav0/ground_truth/state"]
         if start + 5.0 <= stamp_s(m.header.stamp) <= end
@@ -105,5 +107,5 @@ def test_a_fly_to_across_revinge_replans_around_a_zone_declared_in_flight(
     assert np.linalg.norm(track[-1] - np.array([275.0, 20.0, 20.0])) < 10.0
     reasons = [e.reason for e in messages["/uav0/platform_events"]]
     assert not [r for r in reasons if "safety braking" in r], reasons
-    replaced = [r for r in reasons if "replaced by segment" in r]
-    print(f"queued segments replaced: {len(replaced)}; events: {len(reasons)}")
+    replans = [line for line in run.lines if "cross/cross: replan" in line or "stop: " in line]
+    assert replans, "the zone was declared on the path, but nothing was replanned"
