@@ -27,6 +27,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from hdrc3_control.path_segment import PathSegment
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_tst.actions import ACTIONS, ParamSpec, ParamType
 from hdrc3_tst.executor import ActionContext, ActionExecutor, Progress, Status, Stepper
@@ -87,6 +88,9 @@ class EngineSink(Protocol):
 
     def note(self, node_id: str, text: str) -> None:
         """An executor of a node said what it did (a plan, a replan)."""
+
+    def path(self, node_id: str, segments: tuple[PathSegment, ...]) -> None:
+        """An executor of a node planned a path (it flies it from now on)."""
 
 
 @dataclass
@@ -364,9 +368,13 @@ class ExecutionEngine:
             status = rec.stepper.step(self.now)
         except Exception as exc:  # an executor bug fails its node, never the manager
             status = Status(Progress.FAILED, f"executor error: {exc!r}")
-        for text in rec.stepper.ctx.notes:
+        action_ctx = rec.stepper.ctx
+        for text in action_ctx.notes:
             self.ctx.sink.note(node.node_id, text)
-        rec.stepper.ctx.notes.clear()
+        for segments in action_ctx.paths:
+            self.ctx.sink.path(node.node_id, segments)
+        action_ctx.notes.clear()
+        action_ctx.paths.clear()
         if status.progress is Progress.RUNNING:
             return
         self.ctx.sink.flag(node.node_id, node.action, False)

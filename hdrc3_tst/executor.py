@@ -15,6 +15,7 @@ import enum
 from collections.abc import Generator, Mapping
 from dataclasses import dataclass, field
 
+from hdrc3_control.path_segment import PathSegment
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_tst.actions import ActionSpec
@@ -71,6 +72,8 @@ class ActionContext:
     notes: list[str] = field(default_factory=list)
     """What the executor did beyond its commands (plans, replans) since the last tick; the
     engine hands them to its sink after every tick."""
+    paths: list[tuple[PathSegment, ...]] = field(default_factory=list)
+    """Paths the executor planned since the last tick (handed to the sink likewise)."""
 
     def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
         """Send a command for this node."""

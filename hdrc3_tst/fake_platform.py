@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from hdrc3_control.path_segment import PathSegment
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
 from hdrc3_tst.engine import NodeRecord
 from hdrc3_tst.goal_planning import PlanHandle
@@ -147,6 +148,7 @@ class RecordingSink:
     remote_starts: list[NodeRef] = field(default_factory=list)
     remote_aborts: list[tuple[NodeRef, str]] = field(default_factory=list)
     notes: list[tuple[str, str]] = field(default_factory=list)
+    paths: list[tuple[str, tuple[PathSegment, ...]]] = field(default_factory=list)
 
     def status(self, record: NodeRecord) -> None:
         """Record a state change."""
@@ -167,3 +169,7 @@ class RecordingSink:
     def note(self, node_id: str, text: str) -> None:
         """Record an executor's note."""
         self.notes.append((node_id, text))
+
+    def path(self, node_id: str, segments: tuple[PathSegment, ...]) -> None:
+        """Record a planned path."""
+        self.paths.append((node_id, segments))

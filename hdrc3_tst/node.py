@@ -2,12 +2,12 @@
 
 Services (``~/create``, ``~/execute``, ``~/abort``, ``~/pause``, ``~/set``, ``~/query``)
 answer with a ``TstReturn`` code and reason; nothing a caller sends crashes the node. Node state
-changes go to ``/<agent>/tst_status`` and execution flags to ``/<agent>/execution_flags`` (both
-recorded). A child held by another agent is started through that agent's ``execute`` service and
-followed on its status topic. The engines tick on a steady 20 Hz timer and whenever a command's
-state changes, with the sim time of ``/clock``. Fly-to plans its path with
-``/<agent>/path_planner`` and replans when that planner's world model changes (parameter
-``path_planner``, default true; false: fly straight).
+changes go to ``/<agent>/tst_status``, execution flags to ``/<agent>/execution_flags`` and every
+path a fly-to plans to ``/<agent>/planned_path`` (all recorded). A child held by another agent is
+started through that agent's ``execute`` service and followed on its status topic. The engines
+tick on a steady 20 Hz timer and whenever a command's state changes, with the sim time of
+``/clock``. Fly-to plans its path with ``/<agent>/path_planner`` and replans when that planner's
+world model changes (parameter ``path_planner``, default true; false: fly straight).
 """
 
 from __future__ import annotations
@@ -30,7 +30,8 @@ from std_msgs.msg import Header
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
-from hdrc3_interfaces.msg import ExecutionFlag, TstNodeStatus, TstReturn
+from hdrc3_control.path_segment import PathSegment
+from hdrc3_interfaces.msg import ExecutionFlag, Path, TstNodeStatus, TstReturn
 from hdrc3_interfaces.srv import (
     Plan,
     TstAbort,
@@ -40,6 +41,7 @@ from hdrc3_interfaces.srv import (
     TstQuery,
     TstSet,
 )
+from hdrc3_navigation.messages import segment_to_msg
 from hdrc3_platform_server.geo_frame import frame_from_world
 from hdrc3_tst.check import CheckStatus, load_text
 from hdrc3_tst.distribution import involved_agents, parse_fix, parse_value
@@ -113,6 +115,9 @@ class _Sink:
     def note(self, node_id: str, text: str) -> None:
         self._manager.get_logger().info(f"{self._mission}/{node_id}: {text}")
 
+    def path(self, node_id: str, segments: tuple[PathSegment, ...]) -> None:
+        self._manager.publish_path(segments)
+
 
 class _Planner:
     """The ``task_planner`` service of this agent as the engine's planner port."""
@@ -166,6 +171,7 @@ class TstManagerNode(Node):
         self.engines: dict[str, ExecutionEngine] = {}
         self._status_pub = self.create_publisher(TstNodeStatus, "tst_status", STATUS_QOS)
         self._flag_pub = self.create_publisher(ExecutionFlag, "execution_flags", STATUS_QOS)
+        self._path_pub = self.create_publisher(Path, "planned_path", STATUS_QOS)
         self._followed: set[str] = set()
         self._peers: dict[tuple[str, str], Any] = {}
         self._waiting: list[_PeerCall] = []
@@ -377,6 +383,12 @@ class TstManagerNode(Node):
                 executing=executing,
             )
         )
+
+    def publish_path(self, segments: tuple[PathSegment, ...]) -> None:
+        """Publish a path an executor planned (local ENU of the world's origin)."""
+        header = _header(self.get_clock().now().to_msg())
+        header.frame_id = "world_enu"
+        self._path_pub.publish(Path(header=header, segments=[segment_to_msg(s) for s in segments]))
 
     # --- other agents -------------------------------------------------------------------
     def _follow(self, agent: str) -> None:

@@ -249,6 +249,7 @@ class PlannedFlight:
         if not result.ok:
             return failed(f"path planner: {result.status.value}: {result.reason}")
         self.todo = list(result.segments)
+        self.ctx.paths.append(result.segments)
         self.ctx.notes.append(
             f"planned {len(result.segments)} segments, {result.length:.0f} m "
             f"in {result.planning_time * 1e3:.0f} ms"
@@ -294,6 +295,7 @@ class PlannedFlight:
             self.revision = RECHECK  # path following moved on meanwhile: check again from there
             return None
         segments = list(result.segments)
+        self.ctx.paths.append(result.segments)
         self.ctx.notes.append(
             f"replanned {len(segments)} segments, {result.length:.0f} m "
             f"in {result.planning_time * 1e3:.0f} ms"

@@ -5,7 +5,8 @@
 west of the town, ``hdrc3 path gis add-zone`` closes a strip across its way. The recorded ground
 truth of the flight is then checked with the independent audit (shapely footprints and heights):
 it never comes near a building or the terrain, never enters the new zone or the fire training
-ground, and the PFC never safety-braked.
+ground, and the PFC never safety-braked. Every path the TST manager planned (``planned_path``) is
+checked the same way, with the planner's margin.
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ CLOSURE = [(150.0, -110.0), (175.0, -110.0), (175.0, 60.0), (150.0, 60.0)]
 """A strip across the east of the town (east 150-175 m, north -110..60 m): the way east."""
 ADD_WHEN_EAST_OF = -150.0
 """The zone is declared once the aircraft flies east of this (m): well before the strip."""
+MARGIN = 6.0
+"""The path planner's safety margin (default)."""
 CLEARANCE = 2.0
 """Least distance of the flown track to a building, trees or the terrain (planner margin 6 m)."""
 WAIT_S = 600.0
@@ -60,6 +63,7 @@ def test_a_fly_to_across_revinge_replans_around_a_zone_declared_in_flight(
     from rclpy.node import Node
 
     from hdrc3_navigation.audit import WorldAudit
+    from hdrc3_navigation.messages import segment_from_msg
     from hdrc3_platform_server.geo_frame import frame_from_world
     from sim.world_loader import load_world
 
@@ -89,8 +93,9 @@ def test_a_fly_to_across_revinge_replans_around_a_zone_declared_in_flight(
     assert "mission cross succeeded" in text
 
     messages = recorded(
-        out / "run.mcap", "/tst_status", "/uav0/ground_truth/state", "/uav0/platform_events"
-    )
+        out / "run.mcap",
+        "/tst_status", "/uav0/ground_truth/state", "/uav0/platform_events", "/uav0/planned_path",
+    )  # fmt: skip
     final = {s.node_id: s for s in messages["/tst_status"] if s.mission == "cross"}
     cross = final["cross"]  # times are mission seconds; the stamp is the sim time of the end
     end = stamp_s(cross.header.stamp)
@@ -105,6 +110,13 @@ def test_a_fly_to_across_revinge_replans_around_a_zone_declared_in_flight(
     assert WorldAudit(world, zones).check_points(track, CLEARANCE) == []
     assert track[:, 0].max() > 250.0  # it crossed the town to the east edge
     assert np.linalg.norm(track[-1] - np.array([275.0, 20.0, 20.0])) < 10.0
+    # every planned path clears the world by the planner's margin; every replan the new zone too
+    paths = [[segment_from_msg(m) for m in p.segments] for p in messages["/uav0/planned_path"]]
+    assert len(paths) >= 2, "one plan, then at least one replan"
+    first, *replans = paths
+    assert WorldAudit(world).check_segments(first, MARGIN - 0.1) == []
+    for path in replans:
+        assert WorldAudit(world, zones).check_segments(path, MARGIN - 0.1) == []
     reasons = [e.reason for e in messages["/uav0/platform_events"]]
     assert not [r for r in reasons if "safety braking" in r], reasons
     replans = [line for line in run.lines if "cross/cross: replan" in line or "stop: " in line]

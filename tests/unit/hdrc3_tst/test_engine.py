@@ -347,3 +347,4 @@ def test_an_executors_notes_reach_the_sink_and_fly_to_uses_the_agents_planner() 
     assert [c.command for c in rig.platform.sent] == [FclCommand.TRAJ3D]
     assert nav.requests[0].start == (0.0, 0.0, 30.0)
     assert [(n, t.split(" ")[0]) for n, t in rig.sink.notes] == [("m", "planned")]
+    assert [(n, len(p)) for n, p in rig.sink.paths] == [("m", 1)]
