@@ -14,10 +14,10 @@ not zero (more segments follow). A segment offered while another is pending repl
 the executor replans the part not yet flown): the same continuity check against the segment in
 flight, the velocity profile rebuilt for the new successor, refused when the aircraft could no
 longer slow down to the new segment's entry speed with the braking deceleration. Once the follower
-has switched to the pending segment, an offer is simply the next segment. If the next segment has not arrived by the time the braking
-distance requires (the timeout, recomputed every tick from the profile, the position and the
-speed), it brakes to a stop at the end of the current segment (SAFETY_BRAKING, then STOPPED).
-The last segment ends with ARRIVED within 3 m of its end point.
+has switched to the pending segment, an offer is simply the next segment. If the next segment has
+not arrived by the time the braking distance requires (the timeout, recomputed every tick from the
+profile, the position and the speed), it brakes to a stop at the end of the current segment
+(SAFETY_BRAKING, then STOPPED). The last segment ends with ARRIVED within 3 m of its end point.
 """
 
 from __future__ import annotations

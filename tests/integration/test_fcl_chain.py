@@ -1,13 +1,13 @@
 """The whole chain: FCL service -> DRC (platform_server) -> PFC automata (control_kernel) -> sim.
 
-One flight through the FCL services over real DDS, as a TST executor would fly it, with the
-Platform Server's client (``PlatformClient``) and the demo mission's path streaming: take-off, a
-fly-to (a second command meanwhile answers FCL_BUSY), a path streamed on the PFC's segment
-requests, a path whose next segment never comes (safety braking), a GPS outage (dead reckoning)
-and a landing with engine shutdown; a queued segment replaced before it is flown (issue 13). Then ``hdrc3 demo --short`` as a subprocess. Outcomes are read
-from the stack's outputs (FCL answers, platform events, the Data Interface); ground truth only for
-what the stack cannot see (its own position error on dead reckoning, the engine). Every wait is
-bounded in wall time; the conditions are in sim time.
+One flight through the FCL services over real DDS, as a TST executor would fly it, with the Platform
+Server's client (``PlatformClient``) and the demo mission's path streaming: take-off, a fly-to (a
+second command meanwhile answers FCL_BUSY), a path streamed on the PFC's segment requests, a path
+whose next segment never comes (safety braking), a GPS outage (dead reckoning) and a landing with
+engine shutdown; a queued segment replaced before it is flown (issue 13). Then ``hdrc3 demo
+--short`` as a subprocess. Outcomes are read from the stack's outputs (FCL answers, platform events,
+the Data Interface); ground truth only for what the stack cannot see (its own position error on dead
+reckoning, the engine). Every wait is bounded in wall time; the conditions are in sim time.
 """
 
 from __future__ import annotations
