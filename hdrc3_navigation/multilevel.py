@@ -165,7 +165,7 @@ def replace_curves(
 
 
 def eliminate(
-    points: NDArray[np.float64], smooth: list[bool], checks: Checks, start: Direction = None
+    points: NDArray[np.float64], smooth: list[bool], checks: Checks
 ) -> tuple[NDArray[np.float64], list[bool]]:
     """Node elimination: drop nodes whose neighbours connect directly (curves included)."""
     pts, flags = points, list(smooth)
@@ -175,7 +175,7 @@ def eliminate(
             cand = np.delete(pts, k, axis=0)
             cand_flags = flags[:k] + flags[k + 1 :]
             lo, hi = max(0, k - 2), min(len(cand) - 2, k)
-            if all(_curve_ok(cand, cand_flags, i, checks, start) for i in range(lo, hi + 1)):
+            if all(_curve_ok(cand, cand_flags, i, checks) for i in range(lo, hi + 1)):
                 pts, flags = cand, cand_flags
                 continue
         k += 1
