@@ -1,12 +1,13 @@
 """Path planner figures on revinge (issue 13 targets; chapter 7.1: mean below 1000 ms).
 
-Prints: roadmap build time and size (built fresh in a temporary cache); for ``--queries``
-random feasible queries (start and goal clear of obstacles and no-fly zones, 8-45 m up) the
-PRM query mean/p95 planning time and success; RRT-Connect success within 1 s; PRM+RRT with a
-random query-time no-fly zone (a 30-80 m rectangle that leaves start and goal outside) success
-and mean; and, on ``--ref-queries`` of them, the ratio of the PRM path length (smoothed cubic
-segments) to the best path of a long offline run (OMPL RRT* with the path-length objective for
-``--ref-time`` s, then OMPL's ``simplifyMax``), both under the same world no-fly zone.
+Prints: roadmap build time and size (built fresh in a temporary cache); for ``--queries`` random
+feasible queries (start and goal clear of obstacles and no-fly zones, 8-45 m up) the PRM query
+mean/p95 planning time and success; the same with a random horizontal start direction (a replan
+joining the segment in flight; NO_PATH when it cannot be joined); RRT-Connect success within 1 s;
+PRM+RRT with a random query-time no-fly zone (a 30-80 m rectangle that leaves start and goal
+outside) success and mean; and, on ``--ref-queries`` of them, the ratio of the PRM path length
+(smoothed cubic segments) to the best path of a long offline run (OMPL RRT* with the path-length
+objective for ``--ref-time`` s, then OMPL's ``simplifyMax``), both under the same world no-fly zone.
 
 Run: .venv/bin/python bench/path_planning.py [--queries 200] [--ref-queries 20] [--ref-time 30]
 """
@@ -130,6 +131,18 @@ def main() -> None:
             for a, b in pairs
         ]
         summary("PRM", prm)
+        turn = np.random.default_rng(args.seed + 1)  # the other figures keep their draws
+        joined = []
+        for a, b in pairs:
+            heading = float(turn.uniform(0.0, 2.0 * np.pi))
+            direction = (float(np.sin(heading)), float(np.cos(heading)), 0.0)
+            request = PlanRequest(
+                a, b, 10.0, planner=PlannerKind.PRM, timeout=5.0, start_direction=direction
+            )
+            joined.append(planner.plan(request))
+        summary("PRM, random start direction", joined)
+        stops = statistics.fmean(r.hover_stops for r in joined if r.ok)
+        print(f"  hover stops per path: {stops:.2f}", flush=True)
         rrt = [
             planner.plan(PlanRequest(a, b, 10.0, planner=PlannerKind.RRT, timeout=1.0))
             for a, b in pairs

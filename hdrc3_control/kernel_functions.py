@@ -39,6 +39,16 @@ _POSE = struct.Struct("<4d")
 YAW_TOLERANCE = math.radians(5.0)
 YAW_RATE_SETTLED = 0.1
 """rad/s: heading counts as reached when the error and the yaw rate are this small."""
+OFFER_REFUSALS: dict[OfferStatus, str] = {
+    OfferStatus.TOO_LATE: "too late: safety braking engaged or path finished",
+    OfferStatus.DISCONTINUOUS: "segment does not start where the current one ends",
+    OfferStatus.NOT_EXPECTED: "the current segment ends with zero velocity",
+    OfferStatus.TOO_LATE_TO_REPLACE: (
+        "too late to replace the queued segment: its replacement needs a lower entry speed "
+        "than the aircraft can still brake to"
+    ),
+}
+"""Reasons of the Cmd-Rejected-EV that answers a next segment the PFCM refuses."""
 
 
 def pack_pose(position: Vec3, heading: float) -> bytes:
@@ -313,18 +323,17 @@ class Traj3DFunction(_PathBase):
         except ConfigError as exc:
             self.ctx.post("Fn-Offer-Refused-EV", encode(cid, (), str(exc)))
             return
+        replaced = self.follower.pending
         status = self.follower.offer(segment)
-        if status is OfferStatus.ACCEPTED:
+        if status is OfferStatus.REPLACED and replaced is not None:
+            # Traj3D (C.18) ends the dropped segment: its one final reply to the DRC
+            reason = f"replaced by segment {cid}"
+            self.ctx.post("Fn-Offer-Replaced-EV", encode(replaced.segment_id, (), reason))
+        if status in (OfferStatus.ACCEPTED, OfferStatus.REPLACED):
             # the whole payload: Traj3D (C.8) keeps it, C.10 makes it Command-DO once flown
             self.ctx.post("Fn-Offer-Ok-EV", data)
         else:
-            reason = {
-                OfferStatus.BUSY: "a next segment is already queued",
-                OfferStatus.TOO_LATE: "too late: safety braking engaged or path finished",
-                OfferStatus.DISCONTINUOUS: "segment does not start where the current one ends",
-                OfferStatus.NOT_EXPECTED: "the current segment ends with zero velocity",
-            }[status]
-            self.ctx.post("Fn-Offer-Refused-EV", encode(cid, (), reason))
+            self.ctx.post("Fn-Offer-Refused-EV", encode(cid, (), OFFER_REFUSALS[status]))
 
     def single_segment(self, memory: MemoryBank) -> bool:
         """Single-Segment-CO: the first segment ends with zero velocity."""

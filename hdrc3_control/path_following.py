@@ -10,10 +10,14 @@ target speed capped by V = sqrt(|phi_max g R|) and by braking to the segment's e
 
 Segment handling: the follower takes one segment as its input and holds at most one pending next
 segment. It raises REQUEST_SEGMENT as soon as it accepts a segment as input whose end velocity is
-not zero (more segments follow). If the next segment has not arrived by the time the braking
-distance requires (the timeout, recomputed every tick from the profile, the position and the
-speed), it brakes to a stop at the end of the current segment (SAFETY_BRAKING, then STOPPED).
-The last segment ends with ARRIVED within 3 m of its end point.
+not zero (more segments follow). A segment offered while another is pending replaces it (issue 13:
+the executor replans the part not yet flown): the same continuity check against the segment in
+flight, the velocity profile rebuilt for the new successor, refused when the aircraft could no
+longer slow down to the new segment's entry speed with the braking deceleration. Once the follower
+has switched to the pending segment, an offer is simply the next segment. If the next segment has
+not arrived by the time the braking distance requires (the timeout, recomputed every tick from the
+profile, the position and the speed), it brakes to a stop at the end of the current segment
+(SAFETY_BRAKING, then STOPPED). The last segment ends with ARRIVED within 3 m of its end point.
 """
 
 from __future__ import annotations
@@ -70,14 +74,17 @@ class OfferStatus(enum.Enum):
     """Answer to :meth:`PathFollower.offer`."""
 
     ACCEPTED = "accepted"
-    BUSY = "busy"
-    """A next segment is already pending."""
+    REPLACED = "replaced"
+    """Accepted in place of the pending next segment, which is dropped (never flown)."""
     TOO_LATE = "too_late"
     """Safety braking already engaged (or the path finished): hover first, then start anew."""
     DISCONTINUOUS = "discontinuous"
     """The segment does not start where the current one ends."""
     NOT_EXPECTED = "not_expected"
     """The current segment ends with zero velocity: no next segment is expected."""
+    TOO_LATE_TO_REPLACE = "too_late_to_replace"
+    """The replacement needs a lower entry speed than the aircraft can still brake to; the
+    pending segment stays."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,6 +110,9 @@ class PathFollowingConfig:
     """Below this reference speed the heading is held instead of following the tangent, m/s."""
     lookahead_time: float = 1.0
     """The speed reference anticipates profile reductions this far ahead (velocity-loop lag), s."""
+    replace_speed_tolerance: float = 0.5
+    """A replacement is refused when the speed reference exceeds the new profile's speed at the
+    control point by more than this (it would need more than the braking deceleration), m/s."""
 
     def __post_init__(self) -> None:
         """Reject non-positive parameters."""
@@ -187,20 +197,23 @@ class PathFollower:
         self._take(segment, state.position)
 
     def offer(self, segment: PathSegment) -> OfferStatus:
-        """Hand the next segment over (Traj3D-EV while running)."""
+        """Hand the next segment over (Traj3D-EV while running); it replaces a pending one."""
         cur = self._current
         if cur is None or self._status is not PathStatus.FOLLOWING:
             return OfferStatus.TOO_LATE
         if cur.end_velocity <= 0.0:
             return OfferStatus.NOT_EXPECTED
-        if self._pending is not None:
-            return OfferStatus.BUSY
         gap = float(np.linalg.norm(np.array(segment.start) - np.array(cur.end)))
         if gap > self.config.continuity_tolerance:
             return OfferStatus.DISCONTINUOUS
-        self._pending = segment
-        self._profile = self._build(cur, segment)
-        return OfferStatus.ACCEPTED
+        profile = self._build(cur, segment)
+        if self._pending is None:
+            self._pending, self._profile = segment, profile
+            return OfferStatus.ACCEPTED
+        if self._speed_cmd > profile.speed_at(self._s) + self.config.replace_speed_tolerance:
+            return OfferStatus.TOO_LATE_TO_REPLACE
+        self._pending, self._profile = segment, profile
+        return OfferStatus.REPLACED
 
     def update(self, state: EstimatedState, now: float) -> PathOutput:
         """One 50 Hz tick of the PFCM."""

@@ -7,12 +7,19 @@ end tangents follow the neighbours; a waypoint where a cubic does not fit become
 corner with straight pieces); node elimination (drop a node when its neighbours connect
 directly, curves included). Segment target and end velocities come from the requested speed and
 the curvature limit ``V = sqrt(phi_max g R)`` of :mod:`hdrc3_control.velocity_profile`.
+
+A fixed start direction (a replan that joins the segment the aircraft is flying, whose end tangent
+it is) makes the first segment's start tangent that direction: the start cannot be a corner. The
+first cubic must then pass the curve check and be regular (no loop, no cusp: no turn tighter than
+:data:`JOIN_MIN_RADIUS`, ``|p'(s)|`` at least a quarter of the chord); if it does not, a waypoint
+:data:`JOIN_STEPS` metres along the direction is tried before the rest of the path (straight pieces
+to it and on from it checked); if nothing fits, :func:`multilevel` answers None.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +34,13 @@ CurveTest = Callable[[NDArray[np.float64]], bool]
 SAMPLE_SPACING = 3.0
 """Curves are checked as polylines with pieces of at most this length, m."""
 _CURVATURE_SAMPLES = 17
+JOIN_STEPS = (20.0, 10.0, 5.0)
+"""Distances along a fixed start direction where a joining waypoint is tried, in this order, m:
+the longest first, the gentlest join (where the waypoint becomes a hover stop, the least
+braking); the first that joins is taken."""
+JOIN_MIN_RADIUS = 5.0
+"""Tightest turn of the first segment from a fixed start direction, m (no cusps or loops)."""
+_JOIN_SAMPLES = 65
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,9 +63,19 @@ def align(points: NDArray[np.float64], checks: Checks) -> NDArray[np.float64]:
     return out
 
 
+Direction = NDArray[np.float64] | None
+"""A fixed start direction of the path (None: free)."""
+
+
 def _direction(
-    points: NDArray[np.float64], k: int, smooth: Sequence[bool], incoming: bool
+    points: NDArray[np.float64],
+    k: int,
+    smooth: Sequence[bool],
+    incoming: bool,
+    start: Direction = None,
 ) -> NDArray[np.float64]:
+    if k == 0 and start is not None:
+        return start
     if smooth[k]:
         out: NDArray[np.float64] = points[k + 1] - points[k - 1]
     elif incoming:
@@ -62,10 +86,14 @@ def _direction(
 
 
 def _segment(
-    points: NDArray[np.float64], smooth: Sequence[bool], i: int, speed: float = 1.0
+    points: NDArray[np.float64],
+    smooth: Sequence[bool],
+    i: int,
+    speed: float = 1.0,
+    start: Direction = None,
 ) -> PathSegment:
     a, b = points[i], points[i + 1]
-    d0 = _direction(points, i, smooth, incoming=False)
+    d0 = _direction(points, i, smooth, incoming=False, start=start)
     d1 = _direction(points, i + 1, smooth, incoming=True)
     return PathSegment(
         tuple(map(float, a)),  # type: ignore[arg-type]
@@ -87,13 +115,40 @@ def sample(segment: PathSegment) -> NDArray[np.float64]:
     return out
 
 
-def _curve_ok(points: NDArray[np.float64], smooth: Sequence[bool], i: int, checks: Checks) -> bool:
+def _curve_ok(
+    points: NDArray[np.float64],
+    smooth: Sequence[bool],
+    i: int,
+    checks: Checks,
+    start: Direction = None,
+) -> bool:
+    if i == 0 and start is not None:
+        seg = _segment(points, smooth, 0, start=start)
+        return _regular(seg) and checks.curve(sample(seg))
     if not (smooth[i] or smooth[i + 1]):
         return True  # straight piece between corners: valid since the linear path is
     return checks.curve(sample(_segment(points, smooth, i)))
 
 
-def replace_curves(points: NDArray[np.float64], checks: Checks) -> list[bool]:
+def _regular(segment: PathSegment) -> bool:
+    """No loop or cusp in a joining cubic.
+
+    No turn tighter than JOIN_MIN_RADIUS, and ``|p'(s)|`` stays above a quarter of the chord (it
+    falls to 0 where the curve turns back).
+    """
+    chord = math.dist(segment.start, segment.end)
+    for x in np.linspace(0.0, 1.0, _JOIN_SAMPLES):
+        s = float(x)
+        if float(np.linalg.norm(segment.derivative(s))) < 0.25 * chord:
+            return False
+        if segment.curvature(s) * JOIN_MIN_RADIUS > 1.0:
+            return False
+    return True
+
+
+def replace_curves(
+    points: NDArray[np.float64], checks: Checks, start: Direction = None
+) -> list[bool]:
     """Curve replacement: which waypoints are smooth (True) and which are hover corners."""
     n = len(points)
     smooth = [0 < k < n - 1 for k in range(n)]
@@ -101,7 +156,7 @@ def replace_curves(points: NDArray[np.float64], checks: Checks) -> list[bool]:
     while changed:
         changed = False
         for i in range(n - 1):
-            if not _curve_ok(points, smooth, i, checks):
+            if not _curve_ok(points, smooth, i, checks, start):
                 for k in (i, i + 1):
                     if smooth[k]:
                         smooth[k] = False
@@ -142,9 +197,10 @@ def segments_with_velocities(
     smooth: Sequence[bool],
     speed: float,
     limits: ProfileLimits,
+    start: Direction = None,
 ) -> Smoothed:
     """Cubic segments with target velocities (speed, curvature) and end velocities."""
-    raw = [_segment(points, smooth, i) for i in range(len(points) - 1)]
+    raw = [_segment(points, smooth, i, start=start) for i in range(len(points) - 1)]
     cruise = min(speed, limits.max_speed)
     s = np.linspace(0.0, 1.0, _CURVATURE_SAMPLES)
     targets, starts, ends = [], [], []
@@ -170,15 +226,43 @@ def segments_with_velocities(
 
 
 def multilevel(
-    points: NDArray[np.float64], checks: Checks, speed: float, limits: ProfileLimits
-) -> Smoothed:
-    """Linear path -> alignment -> curve replacement -> elimination -> segments."""
-    pts = _dedupe(points)
-    pts = align(pts, checks)
-    smooth = replace_curves(pts, checks)
-    pts, smooth = eliminate(pts, smooth, checks)
-    smooth = replace_curves(pts, checks)
-    return segments_with_velocities(pts, smooth, speed, limits)
+    points: NDArray[np.float64],
+    checks: Checks,
+    speed: float,
+    limits: ProfileLimits,
+    start_direction: NDArray[np.float64] | None = None,
+) -> Smoothed | None:
+    """Linear path -> alignment -> curve replacement -> elimination -> segments.
+
+    With ``start_direction`` (non-zero) the first segment leaves the start along it; None when no
+    first segment along it fits (with or without a joining waypoint). Without it, never None.
+    """
+    pts = align(_dedupe(points), checks)
+    pts, _ = eliminate(pts, replace_curves(pts, checks), checks)
+    if start_direction is None:
+        return segments_with_velocities(pts, replace_curves(pts, checks), speed, limits)
+    # the start direction only changes the first segment: join it (the same alignment and
+    # elimination), then curve replacement once more with it, for each way of joining
+    direction = start_direction / float(np.linalg.norm(start_direction))
+    for candidate in _join_candidates(pts, direction, checks):
+        smooth = replace_curves(candidate, checks, direction)
+        if _curve_ok(candidate, smooth, 0, checks, direction):
+            return segments_with_velocities(candidate, smooth, speed, limits, direction)
+    return None
+
+
+def _join_candidates(
+    pts: NDArray[np.float64], direction: NDArray[np.float64], checks: Checks
+) -> Iterator[NDArray[np.float64]]:
+    """The path as it is, then with a waypoint JOIN_STEPS along the direction after the start."""
+    yield pts
+    p0, p1 = pts[0], pts[1]
+    for step in JOIN_STEPS:
+        q = p0 + step * direction
+        if float(np.linalg.norm(p1 - q)) < 0.5:
+            continue
+        if checks.line(p0, q) and checks.line(q, p1):
+            yield np.insert(pts, 1, q, axis=0)
 
 
 def _dedupe(points: NDArray[np.float64]) -> NDArray[np.float64]:

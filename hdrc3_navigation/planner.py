@@ -10,6 +10,7 @@ from __future__ import annotations
 import enum
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -22,7 +23,7 @@ from hdrc3_control.velocity_profile import ProfileLimits
 from hdrc3_navigation.constraints import ConstraintChecker, Constraints
 from hdrc3_navigation.cost import Criterion, FlightModel
 from hdrc3_navigation.gis import DEFAULT_MARGIN, Gis, Point3
-from hdrc3_navigation.multilevel import Checks, Smoothed, multilevel, sample
+from hdrc3_navigation.multilevel import JOIN_STEPS, Checks, Smoothed, multilevel, sample
 from hdrc3_navigation.ompl_space import OmplSpace
 from hdrc3_navigation.roadmap import DEFAULT_NODES, Roadmap, RoadmapCache, default_cache_dir
 from hdrc3_navigation.rrt import rrt_connect
@@ -70,8 +71,8 @@ class PlanRequest:
     """Seconds; the query answers TIMEOUT when it runs out."""
     criterion: Criterion = Criterion.LENGTH
     start_direction: Vec3 | None = None
-    """Tangent the first segment must leave the start with (a replan joining the segment in
-    flight); None: free."""
+    """The first segment's start tangent (a replan joins the segment in flight, whose end
+    tangent it is); None or the zero vector: free."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -169,6 +170,15 @@ class PathPlanner:
             return PlanResult(PlanStatus.INVALID, "; ".join(problems))
         if math.dist(request.start, request.goal) < 0.5:
             return PlanResult(PlanStatus.INVALID, "start and goal are closer than 0.5 m")
+        direction = request.start_direction
+        if direction is not None and not (
+            isinstance(direction, (tuple, list))
+            and len(direction) == 3
+            and all(isinstance(v, (int, float)) and math.isfinite(v) for v in direction)
+        ):
+            return PlanResult(
+                PlanStatus.INVALID, f"start_direction must be three finite numbers, got {direction}"
+            )
         return None
 
     def _check_ends(self, request: PlanRequest, checker: ConstraintChecker) -> PlanResult | None:
@@ -232,7 +242,18 @@ class PathPlanner:
                 )
             return _timed(PlanResult(PlanStatus.NO_PATH, reason), t0, request.planner)
         waypoints, reconnected = found
-        smoothed = multilevel(waypoints, self._checks(checker), request.speed, self.limits)
+        direction = _start_direction(request)
+        smoothed = multilevel(
+            waypoints, self._checks(checker), request.speed, self.limits, direction
+        )
+        if smoothed is None:
+            steps = ", ".join(f"{v:g}" for v in JOIN_STEPS)
+            reason = (
+                f"the start direction {_fmt(request.start_direction or ())} cannot be joined: "
+                f"neither a cubic from the start along it nor one through a waypoint {steps} m "
+                "along it is clear"
+            )
+            return _timed(PlanResult(PlanStatus.NO_PATH, reason), t0, request.planner)
         return _timed(self._result(smoothed, reconnected), t0, request.planner)
 
     def _checks(self, checker: ConstraintChecker) -> Checks:
@@ -376,5 +397,13 @@ def _timed(result: PlanResult, t0: float, planner: PlannerKind) -> PlanResult:
     )
 
 
-def _fmt(p: Point3) -> str:
+def _start_direction(request: PlanRequest) -> NDArray[np.float64] | None:
+    """The validated start direction as a vector; None when free (absent or zero)."""
+    if request.start_direction is None:
+        return None
+    direction = np.array(request.start_direction, float)
+    return None if float(np.linalg.norm(direction)) < 1e-9 else direction
+
+
+def _fmt(p: Sequence[float]) -> str:
     return "(" + ", ".join(f"{v:.1f}" for v in p) + ")"

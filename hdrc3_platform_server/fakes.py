@@ -12,6 +12,8 @@ from collections import deque
 from dataclasses import dataclass, field, replace
 
 from hdrc3_control.event_codec import decode, encode, encode_values
+from hdrc3_control.kernel_functions import OFFER_REFUSALS
+from hdrc3_control.path_following import OfferStatus
 from hdrc3_control.pfc_state import FlightMode
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.transport import LoopbackNetwork, Transport
@@ -76,7 +78,8 @@ class FakePfc:
         self.quiet_last_segment = False
         """True: no Request-Segment-EV when a stopping (last) segment starts (a real PFC may)."""
         self.replace_queued = True
-        """False: refuse a segment while a next one is queued (as the PFC does today)."""
+        """False: refuse a segment while a next one is queued (as the PFC does when the aircraft
+        is too close to the end of its segment to brake for the replacement)."""
         self.reject_next: str | None = None
         """If set, the next command is rejected with this reason (a race the DRC cannot see)."""
 
@@ -185,9 +188,13 @@ class FakePfc:
         job = self.job
         assert job is not None
         if job.queue and not self.replace_queued:
-            self._send("Cmd-Rejected-EV", cid, "a next segment is already queued")
+            refusal = OFFER_REFUSALS[OfferStatus.TOO_LATE_TO_REPLACE]
+            self._send("Cmd-Rejected-EV", cid, refusal)
             return
-        job.queue.clear()  # a queued, not yet flown segment is replaced
+        # a queued, not yet flown segment is replaced: it ends as the PFC ends it (Traj3D C.18)
+        for old, _, _ in job.queue:
+            self._send("Cmd-Cancelled-EV", old, f"replaced by segment {cid}")
+        job.queue.clear()
         job.queue.append((cid, v[13], (v[3], v[4], v[5])))
         self._send("Cmd-Accepted-EV", cid)
 

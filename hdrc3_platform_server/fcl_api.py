@@ -280,8 +280,10 @@ class FlightCommandLayer:
         self.kernel.post(event, encode(cid, numbers))
         if event in self.kernel.step(now).unconsumed:  # the path is over: Flight left Path
             return FclAnswer(FclCode.BUSY, self.busy_with() or "the path has ended")
-        # A replaced segment is cancelled once the PFC takes the new one (Cmd-Accepted-EV or
-        # Request-Segment-EV); if the PFC refuses the replacement, the old one stays queued.
+        # The PFC ends a replaced segment itself (Cmd-Cancelled-EV "replaced by segment N",
+        # Traj3D C.18) before it accepts the new one; should only the new one's Cmd-Accepted-EV or
+        # Request-Segment-EV come, the old one is cancelled then, with the same reason. If the PFC
+        # refuses the replacement, the old one stays queued.
         cur.segments.append(cid)
         cur.end_velocity[cid] = numbers[-1]
         cur.progress[cid] = _Seg.SENT

@@ -1,13 +1,13 @@
 """The whole chain: FCL service -> DRC (platform_server) -> PFC automata (control_kernel) -> sim.
 
-One flight through the FCL services over real DDS, as a TST executor would fly it, with the
-Platform Server's client (``PlatformClient``) and the demo mission's path streaming: take-off, a
-fly-to (a second command meanwhile answers FCL_BUSY), a path streamed on the PFC's segment
-requests, a path whose next segment never comes (safety braking), a GPS outage (dead reckoning)
-and a landing with engine shutdown. Then ``hdrc3 demo --short`` as a subprocess. Outcomes are read
-from the stack's outputs (FCL answers, platform events, the Data Interface); ground truth only for
-what the stack cannot see (its own position error on dead reckoning, the engine). Every wait is
-bounded in wall time; the conditions are in sim time.
+One flight through the FCL services over real DDS, as a TST executor would fly it, with the Platform
+Server's client (``PlatformClient``) and the demo mission's path streaming: take-off, a fly-to (a
+second command meanwhile answers FCL_BUSY), a path streamed on the PFC's segment requests, a path
+whose next segment never comes (safety braking), a GPS outage (dead reckoning) and a landing with
+engine shutdown; a queued segment replaced before it is flown (issue 13). Then ``hdrc3 demo
+--short`` as a subprocess. Outcomes are read from the stack's outputs (FCL answers, platform events,
+the Data Interface); ground truth only for what the stack cannot see (its own position error on dead
+reckoning, the engine). Every wait is bounded in wall time; the conditions are in sim time.
 """
 
 from __future__ import annotations
@@ -465,3 +465,62 @@ def test_gps_loss_holds_and_hovers_when_back(chain: Chain) -> None:
     assert horizontal_speed(after[-1]) < 1.0 and abs(c.enu(after[-1])[2] - ALTITUDE) < 2.0
     assert len(failsafe_events(c)) == 2  # no emergency landing after all
     assert [e.kind for e in terminal_events(c, cid)] == [EventKind.FAILED]
+
+
+# --- path execution (issue 13): a queued segment replaced before the PFC flies it
+
+
+@pytest.mark.slow
+def test_a_queued_segment_is_replaced_before_it_is_flown(chain: Chain) -> None:
+    from hdrc3.demo_mission import segment_msg
+    from hdrc3_control.path_segment import PathSegment
+    from hdrc3_interfaces.msg import FclReturn
+    from hdrc3_interfaces.srv import FclTraj3d
+    from hdrc3_platform_server.codes import EventKind
+
+    c = chain
+    pad = airborne(c)
+    start = (pad[0], pad[1], ALTITUDE)
+    mid = (pad[0] + 60.0, pad[1], ALTITUDE)
+    first = PathSegment.straight(start, mid, 6.0, 6.0)
+    second = PathSegment.straight(mid, (mid[0] + 40.0, mid[1], ALTITUDE), 6.0, 0.0)
+    third = PathSegment(  # a gentle left turn instead of going on east
+        mid, (mid[0] + 30.0, mid[1] + 30.0, ALTITUDE), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), 6.0, 0.0
+    )
+
+    def send(seg: PathSegment) -> int:
+        answer = c.fcl(
+            FclTraj3d,
+            "traj3d",
+            segment=segment_msg(seg),
+            velocity=seg.target_velocity,
+            end_velocity=seg.end_velocity,
+        )
+        assert answer.code == FclReturn.FCL_OK, answer.reason
+        return int(answer.command_id)
+
+    def requested(cid: int) -> bool:
+        return any(e.kind is EventKind.SEGMENT_REQUEST for e in c.events_of(cid))
+
+    c1 = send(first)
+    c.wait(lambda: requested(c1), 30.0, "the request for the second segment")
+    sent_at = stamp_s(c.states[-1].pfc_time)
+    c2 = send(second)
+    c3 = send(third)  # 60 m at 6 m/s: the PFCM is still on the first segment
+    replaced = c.final(c2, 30.0)
+    assert (replaced.kind, replaced.reason) == (EventKind.CANCELLED, f"replaced by segment {c3}")
+    done = c.final(c3, 120.0)
+    assert done.kind is EventKind.FINISHED, done
+    c.state_at(done.time + 2.0)  # later events would have come by now: one terminal event each
+    assert [e.kind for e in terminal_events(c, c1)] == [EventKind.FINISHED]
+    assert [e.kind for e in terminal_events(c, c2)] == [EventKind.CANCELLED]
+    assert [e.kind for e in terminal_events(c, c3)] == [EventKind.FINISHED]
+    assert not requested(c2)  # the PFCM never flew it
+    end = c.enu(c.state_at(done.time))
+    print(
+        f"replacement flown: {math.dist(end, third.end):.1f} m from its end, "
+        f"{done.time - sent_at:.1f} s of sim time after it was sent"
+    )
+    assert math.dist(end, third.end) <= 3.0, end
+    assert math.dist(end, second.end) > 30.0
+    assert done.time - sent_at < 40.0  # 60 m + 47 m at 6 m/s: about 20 s

@@ -482,6 +482,46 @@ def test_next_segment_must_continue_the_path(
 
 
 @pytest.mark.parametrize(
+    ("offset", "replaced"),
+    [((0.0, 0.0, 0.0), True), ((5.0, 0.0, 0.0), False)],
+    ids=["continuous: replaced", "discontinuous: refused"],
+)
+def test_a_queued_segment_is_replaced_before_it_is_flown(
+    offset: tuple[float, float, float], replaced: bool
+) -> None:
+    f = airborne_flight()
+    p = f.kernel.state.position  # type: ignore[union-attr]
+    mid = (p[0] + 30.0, p[1], p[2])
+    c1 = f.send_segment(PathSegment.straight(p, mid, 5.0, 5.0))
+    assert f.run_until(lambda: f.reply("Request-Segment-EV", c1) is not None, 5)
+    second = PathSegment.straight(mid, (mid[0] + 40.0, mid[1], p[2]), 5.0, 0.0)
+    c2 = f.send_segment(second)
+    assert f.run_until(lambda: f.reply("Cmd-Accepted-EV", c2) is not None, 2)
+    start = (mid[0] + offset[0], mid[1] + offset[1], mid[2] + offset[2])
+    third = PathSegment(
+        start, (start[0] + 15.0, start[1] + 15.0, p[2]), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), 5.0
+    )
+    c3 = f.send_segment(third)
+    flown, dropped = (c3, c2) if replaced else (c2, c3)
+    assert f.run_until(lambda: finished(f, dropped), 2)
+    assert not finished(f, c1)  # decided before the PFCM left the first segment
+    assert f.run_until(lambda: finished(f, flown), 40)
+    f.run(1.0)  # nothing more for any segment: exactly one final reply each
+    assert [n for n, _ in answers(f, c1)] == FIRST_OF_TWO
+    assert answers(f, flown) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
+    if replaced:
+        assert answers(f, c2) == [
+            ("Cmd-Accepted-EV", ""),
+            ("Cmd-Cancelled-EV", f"replaced by segment {c3}"),
+        ]
+    else:
+        [(name, reason)] = answers(f, c3)
+        assert name == "Cmd-Rejected-EV" and "does not start where" in reason
+    end = (third if replaced else second).end
+    assert math.dist(f.sim.truth(f.agent).position_enu, end) < 3.5
+
+
+@pytest.mark.parametrize(
     ("event", "values", "answer", "reason"),
     [
         ("FCL-Yaw-EV", (), "Cmd-Failed-EV", "bad heading"),

@@ -104,3 +104,61 @@ def test_samples_are_dense_enough_for_the_checks() -> None:
         pts = sample(seg)
         gaps = np.linalg.norm(np.diff(pts, axis=0), axis=1)
         assert gaps.max() <= 3.0 and math.dist(pts[0], seg.start) == 0.0
+
+
+def _unit(v: Sequence[float]) -> np.ndarray:  # type: ignore[type-arg]
+    a = np.array(v, float)
+    return a / np.linalg.norm(a)
+
+
+LINE = np.array([[0.0, 0, 10], [100, 0, 10]])
+# (direction, checks, joining waypoint expected after the start (None: none), hover stops)
+JOINS = {
+    "along the path": ((1.0, 0.0, 0.0), free_space(), None, 0),
+    "sideways: a cubic": ((0.0, 1.0, 0.0), free_space(), None, 0),
+    "climbing: a cubic": ((1.0, 0.0, 0.5), free_space(), None, 0),
+    "backwards: a cusp, so a stop 20 m on": (
+        (-1.0, 0.0, 0.0), free_space(), (-20.0, 0.0, 10.0), 1
+    ),
+    # the sideways cubic swings out to y = 14.8: blocked beyond y = 10.5, so is a waypoint 20 m
+    # on; one 10 m on is clear, but the cubic to it would turn on a 1 m radius: a stop there
+    "sideways, the wide cubic blocked: a stop 10 m on": (
+        (0.0, 1.0, 0.0), forbidden_box((-50, 10.5, 0), (150, 80, 20)), (0.0, 10.0, 10.0), 1
+    ),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize(("direction", "checks", "waypoint", "stops"), JOINS.values(), ids=JOINS)
+def test_the_first_segment_leaves_along_the_start_direction(
+    direction: tuple[float, float, float],
+    checks: Checks,
+    waypoint: tuple[float, float, float] | None,
+    stops: int,
+) -> None:
+    out = multilevel(LINE, checks, 8.0, LIMITS, np.array(direction))
+    assert out is not None
+    first = out.segments[0]
+    assert first.start == tuple(LINE[0]) and out.segments[-1].end == tuple(LINE[-1])
+    assert first.tangent(0.0) == pytest.approx(_unit(direction))
+    assert out.corners == stops
+    if waypoint is None:
+        assert len(out.segments) == 1
+    else:
+        assert first.end == pytest.approx(waypoint)
+    for seg in out.segments:
+        assert checks.curve(np.array([seg.position(s) for s in np.linspace(0, 1, 201)]))
+
+
+@pytest.mark.parametrize(
+    ("direction", "checks"),
+    [
+        ((0.0, 1.0, 0.0), forbidden_box((-30, 2, 0), (30, 30, 20))),
+        ((-1.0, 0.0, 0.0), forbidden_box((-30, -30, 0), (-2, 30, 20))),
+    ],
+    ids=["sideways into a wall", "backwards into a wall"],
+)
+def test_a_start_direction_into_a_wall_cannot_be_joined(
+    direction: tuple[float, float, float], checks: Checks
+) -> None:
+    assert multilevel(LINE, checks, 8.0, LIMITS, np.array(direction)) is None
+    assert multilevel(LINE, checks, 8.0, LIMITS) is not None  # free, the line is fine

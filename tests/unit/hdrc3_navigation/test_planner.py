@@ -196,3 +196,54 @@ def test_prm_rrt_reconnects_a_roadmap_cut_by_a_no_fly_zone(small_world: World, t
     assert both.status is PlanStatus.SOLVED, both.reason
     assert both.reconnected
     assert audit(small_world, both, zones=[("cut", cut, -math.inf, math.inf)]) == []
+
+
+NEAR_WALL, LOW = (-20.0, 0.0, 15.0), (-60.0, 0.0, 7.0)
+# (start, start direction, status, reason); the goal is EAST
+JOINS = {
+    "along the way": (WEST, (1.0, 0.0, 0.0), PlanStatus.SOLVED, ""),
+    "sideways": (WEST, (0.0, 1.0, 0.0), PlanStatus.SOLVED, ""),
+    "climbing": (WEST, (1.0, 0.0, 0.4), PlanStatus.SOLVED, ""),
+    "backwards (a stop 20 m on)": (WEST, (-1.0, 0.0, 0.0), PlanStatus.SOLVED, ""),
+    "straight at the wall 4 m off its margin": (
+        NEAR_WALL, (1.0, 0.0, 0.0), PlanStatus.NO_PATH, "start direction (1.0, 0.0, 0.0) cannot be"
+    ),
+    "down into the ground margin": (
+        LOW, (0.0, 0.0, -1.0), PlanStatus.NO_PATH, "start direction (0.0, 0.0, -1.0) cannot be"
+    ),
+    "not finite": (WEST, (math.nan, 0.0, 0.0), PlanStatus.INVALID, "three finite numbers"),
+    "not three numbers": (WEST, (1.0, 0.0), PlanStatus.INVALID, "three finite numbers"),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize(("start", "direction", "status", "reason"), JOINS.values(), ids=JOINS)
+def test_a_replan_leaves_the_start_along_the_start_direction(
+    planner: PathPlanner,
+    small_world: World,
+    start: tuple[float, float, float],
+    direction: tuple[float, ...],
+    status: PlanStatus,
+    reason: str,
+) -> None:
+    request = PlanRequest(start, EAST, 8.0, timeout=5.0, start_direction=direction)  # type: ignore[arg-type]
+    result = planner.plan(request)
+    assert result.status is status, result.reason
+    assert reason in result.reason
+    if status is not PlanStatus.SOLVED:
+        assert not result.segments
+        return
+    first = result.segments[0]
+    assert first.start == start and result.segments[-1].end == EAST
+    unit = np.array(direction) / np.linalg.norm(direction)
+    assert first.tangent(0.0) == pytest.approx(unit, abs=1e-9)
+    assert_continuous(result)
+    assert audit(small_world, result) == []  # the independent check: footprints and heights
+
+
+def test_a_zero_start_direction_is_free(planner: PathPlanner) -> None:
+    free = planner.plan(PlanRequest(WEST, EAST, 8.0, planner=PlannerKind.PRM))
+    zero = planner.plan(
+        PlanRequest(WEST, EAST, 8.0, planner=PlannerKind.PRM, start_direction=(0.0, 0.0, 0.0))
+    )
+    assert free.status is zero.status is PlanStatus.SOLVED
+    assert zero.segments == free.segments

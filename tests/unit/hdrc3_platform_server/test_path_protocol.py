@@ -56,10 +56,13 @@ def test_not_yet_flown_segment_is_replaced() -> None:
     rig.run(0.04)
     replaced = rig.log.final(second.command_id)
     assert replaced is not None and replaced.kind is EventKind.CANCELLED
-    assert str(third.command_id) in replaced.reason
+    assert replaced.reason == f"replaced by segment {third.command_id}"
     final = rig.run_until_final(third.command_id)
     assert final is not None and final.kind is EventKind.FINISHED
     assert rig.pfc.position == (80.0, 0.0, 10.0)
+    # the PFC's Cmd-Cancelled-EV and the acceptance of the new one end the old one once
+    assert kinds(rig, second.command_id) == [EventKind.CANCELLED]
+    assert kinds(rig, third.command_id) == [EventKind.SEGMENT_REQUEST, EventKind.FINISHED]
 
 
 def test_segment_after_a_stopping_segment_is_busy() -> None:
@@ -97,7 +100,7 @@ def test_replacement_refused_by_the_pfc_keeps_the_queued_segment() -> None:
     rig.run(0.04)
     refused = rig.log.final(third.command_id)
     assert refused is not None and refused.kind is EventKind.FAILED
-    assert refused.reason == "rejected by the PFC: a next segment is already queued"
+    assert refused.reason.startswith("rejected by the PFC: too late to replace")
     final = rig.run_until_final(second.command_id)
     assert final is not None and final.kind is EventKind.FINISHED
     assert kinds(rig, first.command_id) == [EventKind.SEGMENT_REQUEST, EventKind.FINISHED]
