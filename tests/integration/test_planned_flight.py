@@ -121,3 +121,4 @@ def test_a_fly_to_across_revinge_replans_around_a_zone_declared_in_flight(
     assert not [r for r in reasons if "safety braking" in r], reasons
     replans = [line for line in run.lines if "cross/cross: replan" in line or "stop: " in line]
     assert replans, "the zone was declared on the path, but nothing was replanned"
+    print("\n".join(replans))  # which way it replanned (shown with -s or on a failure)
