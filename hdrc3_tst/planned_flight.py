@@ -291,6 +291,7 @@ class PlannedFlight:
             # brake to a hover now, far from the zone, and plan from there without a tangent
             note = f"{why}; no path joins the segment in flight ({result.reason})"
             return (yield from self._stop_and_replan(note))
+        self._follow_progress()
         if self.flying is not flying:
             self.revision = RECHECK  # path following moved on meanwhile: check again from there
             return None
