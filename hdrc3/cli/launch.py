@@ -22,6 +22,8 @@ from hdrc3.launch_plan import (
     parse_speed,
 )
 from hdrc3.launcher import LauncherNode
+from hdrc3.supervisor import Supervisor
+from hdrc3.zygote import ForkServer
 from hdrc3_base.agents import parse_agents
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import RosProcess
@@ -78,8 +80,14 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
     if options.domain_id is not None:
         os.environ["ROS_DOMAIN_ID"] = str(options.domain_id)
     specs = build_plan(options)
-    with RosProcess() as process:
-        launcher = LauncherNode(process.context, specs)
+    # restarts fork from a pre-imported zygote (started once the nodes are up, so that its
+    # imports do not compete with theirs): a restarted node speaks within a second
+    zygote = ForkServer(
+        [s.entry.partition(":")[0] for s in specs if s.entry], lambda line: print(line, flush=True)
+    )
+    with RosProcess() as process, zygote:
+        supervisor = Supervisor(specs, spawn=zygote.spawn)
+        launcher = LauncherNode(process.context, specs, supervisor=supervisor)
         process.add_node(launcher)
         domain = os.environ.get("ROS_DOMAIN_ID", "0")
         if process.spin_until(lambda: bool(launcher.conflicts()), timeout_s=CONFLICT_WAIT_S):
@@ -94,6 +102,7 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
         clash: list[str] = []
 
         def supervise() -> None:
+            zygote.collect()
             launcher.tick()
             if not clash and launcher.older_launch_present():
                 clash[:] = launcher.conflicts(started=True)
@@ -107,6 +116,7 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
         if ready and not launcher.failed() and not clash:
             names = ", ".join(s.node_name or s.name for s in specs)
             print(f"READY: {len(specs)} processes up ({names})", flush=True)
+            zygote.start()
             process.spin_until(lambda: bool(clash), math.inf, 0.1, supervise)
         elif not process.stop_requested.is_set() and not clash:
             problem = launcher.failed() or launcher.missing()
