@@ -44,7 +44,7 @@ class NodeKind:
     """True if the node takes the launch's ``seed`` (the simulator)."""
     checkpoint: bool = False
     """True if the node takes a ``checkpoint`` file in the launch's run directory (to resume
-    its state when the launcher restarts it)."""
+    its state when the launcher restarts it; the platform server's: its open commands)."""
 
 
 CATALOG: tuple[NodeKind, ...] = (
@@ -77,6 +77,7 @@ CATALOG: tuple[NodeKind, ...] = (
         Scope.AGENT,
         "DRC: FCL/PPCL services, platform events and the 25 Hz Data Interface (chapter 6.2)",
         world_params=True,
+        checkpoint=True,
     ),
     NodeKind(
         "perception_kernel",
