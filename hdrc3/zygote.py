@@ -30,6 +30,7 @@ Linux only (``pidfd_open``, ``prctl``); elsewhere the launcher always uses ``Pop
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import json
 import os
@@ -93,10 +94,9 @@ class ForkedProcess:
     def send_signal(self, sig: int) -> None:
         """Deliver ``sig`` unless the process has ended."""
         if self.poll() is None and self._pidfd >= 0:
-            try:
+            # ProcessLookupError: exited since the poll; its exit code comes from the zygote
+            with contextlib.suppress(ProcessLookupError):
                 signal.pidfd_send_signal(self._pidfd, sig)
-            except ProcessLookupError:
-                pass  # exited since the poll; its exit code comes from the zygote
 
     def kill(self) -> None:
         """SIGKILL."""

@@ -365,8 +365,10 @@ class FakeRig:
         self.ppc = FakePpc(self.net.endpoint("PPC"))
 
     def restart_server(self, id_start: int, journal: CommandJournal | None = None) -> None:
-        """The Platform Server dies and starts again with empty state and ids from ``id_start``
-        (and the journal of open commands the launcher keeps for it, if given)."""
+        """The Platform Server dies and starts again with empty state and ids from ``id_start``.
+
+        ``journal``: the file of open commands the launcher keeps for it, if any.
+        """
         from hdrc3_platform_server.server import PlatformServerCore
 
         self.core = PlatformServerCore(

@@ -7,9 +7,9 @@ services to :attr:`fcl` / :attr:`ppcl`. Everything here runs on the caller's thr
 
 from __future__ import annotations
 
-from hdrc3_hcsm.transport import Transport
 from collections.abc import Sequence
 
+from hdrc3_hcsm.transport import Transport
 from hdrc3_platform_server.codes import FclCode, FclCommand, PpclCode, PpclCommand
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent, EventSink
 from hdrc3_platform_server.data_interface import (
@@ -59,8 +59,10 @@ class PlatformServerCore:
         self.gate = RateGate()
 
     def _publish(self, event: CompletionEvent) -> None:
-        """Publish, then strike a terminal event's command off the journal (a crash in between
-        ends it twice rather than never)."""
+        """Publish, then strike a terminal event's command off the journal.
+
+        A crash in between ends that command twice rather than never.
+        """
         self._sink(event)
         if event.kind in TERMINAL:
             self.journal.ended(event.command_id)
