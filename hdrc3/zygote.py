@@ -31,6 +31,7 @@ Linux only (``pidfd_open``, ``prctl``); elsewhere the launcher always uses ``Pop
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import importlib
 import json
 import os
@@ -274,6 +275,43 @@ def _import_all(modules: Sequence[str]) -> list[str]:
     return loaded
 
 
+def _lttng_ust() -> ctypes.CDLL | None:
+    """The LTTng-UST library loaded with rmw_fastrtps, if any (see :func:`_fork`)."""
+    with open("/proc/self/maps", encoding="utf-8") as maps:
+        paths = {line.split()[-1] for line in maps if "liblttng-ust-" in line}
+    for path in sorted(paths):
+        name = os.path.basename(path)
+        if name.startswith("liblttng-ust-") and "tracepoint" not in name:
+            library = ctypes.CDLL(path)  # already loaded: the same handle
+            if hasattr(library, "ust_before_fork"):
+                return library
+    return None
+
+
+def _fork(ust: ctypes.CDLL | None) -> int:
+    """``os.fork`` wrapped in LTTng-UST's fork hooks when the library is loaded.
+
+    Importing rclpy loads rmw_fastrtps, whose LTTng-UST starts two session-daemon listener
+    threads. A child forked without the hooks would have none but believe it has them; with the
+    hooks (what ``liblttng-ust-fork`` does for other programs) it starts its own, as a fresh
+    process does. numpy's OpenBLAS threads handle fork themselves (``pthread_atfork``).
+    """
+    if ust is None:
+        return os.fork()
+    signals = ctypes.create_string_buffer(128)  # sigset_t
+    ust.ust_before_fork(signals)
+    try:
+        pid = os.fork()
+    except OSError:
+        ust.ust_after_fork_parent(signals)
+        raise
+    if pid == 0:
+        ust.ust_after_fork_child(signals)
+    else:
+        ust.ust_after_fork_parent(signals)
+    return pid
+
+
 def _become_child(request: Mapping[str, Any]) -> None:
     """In the forked child: the node's session, parent-death signal, environment and argv."""
     os.setsid()
@@ -290,6 +328,7 @@ def serve(sock: socket.socket, modules: Sequence[str]) -> Mapping[str, Any] | No
         In a forked child, the request it is to run; in the zygote, None once the socket closed.
     """
     loaded = _import_all(modules)
+    ust = _lttng_ust()
     _send(sock, {"ready": loaded, "threads": len(os.listdir("/proc/self/task"))})
     selector = selectors.DefaultSelector()
     selector.register(sock, selectors.EVENT_READ, 0)
@@ -313,7 +352,7 @@ def serve(sock: socket.socket, modules: Sequence[str]) -> Mapping[str, Any] | No
                 sys.stdout.flush()
                 sys.stderr.flush()
                 try:
-                    child = os.fork()
+                    child = _fork(ust)
                 except OSError as exc:
                     _send(sock, {"error": f"fork failed: {exc.strerror}"})
                     continue
