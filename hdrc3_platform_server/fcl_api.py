@@ -145,9 +145,9 @@ RESTARTED_DRC = "platform server restarted: the PFC stopped the command and hove
 """Reason of the terminal event of a command accepted before the platform server restarted."""
 ENDED_WHILE_DOWN = "the PFC ended it while the platform server was restarting"
 """Reason prefix of the terminal event of a command whose final reply reached the new server."""
-RESTARTED_LOST = "platform server restarted: the command no longer ran and its outcome was lost"
+RESTARTED_LOST = "platform server restarted: the command's outcome was lost while it was down"
 """Reason of a journal's command of an earlier run that the PFC neither runs nor replied about
-(its final reply went to the dead server)."""
+(its final reply went to the dead server; a pending PPCL command's too)."""
 LOST_AFTER_S = 1.0
 """PFC seconds after the restarted server's first PFC report before such commands are ended: a
 final reply the PFC held for the new server (sent while no server subscribed) comes first."""
