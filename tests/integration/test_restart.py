@@ -10,6 +10,7 @@ The wall times from the kill to the terminal event are printed (pytest -s shows 
 
 from __future__ import annotations
 
+import math
 import os
 import signal
 import time
@@ -27,6 +28,14 @@ CALL_TIMEOUT_S = 10.0
 SPEED = "2"
 """Sim speed: a dead control_kernel leaves the aircraft on its last command (automatic
 lockstep lets the sim go on), so the sim must not run far ahead while it restarts."""
+
+
+HOVER_S = 0.5
+"""PFC seconds of steady autonomous hover before the next command (see Rig.hovering)."""
+
+
+def _seconds(stamp: Any) -> float:
+    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
 
 
 class Rig:
@@ -110,6 +119,22 @@ class Rig:
         from hdrc3_platform_server.completion import TERMINAL
 
         return [e for e in self.client.events if e.command_id == command_id and e.kind in TERMINAL]
+
+    def hovering(self) -> bool:
+        """The PFC has reported autonomous hover for HOVER_S of its time.
+
+        Its mode reads HOVER from the moment a cancelled fly-to hands over to the hover
+        function (Mode Switch Wait-Hover-ST), a few ticks before the PFC takes commands again
+        (Hovering-ST); a command sent on that first sample is refused by the PFC.
+        """
+        latest = _seconds(self.pfc[-1].pfc_time) if self.pfc else 0.0
+        for s in reversed(self.pfc):
+            speed = math.hypot(*s.velocity_enu)
+            if not (s.auto_flag and not s.on_ground and s.mode == s.MODE_HOVER and speed < 1.0):
+                return False
+            if latest - _seconds(s.pfc_time) >= HOVER_S:
+                return True
+        return False
 
     def enu(self) -> tuple[float, float, float]:
         s = self.states[-1]
@@ -239,11 +264,7 @@ def _kill_mid_flyto(r: Rig, node: str, reason: str) -> None:
     assert failed.kind is EventKind.FAILED and reason in failed.reason, failed
 
     # no cancel: the next command is taken once the PFC reports autonomous hover again
-    def hovering() -> bool:
-        s = r.pfc[-1]
-        return bool(s.auto_flag and not s.on_ground and s.mode == s.MODE_HOVER)
-
-    r.wait(hovering, 120.0, "autonomous hover after the restart")
+    r.wait(r.hovering, 120.0, "autonomous hover after the restart")
     if node == "control_kernel":
         # the new PFC's height comes from the old one's barometer reference (warm start), not
         # from GPS: without it the Data Interface was 5.3 m off the truth
@@ -293,6 +314,7 @@ def test_a_command_ending_while_platform_server_is_down_ends_once(rig: Rig) -> N
         (EventKind.FINISHED, ENDED_WHILE_DOWN),
         (EventKind.FAILED, RESTARTED_LOST),
     }, ended
+    r.wait(r.hovering, 120.0, "autonomous hover after the restart")
     yaw = r.fcl(FclYaw, "yaw", heading=2.0)
     assert yaw.code == FclReturn.FCL_OK, yaw.reason
     assert r.final(yaw.command_id, 120.0).kind is EventKind.FINISHED
