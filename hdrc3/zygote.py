@@ -312,10 +312,12 @@ def _fork(ust: ctypes.CDLL | None) -> int:
     return pid
 
 
-def _become_child(request: Mapping[str, Any]) -> None:
+def _become_child(request: Mapping[str, Any], zygote: int) -> None:
     """In the forked child: the node's session, parent-death signal, environment and argv."""
     os.setsid()
     die_with_parent()
+    if os.getppid() != zygote:  # the zygote died before the parent-death signal was armed
+        os.kill(os.getpid(), signal.SIGTERM)
     os.environ.clear()
     os.environ.update(request["env"])
     sys.argv = list(request["argv"])
@@ -329,6 +331,7 @@ def serve(sock: socket.socket, modules: Sequence[str]) -> Mapping[str, Any] | No
     """
     loaded = _import_all(modules)
     ust = _lttng_ust()
+    zygote = os.getpid()
     _send(sock, {"ready": loaded, "threads": len(os.listdir("/proc/self/task"))})
     selector = selectors.DefaultSelector()
     selector.register(sock, selectors.EVENT_READ, 0)
@@ -362,7 +365,7 @@ def serve(sock: socket.socket, modules: Sequence[str]) -> Mapping[str, Any] | No
                             os.close(int(registered.fd))
                     selector.close()
                     sock.close()
-                    _become_child(request)
+                    _become_child(request, zygote)
                     return dict(request)
                 selector.register(os.pidfd_open(child), selectors.EVENT_READ, child)
                 _send(sock, {"pid": child})
@@ -371,7 +374,10 @@ def serve(sock: socket.socket, modules: Sequence[str]) -> Mapping[str, Any] | No
 def main() -> int:
     """``python -m hdrc3.zygote FD MODULE...``; a forked child runs its node's entry point."""
     sock = socket.socket(fileno=int(sys.argv[1]))
-    request = serve(sock, sys.argv[2:])
+    try:
+        request = serve(sock, sys.argv[2:])
+    except (BrokenPipeError, ConnectionResetError):
+        return 0  # the launcher closed the socket while a message was on its way
     if request is None:
         return 0
     module, _, function = str(request["entry"]).partition(":")
