@@ -17,6 +17,9 @@ from pathlib import Path
 def main() -> int:
     """Report, then exit or wait (see the module docstring)."""
     _, what, out = sys.argv
+    # held until sigwait, whatever the inherited disposition (a shell's background job, a pytest
+    # worker, ignore SIGINT): the nodes install their own handlers the same way
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     seen = {
         "argv": sys.argv,
         "probe": os.environ.get("HDRC3_PROBE", ""),
@@ -27,8 +30,5 @@ def main() -> int:
     Path(out + ".tmp").replace(out)
     if what != "wait":
         return int(what)
-    try:
-        while True:
-            signal.pause()
-    except KeyboardInterrupt:
-        return 0
+    signal.sigwait({signal.SIGINT})
+    return 0

@@ -229,9 +229,12 @@ class ForkServer:
         self._stop_process()
 
     def _stop_process(self) -> None:
+        """End the zygote at once (SIGTERM; it may still be importing and not read the socket)."""
         process = self._process
         if process is None:
             return
+        if process.poll() is None:
+            process.terminate()
         try:
             process.wait(CLOSE_TIMEOUT_S)
         except subprocess.TimeoutExpired:
@@ -239,14 +242,14 @@ class ForkServer:
             process.wait()
 
     def close(self) -> None:
-        """Stop the zygote: closing the socket ends it (its children, if any, get SIGTERM)."""
+        """Stop the zygote (its children, if any, get SIGTERM from their parent's death)."""
         if self._sock is not None:
             self._sock.close()
             self._sock = None
         self._stop_process()
 
     def __enter__(self) -> ForkServer:
-        """Return self (:meth:`start` is separate: the launch starts it once its nodes are up)."""
+        """Return self (:meth:`start` is separate: the launch starts it with its nodes)."""
         return self
 
     def __exit__(

@@ -80,8 +80,8 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
     if options.domain_id is not None:
         os.environ["ROS_DOMAIN_ID"] = str(options.domain_id)
     specs = build_plan(options)
-    # restarts fork from a pre-imported zygote (started once the nodes are up, so that its
-    # imports do not compete with theirs): a restarted node speaks within a second
+    # restarts fork from a pre-imported zygote: a restarted node runs within milliseconds. It
+    # imports while the nodes start (before READY), not later, when a mission may be flying.
     zygote = ForkServer(
         [s.entry.partition(":")[0] for s in specs if s.entry], lambda line: print(line, flush=True)
     )
@@ -95,6 +95,7 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
                 f"ROS domain {domain} already runs {', '.join(launcher.conflicts())} "
                 "(another hdrc3 launch?); choose another --domain-id"
             )
+        zygote.start()
         launcher.supervisor.start_all()
         # Discovery can be slower than CONFLICT_WAIT_S on a loaded machine, and two launches may
         # start together: a name of ours that shows up twice is a clash, and the younger launch
@@ -116,7 +117,6 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
         if ready and not launcher.failed() and not clash:
             names = ", ".join(s.node_name or s.name for s in specs)
             print(f"READY: {len(specs)} processes up ({names})", flush=True)
-            zygote.start()
             process.spin_until(lambda: bool(clash), math.inf, 0.1, supervise)
         elif not process.stop_requested.is_set() and not clash:
             problem = launcher.failed() or launcher.missing()
