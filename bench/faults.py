@@ -516,7 +516,7 @@ def print_table(rows: list[Row]) -> None:
         if r.entry in ("kill_platform_server", "kill_control_kernel"):
             met = "met" if r.terminal_wall <= RESTART_TARGET_S else "NOT met"
             log(
-                f"{r.entry}: terminal event {r.terminal_wall:.1f} s wall after the kill "
+                f"{r.entry}: terminal event {r.terminal_wall:.2f} s wall after the kill "
                 f"(target {RESTART_TARGET_S:g} s: {met})"
             )
     safe = sum(r.outcome != "unsafe" for r in rows)
