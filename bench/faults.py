@@ -51,6 +51,8 @@ ALTITUDE = 12.0
 HDRC3 = str(Path(sys.executable).parent / "hdrc3")
 CALL_S = 10.0
 SETTLE_WALL_S = 240.0
+RESTART_TARGET_S = 2.0
+"""Issue 21: a restarted platform_server / control_kernel's terminal event within 2 s wall."""
 HOVER_THROTTLE = 0.55
 """The safety pilot's throttle stick in the rc_manual entry (about hover collective)."""
 
@@ -510,6 +512,13 @@ def print_table(rows: list[Row]) -> None:
         for extra in (r.failsafe, r.note):
             if extra:
                 log(f"{'':90} {extra}")
+    for r in rows:  # issue 21: terminal event within 2 s wall of the restart of these two
+        if r.entry in ("kill_platform_server", "kill_control_kernel"):
+            met = "met" if r.terminal_wall <= RESTART_TARGET_S else "NOT met"
+            log(
+                f"{r.entry}: terminal event {r.terminal_wall:.2f} s wall after the kill "
+                f"(target {RESTART_TARGET_S:g} s: {met})"
+            )
     safe = sum(r.outcome != "unsafe" for r in rows)
     once = sum(set(r.terminals_per_command.split(",")) == {"1"} for r in rows)
     log(f"\n{safe}/{len(rows)} entries safe")

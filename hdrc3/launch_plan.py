@@ -7,6 +7,7 @@ them into :class:`~hdrc3.supervisor.ProcessSpec` values; starting them is the la
 from __future__ import annotations
 
 import enum
+import importlib.metadata
 import math
 import sys
 from collections.abc import Sequence
@@ -43,7 +44,7 @@ class NodeKind:
     """True if the node takes the launch's ``seed`` (the simulator)."""
     checkpoint: bool = False
     """True if the node takes a ``checkpoint`` file in the launch's run directory (to resume
-    its state when the launcher restarts it)."""
+    its state when the launcher restarts it; the platform server's: its open commands)."""
 
 
 CATALOG: tuple[NodeKind, ...] = (
@@ -76,6 +77,7 @@ CATALOG: tuple[NodeKind, ...] = (
         Scope.AGENT,
         "DRC: FCL/PPCL services, platform events and the 25 Hz Data Interface (chapter 6.2)",
         world_params=True,
+        checkpoint=True,
     ),
     NodeKind(
         "perception_kernel",
@@ -212,6 +214,13 @@ def _executable(name: str) -> str:
     return str(candidate) if candidate.exists() else name
 
 
+def entry_point(executable: str) -> str:
+    """``module:function`` of an installed console script, "" if it is not one of ours."""
+    for script in importlib.metadata.entry_points(group="console_scripts", name=executable):
+        return str(script.value)
+    return ""
+
+
 def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) -> list[ProcessSpec]:
     """Turn validated options into the processes to start (the recorder last)."""
     specs: list[ProcessSpec] = []
@@ -230,7 +239,12 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             if kind.checkpoint and options.run_dir is not None:
                 args += ["-p", f"checkpoint:={options.run_dir / kind.name}.checkpoint"]
             specs.append(
-                ProcessSpec(kind.name, (_executable(kind.executable), *args), f"/{kind.name}")
+                ProcessSpec(
+                    kind.name,
+                    (_executable(kind.executable), *args),
+                    f"/{kind.name}",
+                    entry=entry_point(kind.executable),
+                )
             )
             continue
         for agent in options.agents:
@@ -242,6 +256,7 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
                     f"{agent}/{kind.name}",
                     (_executable(kind.executable), *own, "-r", f"__ns:=/{agent}"),
                     f"/{agent}/{kind.name}",
+                    entry=entry_point(kind.executable),
                 )
             )
     if options.record is not None:
@@ -250,6 +265,7 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
                 RECORDER,
                 (_executable("hdrc3"), "record", str(options.record), "--all"),
                 "/hdrc3_recorder",
+                entry=entry_point("hdrc3"),
             )
         )
     return specs

@@ -57,6 +57,9 @@ class ProcessSpec:
     """Fully qualified ROS node name the process is expected to create ("" if none)."""
     env: Mapping[str, str] = field(default_factory=dict)
     """Variables added to the inherited environment."""
+    entry: str = ""
+    """``module:function`` of the console script in ``argv[0]`` ("" if unknown): lets the
+    launcher's fork server (:mod:`hdrc3.zygote`) restart the process without a new interpreter."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,7 +95,7 @@ class RestartPolicy:
         return float(min(self.max_backoff_s, self.initial_backoff_s * 2**restarts))
 
 
-def _die_with_parent() -> None:
+def die_with_parent() -> None:
     """In the child: ask Linux to SIGTERM us if the launcher dies, even by SIGKILL."""
     libc = ctypes.CDLL(None, use_errno=True)
     libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
@@ -107,7 +110,7 @@ def popen_spawn(spec: ProcessSpec) -> ProcessLike:
             spec.argv,
             env=env,
             start_new_session=True,
-            preexec_fn=_die_with_parent if sys.platform == "linux" else None,
+            preexec_fn=die_with_parent if sys.platform == "linux" else None,
         )
     except OSError as exc:
         raise ConfigError(f"cannot start {spec.name} ({spec.argv[0]}): {exc.strerror}") from exc

@@ -22,6 +22,7 @@ from hdrc3_platform_server.completion import CompletionEvent, EventLog
 from hdrc3_platform_server.data_interface import HelicopterStateData
 from hdrc3_platform_server.drc import load_model
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.journal import CommandJournal
 from hdrc3_platform_server.platform_status import CameraSample, PfcSample
 
 
@@ -316,13 +317,14 @@ class FakeRig:
         on_ground: bool = True,
         timing: FakePfcTiming | None = None,
         with_ppc: bool = True,
+        journal: CommandJournal | None = None,
     ) -> None:
         from hdrc3_platform_server.server import PlatformServerCore
 
         self.net = LoopbackNetwork()
         self.frame = frame
         self.log = EventLog()
-        self.core = PlatformServerCore(frame, self.net.endpoint("DRC"), self.log)
+        self.core = PlatformServerCore(frame, self.net.endpoint("DRC"), self.log, journal=journal)
         self.pfc = FakePfc(self.net.endpoint("PFC"), timing, on_ground=on_ground)
         self.ppc = FakePpc(self.net.endpoint("PPC")) if with_ppc else None
         self.t = 0.0
@@ -369,12 +371,15 @@ class FakeRig:
         """The PPC process dies and starts again: nothing pending, a new incarnation."""
         self.ppc = FakePpc(self.net.endpoint("PPC"))
 
-    def restart_server(self, id_start: int) -> None:
-        """The Platform Server dies and starts again with empty state and ids from ``id_start``."""
+    def restart_server(self, id_start: int, journal: CommandJournal | None = None) -> None:
+        """The Platform Server dies and starts again with empty state and ids from ``id_start``.
+
+        ``journal``: the file of open commands the launcher keeps for it, if any.
+        """
         from hdrc3_platform_server.server import PlatformServerCore
 
         self.core = PlatformServerCore(
-            self.frame, self.net.endpoint("DRC"), self.log, id_start=id_start
+            self.frame, self.net.endpoint("DRC"), self.log, id_start=id_start, journal=journal
         )
 
     def run_until_final(self, command_id: int, limit: float = 30.0) -> CompletionEvent | None:

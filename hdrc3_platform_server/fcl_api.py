@@ -143,6 +143,14 @@ RESTARTED_PFC = "control kernel (PFC) restarted: the command was lost; the aircr
 """Reason of the terminal event of a command the PFC forgot in a restart."""
 RESTARTED_DRC = "platform server restarted: the PFC stopped the command and hovers"
 """Reason of the terminal event of a command accepted before the platform server restarted."""
+ENDED_WHILE_DOWN = "the PFC ended it while the platform server was restarting"
+"""Reason prefix of the terminal event of a command whose final reply reached the new server."""
+RESTARTED_LOST = "platform server restarted: the command's outcome was lost while it was down"
+"""Reason of a journal's command of an earlier run that the PFC neither runs nor replied about
+(its final reply went to the dead server; a pending PPCL command's too)."""
+LOST_AFTER_S = 1.0
+"""PFC seconds after the restarted server's first PFC report before such commands are ended: a
+final reply the PFC held for the new server (sent while no server subscribed) comes first."""
 _MODE_COMMANDS: dict[int, FclCommand] = {
     FlightMode.TAKEOFF: FclCommand.TAKEOFF,
     FlightMode.TRAJ3D: FclCommand.TRAJ3D,
@@ -163,6 +171,7 @@ class FlightCommandLayer:
         sink: EventSink,
         ids: IdSource,
         limits: FlightLimits | None = None,
+        earlier: dict[int, str] | None = None,
     ) -> None:
         self.kernel = kernel
         self.frame = frame
@@ -173,6 +182,11 @@ class FlightCommandLayer:
         self.last_mode: int | None = None
         self.orphans: set[int] = set()
         """Commands of an earlier run of this server that the PFC reported and that were ended."""
+        self.earlier = earlier
+        """Id -> command of the commands earlier runs left open (their journal, see
+        :mod:`~hdrc3_platform_server.journal`); None without a journal: any id this run did not
+        give out is taken for one."""
+        self._first_report: float | None = None
         kernel.listeners.append(self)
 
     # --- helpers --------------------------------------------------------------------------
@@ -384,7 +398,7 @@ class FlightCommandLayer:
         if event.name in FINAL_REPLIES:
             # a command of the server's previous run ended while it was down: its final reply
             # was held by the PFC's transport until this run subscribed
-            self._orphan(cid, "fcl", now)
+            self._orphan(cid, "fcl", now, *_final_outcome(event))
         if cur is None or cid not in cur.open_ids():
             return
         cur.heard = True
@@ -462,13 +476,38 @@ class FlightCommandLayer:
         """Put the Flight automaton back in Idle; the PFC is told to cancel (it then hovers)."""
         self.kernel.post(FCL[FclCommand.CANCEL].api_event, encode(self.ids.next()))
 
-    def _orphan(self, command_id: int, label: str, now: float) -> bool:
-        """End a command of an earlier run of this server once; True if it was news."""
+    def _orphan(
+        self,
+        command_id: int,
+        label: str,
+        now: float,
+        kind: EventKind = EventKind.FAILED,
+        reason: str = RESTARTED_DRC,
+    ) -> bool:
+        """End a command of an earlier run of this server once; True if it was news.
+
+        With a journal only the commands it lists end (the others ended before the restart).
+        """
         if not command_id or self.ids.issued(command_id) or command_id in self.orphans:
             return False
+        if self.earlier is not None:
+            if command_id not in self.earlier:
+                return False
+            label = self.earlier[command_id] or label
         self.orphans.add(command_id)
-        self.sink(CompletionEvent(command_id, label, EventKind.FAILED, RESTARTED_DRC, now))
+        self.sink(CompletionEvent(command_id, label, kind, reason, now))
         return True
+
+    def _end_lost(self, sample: PfcSample, now: float) -> None:
+        """End the journal's commands the PFC neither runs nor replied about (once)."""
+        if self.earlier is None:
+            return
+        if self._first_report is None:
+            self._first_report = sample.pfc_time
+        if sample.pfc_time - self._first_report < LOST_AFTER_S:
+            return
+        for command_id in sorted(self.earlier.keys() - self.orphans - {sample.command_id}):
+            self._orphan(command_id, "fcl", now, EventKind.FAILED, RESTARTED_LOST)
 
     def on_restart(self, computer: str, now: float) -> None:
         """A restarted PFC forgot the command it replied about: it ends FAILED, Flight is idle.
@@ -499,6 +538,7 @@ class FlightCommandLayer:
         now = max(self.kernel.status.now, sample.received)
         if self._orphan(sample.command_id, label, now) and self.current is None:
             self._stop_pfc()
+        self._end_lost(sample, now)
         if sample.mode == FlightMode.BOOT and self.current is not None:
             self._end_current(EventKind.FAILED, RESTARTED_PFC)
             self._stop_pfc()
@@ -515,6 +555,16 @@ class FlightCommandLayer:
             cur.outcome = (EventKind.FAILED, "the DRC automaton did not take the command")
         kind, reason = cur.outcome or (EventKind.FINISHED, "")
         self._end_current(kind, reason)
+
+
+def _final_outcome(event: WireEvent) -> tuple[EventKind, str]:
+    """Terminal kind and reason of a final reply that reached a restarted server."""
+    if event.name in ("Cmd-Finished-EV", "Traj-Arrived-EV"):
+        return EventKind.FINISHED, ENDED_WHILE_DOWN
+    if event.name == "Cmd-Cancelled-EV":
+        return EventKind.CANCELLED, f"{ENDED_WHILE_DOWN}: {_reason(event.data, 'cancelled')}"
+    prefix = "rejected by the PFC: " if event.name == "Cmd-Rejected-EV" else ""
+    return EventKind.FAILED, f"{ENDED_WHILE_DOWN}: {prefix}{_reason(event.data, 'failed')}"
 
 
 def _reason(data: bytes, default: str) -> str:

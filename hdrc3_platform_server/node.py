@@ -14,6 +14,7 @@ import os
 import sys
 import traceback
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 from rcl_interfaces.msg import ParameterDescriptor
@@ -45,6 +46,7 @@ from hdrc3_platform_server.commands import FCL, PPCL, FclSpec, PpclSpec
 from hdrc3_platform_server.completion import CompletionEvent
 from hdrc3_platform_server.data_interface import HelicopterStateData
 from hdrc3_platform_server.geo_frame import WorldFrame, frame_from_world
+from hdrc3_platform_server.journal import CommandJournal
 from hdrc3_platform_server.platform_status import CameraSample, PfcSample
 from hdrc3_platform_server.server import PlatformServerCore
 
@@ -101,13 +103,23 @@ class PlatformServerNode(Node):
         )
         if self.get_parameter("sim_time").value:
             self.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])
+        self.declare_parameter(
+            "checkpoint",
+            "",
+            ParameterDescriptor(description="file of the open commands kept across restarts"),
+        )
+        checkpoint = str(self.get_parameter("checkpoint").value)
         self.frame = self._frame()
         self.transport = RosTransport(self, "DRC")
         self.events_pub = self.create_publisher(PlatformEvent, "platform_events", EVENT_QOS)
         self.heli_pub = self.create_publisher(HelicopterState, "helicopter_state", STATE_QOS)
         self.camera_pub = self.create_publisher(CameraState, "camera_state", STATE_QOS)
         self.core = PlatformServerCore(
-            self.frame, self.transport, self._publish_event, id_start=_id_start()
+            self.frame,
+            self.transport,
+            self._publish_event,
+            id_start=_id_start(),
+            journal=CommandJournal(Path(checkpoint) if checkpoint else None),
         )
         self.create_subscription(PfcState, "pfc/state", self._on_pfc, STATE_QOS)
         self.create_subscription(CameraState, "ppc/camera_state", self._on_camera, STATE_QOS)
@@ -242,7 +254,7 @@ class PlatformServerNode(Node):
     def _fcl_handler(self, spec: FclSpec) -> Callable[[Any, Any], Any]:
         def handle(request: Any, response: Any) -> Any:
             def fill() -> None:
-                answer = self.core.fcl.submit(spec.command, spec.values(request), self._now())
+                answer = self.core.submit_fcl(spec.command, spec.values(request), self._now())
                 response.result.code = int(answer.code)
                 response.result.reason = answer.reason
                 response.result.command_id = answer.command_id
@@ -266,7 +278,7 @@ class PlatformServerNode(Node):
     def _ppcl_handler(self, spec: PpclSpec) -> Callable[[Any, Any], Any]:
         def handle(request: Any, response: Any) -> Any:
             def fill() -> None:
-                answer = self.core.ppcl.submit(spec.command, spec.values(request), self._now())
+                answer = self.core.submit_ppcl(spec.command, spec.values(request), self._now())
                 response.result.code = int(answer.code)
                 response.result.reason = answer.reason
                 response.result.command_id = answer.command_id

@@ -7,9 +7,11 @@ services to :attr:`fcl` / :attr:`ppcl`. Everything here runs on the caller's thr
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from hdrc3_hcsm.transport import Transport
-from hdrc3_platform_server.codes import FclCommand
-from hdrc3_platform_server.completion import EventSink
+from hdrc3_platform_server.codes import FclCode, FclCommand, PpclCode, PpclCommand
+from hdrc3_platform_server.completion import TERMINAL, CompletionEvent, EventSink
 from hdrc3_platform_server.data_interface import (
     CameraStateData,
     HelicopterStateData,
@@ -18,11 +20,12 @@ from hdrc3_platform_server.data_interface import (
     helicopter_state,
 )
 from hdrc3_platform_server.drc import DrcKernel
-from hdrc3_platform_server.fcl_api import FlightCommandLayer, IdSource
+from hdrc3_platform_server.fcl_api import FclAnswer, FlightCommandLayer, IdSource
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.journal import CommandJournal
 from hdrc3_platform_server.limits import Limits
 from hdrc3_platform_server.platform_status import CameraSample, PfcSample, PlatformStatus
-from hdrc3_platform_server.ppcl_api import PayloadCommandLayer
+from hdrc3_platform_server.ppcl_api import PayloadCommandLayer, PpclAnswer
 
 
 class PlatformServerCore:
@@ -38,17 +41,45 @@ class PlatformServerCore:
         limits: Limits | None = None,
         settle_timeout: float = 15.0,
         stale_after: float = 2.0,
+        journal: CommandJournal | None = None,
     ) -> None:
         lim = limits or Limits()
+        self.journal = journal or CommandJournal(None)
+        self._sink = sink
         self.frame = frame
         self.status = PlatformStatus(stale_after)
         self.kernel = DrcKernel(self.status, transport, settle_timeout=settle_timeout)
         self.ids = IdSource(id_start)
-        self.fcl = FlightCommandLayer(self.kernel, frame, sink, self.ids, lim.flight)
+        self.fcl = FlightCommandLayer(
+            self.kernel, frame, self._publish, self.ids, lim.flight, self.journal.earlier
+        )
         self.ppcl = PayloadCommandLayer(
-            self.kernel, frame, sink, self.ids, self.landing_active, lim.ptu
+            self.kernel, frame, self._publish, self.ids, self.landing_active, lim.ptu
         )
         self.gate = RateGate()
+
+    def _publish(self, event: CompletionEvent) -> None:
+        """Publish, then strike a terminal event's command off the journal.
+
+        A crash in between ends that command twice rather than never.
+        """
+        self._sink(event)
+        if event.kind in TERMINAL:
+            self.journal.ended(event.command_id)
+
+    def submit_fcl(self, command: FclCommand, args: Sequence[float], now: float) -> FclAnswer:
+        """An FCL call; an accepted command is in the journal before the answer is returned."""
+        answer = self.fcl.submit(command, args, now)
+        if answer.code is FclCode.OK:
+            self.journal.accepted(answer.command_id, command.label)
+        return answer
+
+    def submit_ppcl(self, command: PpclCommand, args: Sequence[float], now: float) -> PpclAnswer:
+        """A PPCL call (journaled as :meth:`submit_fcl`)."""
+        answer = self.ppcl.submit(command, args, now)
+        if answer.code is PpclCode.OK:
+            self.journal.accepted(answer.command_id, command.label)
+        return answer
 
     def landing_active(self) -> bool:
         """True while fcl_land (vision-based landing) is in progress."""

@@ -22,6 +22,8 @@ from hdrc3.launch_plan import (
     parse_speed,
 )
 from hdrc3.launcher import LauncherNode
+from hdrc3.supervisor import Supervisor
+from hdrc3.zygote import ForkServer
 from hdrc3_base.agents import parse_agents
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import RosProcess
@@ -78,8 +80,14 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
     if options.domain_id is not None:
         os.environ["ROS_DOMAIN_ID"] = str(options.domain_id)
     specs = build_plan(options)
-    with RosProcess() as process:
-        launcher = LauncherNode(process.context, specs)
+    # restarts fork from a pre-imported zygote: a restarted node runs within milliseconds. It
+    # imports while the nodes start (before READY), not later, when a mission may be flying.
+    zygote = ForkServer(
+        [s.entry.partition(":")[0] for s in specs if s.entry], lambda line: print(line, flush=True)
+    )
+    with RosProcess() as process, zygote:
+        supervisor = Supervisor(specs, spawn=zygote.spawn)
+        launcher = LauncherNode(process.context, specs, supervisor=supervisor)
         process.add_node(launcher)
         domain = os.environ.get("ROS_DOMAIN_ID", "0")
         if process.spin_until(lambda: bool(launcher.conflicts()), timeout_s=CONFLICT_WAIT_S):
@@ -87,6 +95,7 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
                 f"ROS domain {domain} already runs {', '.join(launcher.conflicts())} "
                 "(another hdrc3 launch?); choose another --domain-id"
             )
+        zygote.start()
         launcher.supervisor.start_all()
         # Discovery can be slower than CONFLICT_WAIT_S on a loaded machine, and two launches may
         # start together: a name of ours that shows up twice is a clash, and the younger launch
@@ -94,6 +103,7 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
         clash: list[str] = []
 
         def supervise() -> None:
+            zygote.collect()
             launcher.tick()
             if not clash and launcher.older_launch_present():
                 clash[:] = launcher.conflicts(started=True)

@@ -10,10 +10,12 @@ The wall times from the kill to the terminal event are printed (pytest -s shows 
 
 from __future__ import annotations
 
+import math
 import os
 import signal
 import time
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -26,6 +28,14 @@ CALL_TIMEOUT_S = 10.0
 SPEED = "2"
 """Sim speed: a dead control_kernel leaves the aircraft on its last command (automatic
 lockstep lets the sim go on), so the sim must not run far ahead while it restarts."""
+
+
+HOVER_S = 0.5
+"""PFC seconds of steady autonomous hover before the next command (see Rig.hovering)."""
+
+
+def _seconds(stamp: Any) -> float:
+    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
 
 
 class Rig:
@@ -110,6 +120,22 @@ class Rig:
 
         return [e for e in self.client.events if e.command_id == command_id and e.kind in TERMINAL]
 
+    def hovering(self) -> bool:
+        """The PFC has reported autonomous hover for HOVER_S of its time.
+
+        Its mode reads HOVER from the moment a cancelled fly-to hands over to the hover
+        function (Mode Switch Wait-Hover-ST), a few ticks before the PFC takes commands again
+        (Hovering-ST); a command sent on that first sample is refused by the PFC.
+        """
+        latest = _seconds(self.pfc[-1].pfc_time) if self.pfc else 0.0
+        for s in reversed(self.pfc):
+            speed = math.hypot(*s.velocity_enu)
+            if not (s.auto_flag and not s.on_ground and s.mode == s.MODE_HOVER and speed < 1.0):
+                return False
+            if latest - _seconds(s.pfc_time) >= HOVER_S:
+                return True
+        return False
+
     def enu(self) -> tuple[float, float, float]:
         s = self.states[-1]
         return self.frame.to_enu(s.longitude, s.latitude, s.altitude)
@@ -150,6 +176,25 @@ class Rig:
         )
 
 
+def _processes_on(domain: int) -> list[str]:
+    """Other processes whose environment has this ROS domain (launcher, zygote, nodes)."""
+    needle = f"ROS_DOMAIN_ID={domain}".encode()
+    found = []
+    for entry in os.scandir("/proc"):
+        if not entry.name.isdigit() or int(entry.name) == os.getpid():
+            continue
+        proc = Path("/proc", entry.name)
+        try:
+            environ = (proc / "environ").read_bytes().split(b"\0")
+            state = (proc / "stat").read_text().rsplit(")", 1)[1].split()[0]
+            command = (proc / "cmdline").read_text().replace("\0", " ")
+        except OSError:
+            continue  # gone, or not ours
+        if needle in environ and state != "Z":
+            found.append(command)
+    return found
+
+
 @pytest.fixture
 def rig(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[Rig]:
     from hdrc3_base.ros_runtime import RosProcess
@@ -173,8 +218,14 @@ def rig(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[Rig]:
             yield r
         finally:
             r.node.destroy_node()
-            launch.interrupt(timeout=30)
+            code = launch.interrupt(timeout=30)
             print("\n".join(launch.lines[-30:]))
+    # the launcher stops its nodes, the restarted (forked) ones and its fork server included
+    assert code == 0, launch.lines[-30:]
+    deadline = time.monotonic() + 10.0
+    while _processes_on(ros_domain) and time.monotonic() < deadline:
+        time.sleep(0.1)  # a process's exit has no notification for a non-parent
+    assert _processes_on(ros_domain) == []
 
 
 def _kill_mid_flyto(r: Rig, node: str, reason: str) -> None:
@@ -184,8 +235,8 @@ def _kill_mid_flyto(r: Rig, node: str, reason: str) -> None:
 
     r.airborne()
     # 120 s of sim time (60 s of wall time at --speed 2): still flying when the new node is up,
-    # also at load 12, where a restarted platform_server took 27 s to come up. A fly-to that
-    # ends while the server is down is the README's "not covered" case.
+    # also at load 12, where a restarted platform_server took 27 s to come up (before the fork
+    # server). A fly-to that ends while the server is down: the test below.
     flyto = r.flyto(120.0, 0.0, 1.0)
     assert flyto.code == FclReturn.FCL_OK, flyto.reason
     r.wait(lambda: r.pfc[-1].command_id == flyto.command_id, 30.0, "the PFC flies it")
@@ -213,11 +264,7 @@ def _kill_mid_flyto(r: Rig, node: str, reason: str) -> None:
     assert failed.kind is EventKind.FAILED and reason in failed.reason, failed
 
     # no cancel: the next command is taken once the PFC reports autonomous hover again
-    def hovering() -> bool:
-        s = r.pfc[-1]
-        return bool(s.auto_flag and not s.on_ground and s.mode == s.MODE_HOVER)
-
-    r.wait(hovering, 120.0, "autonomous hover after the restart")
+    r.wait(r.hovering, 120.0, "autonomous hover after the restart")
     if node == "control_kernel":
         # the new PFC's height comes from the old one's barometer reference (warm start), not
         # from GPS: without it the Data Interface was 5.3 m off the truth
@@ -239,6 +286,39 @@ def test_platform_server_killed_mid_command(rig: Rig) -> None:
 @pytest.mark.slow
 def test_control_kernel_killed_mid_command(rig: Rig) -> None:
     _kill_mid_flyto(rig, "control_kernel", "control kernel (PFC) restarted")
+
+
+@pytest.mark.slow
+def test_a_command_ending_while_platform_server_is_down_ends_once(rig: Rig) -> None:
+    """The PFC ends a fly-to while the server is stopped, then the server is killed: the fly-to's
+    final reply went to the dead process; the new server ends the command from its journal."""
+    from hdrc3_interfaces.msg import FclReturn
+    from hdrc3_interfaces.srv import FclYaw
+    from hdrc3_platform_server.codes import EventKind
+    from hdrc3_platform_server.fcl_api import ENDED_WHILE_DOWN, RESTARTED_LOST
+
+    r = rig
+    r.airborne()
+    flyto = r.flyto(8.0, 0.0, 2.0)
+    assert flyto.code == FclReturn.FCL_OK, flyto.reason
+    r.wait(lambda: r.pfc[-1].command_id == flyto.command_id, 30.0, "the PFC flies it")
+    before = r.supervised("platform_server")
+    os.kill(before.pid, signal.SIGSTOP)  # the server hears nothing from here on ...
+    r.wait(lambda: r.pfc[-1].command_id != flyto.command_id, 120.0, "the PFC ends the fly-to")
+    os.kill(before.pid, signal.SIGKILL)  # ... and dies without having heard the final reply
+    r.wait(lambda: r.supervised("platform_server").pid != before.pid, 30.0, "restarted")
+    ended = r.final(flyto.command_id, 60.0)
+    # the PFC's reply reaches the new server only if DDS had unmatched the stopped one (its
+    # lease ran out) before the fly-to ended; else the journal's command ends as lost
+    assert (ended.kind, ended.reason) in {
+        (EventKind.FINISHED, ENDED_WHILE_DOWN),
+        (EventKind.FAILED, RESTARTED_LOST),
+    }, ended
+    r.wait(r.hovering, 120.0, "autonomous hover after the restart")
+    yaw = r.fcl(FclYaw, "yaw", heading=2.0)
+    assert yaw.code == FclReturn.FCL_OK, yaw.reason
+    assert r.final(yaw.command_id, 120.0).kind is EventKind.FINISHED
+    assert len(r.terminal_events(flyto.command_id)) == 1, r.terminal_events(flyto.command_id)
 
 
 def test_a_burst_of_concurrent_calls_is_answered(hdrc3_cli: Callable[..., Any], ros_domain: int):

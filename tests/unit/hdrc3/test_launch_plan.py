@@ -115,8 +115,8 @@ def test_world_sim_and_each_control_kernel_get_their_own_checkpoint_in_the_run_d
         "world_sim": "world_sim.checkpoint",
         "uav0/control_kernel": "uav0.control_kernel.checkpoint",
         "uav1/control_kernel": "uav1.control_kernel.checkpoint",
-        "uav0/platform_server": None,
-        "uav1/platform_server": None,
+        "uav0/platform_server": "uav0.platform_server.checkpoint",
+        "uav1/platform_server": "uav1.platform_server.checkpoint",
     }
     assert checkpoints == {
         name: []

@@ -7,6 +7,8 @@ before a restart ends with exactly one terminal event and the next command works
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from hdrc3_control.pfc_state import FlightMode
@@ -20,8 +22,14 @@ from hdrc3_platform_server.codes import (
 )
 from hdrc3_platform_server.completion import TERMINAL
 from hdrc3_platform_server.fakes import FakePfcTiming, FakeRig
-from hdrc3_platform_server.fcl_api import RESTARTED_DRC, RESTARTED_PFC
+from hdrc3_platform_server.fcl_api import (
+    ENDED_WHILE_DOWN,
+    RESTARTED_DRC,
+    RESTARTED_LOST,
+    RESTARTED_PFC,
+)
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.journal import CommandJournal
 from hdrc3_platform_server.ppcl_api import RESTARTED_PPC
 
 FRAME = WorldFrame(55.70, 13.47, 95.0)
@@ -39,18 +47,19 @@ def terminal(rig: FakeRig, command_id: int) -> list[EventKind]:
 
 
 def start_flyto(rig: FakeRig) -> int:
-    answer = rig.core.fcl.submit(C.TRAJ3D_FLYTO, flyto(200.0), rig.t)
+    answer = rig.core.submit_fcl(C.TRAJ3D_FLYTO, flyto(200.0), rig.t)
     assert answer.code is FclCode.OK, answer.reason
     rig.run(1.0)
     assert rig.pfc.mode is FlightMode.FLYTO
     return answer.command_id
 
 
-def next_command_works(rig: FakeRig) -> None:
-    answer = rig.core.fcl.submit(C.YAW, (1.0,), rig.t)
+def next_command_works(rig: FakeRig) -> int:
+    answer = rig.core.submit_fcl(C.YAW, (1.0,), rig.t)
     assert answer.code is FclCode.OK, answer.reason
     final = rig.run_until_final(answer.command_id)
     assert final is not None and final.kind is EventKind.FINISHED, rig.log.of(answer.command_id)
+    return answer.command_id
 
 
 @pytest.mark.parametrize("announced", [True, False], ids=["announced", "boot_mode_only"])
@@ -108,8 +117,38 @@ def test_a_final_reply_held_for_the_restarted_server_ends_the_command_once() -> 
     rig.restart_server(id_start=cid + 1_000_000)
     rig.pfc._send("Traj-Arrived-EV", cid)  # ... and its transport held the reply meanwhile
     rig.run(0.5)
-    assert terminal(rig, cid) == [EventKind.FAILED]
-    assert rig.log.final(cid).reason == RESTARTED_DRC  # type: ignore[union-attr]
+    assert terminal(rig, cid) == [EventKind.FINISHED]  # what the PFC said, not a guess
+    assert rig.log.final(cid).reason == ENDED_WHILE_DOWN  # type: ignore[union-attr]
+    next_command_works(rig)
+
+
+@pytest.mark.parametrize(
+    ("reply", "outcome"),
+    [
+        ("Traj-Arrived-EV", (EventKind.FINISHED, ENDED_WHILE_DOWN)),
+        (None, (EventKind.FAILED, RESTARTED_LOST)),  # the reply went to the dead server
+    ],
+    ids=["reply_held", "reply_lost"],
+)
+def test_a_journaled_command_that_ended_while_the_server_was_down_ends_once(
+    tmp_path: Path, reply: str | None, outcome: tuple[EventKind, str]
+) -> None:
+    path = tmp_path / "uav0.platform_server.checkpoint"
+    rig = FakeRig(FRAME, on_ground=False, timing=SLOW, journal=CommandJournal(path))
+    done = next_command_works(rig)  # ended before the crash: its terminal event is out already
+    cid = start_flyto(rig)
+    rig.pfc.job = None  # the PFC ends the fly-to while the server is down
+    rig.pfc.mode = FlightMode.HOVER
+    before = len(rig.log.events)
+    for run in range(2):  # a second restart does not end it again
+        rig.restart_server(id_start=cid + 1_000_000 * (run + 1), journal=CommandJournal(path))
+        if reply is not None:
+            rig.pfc._send(reply, cid)
+        rig.pfc._send("Cmd-Finished-EV", done)  # a stale duplicate of an ended command's reply
+        rig.run(2.0)
+    ended = [(e.kind, e.command, e.reason) for e in rig.log.events[before:]]
+    assert ended == [(outcome[0], "fcl_traj3d_flyto", outcome[1])]
+    assert CommandJournal(path).earlier == {}
     next_command_works(rig)
 
 
