@@ -13,7 +13,8 @@ it is) makes the first segment's start tangent that direction: the start cannot 
 first cubic must then pass the curve check and be regular (no loop, no cusp: no turn tighter than
 :data:`JOIN_MIN_RADIUS`, ``|p'(s)|`` at least a quarter of the chord); if it does not, a waypoint
 :data:`JOIN_STEPS` metres along the direction is tried before the rest of the path (straight pieces
-to it and on from it checked); if nothing fits, :func:`multilevel` answers None.
+to it and on from it checked; elimination keeps the first segment joined); if nothing fits,
+:func:`multilevel` answers None (the planner then searches on from such a waypoint).
 """
 
 from __future__ import annotations
@@ -165,7 +166,7 @@ def replace_curves(
 
 
 def eliminate(
-    points: NDArray[np.float64], smooth: list[bool], checks: Checks
+    points: NDArray[np.float64], smooth: list[bool], checks: Checks, start: Direction = None
 ) -> tuple[NDArray[np.float64], list[bool]]:
     """Node elimination: drop nodes whose neighbours connect directly (curves included)."""
     pts, flags = points, list(smooth)
@@ -175,7 +176,7 @@ def eliminate(
             cand = np.delete(pts, k, axis=0)
             cand_flags = flags[:k] + flags[k + 1 :]
             lo, hi = max(0, k - 2), min(len(cand) - 2, k)
-            if all(_curve_ok(cand, cand_flags, i, checks) for i in range(lo, hi + 1)):
+            if all(_curve_ok(cand, cand_flags, i, checks, start) for i in range(lo, hi + 1)):
                 pts, flags = cand, cand_flags
                 continue
         k += 1
@@ -238,16 +239,18 @@ def multilevel(
     first segment along it fits (with or without a joining waypoint). Without it, never None.
     """
     pts = align(_dedupe(points), checks)
-    pts, _ = eliminate(pts, replace_curves(pts, checks), checks)
     if start_direction is None:
+        pts, _ = eliminate(pts, replace_curves(pts, checks), checks)
         return segments_with_velocities(pts, replace_curves(pts, checks), speed, limits)
-    # the start direction only changes the first segment: join it (the same alignment and
-    # elimination), then curve replacement once more with it, for each way of joining
     direction = start_direction / float(np.linalg.norm(start_direction))
     for candidate in _join_candidates(pts, direction, checks):
+        # elimination keeps the first segment joined (a joining waypoint goes only if the
+        # cubic from the start along the direction to the node after it fits)
         smooth = replace_curves(candidate, checks, direction)
-        if _curve_ok(candidate, smooth, 0, checks, direction):
-            return segments_with_velocities(candidate, smooth, speed, limits, direction)
+        cand, smooth = eliminate(candidate, smooth, checks, direction)
+        smooth = replace_curves(cand, checks, direction)
+        if _curve_ok(cand, smooth, 0, checks, direction):
+            return segments_with_velocities(cand, smooth, speed, limits, direction)
     return None
 
 

@@ -243,18 +243,55 @@ class PathPlanner:
             return _timed(PlanResult(PlanStatus.NO_PATH, reason), t0, request.planner)
         waypoints, reconnected = found
         direction = _start_direction(request)
-        smoothed = multilevel(
-            waypoints, self._checks(checker), request.speed, self.limits, direction
-        )
+        checks = self._checks(checker)
+        smoothed = multilevel(waypoints, checks, request.speed, self.limits, direction)
+        if smoothed is None and direction is not None:
+            try:
+                joined = self._join_by_search(request, checker, checks, direction, deadline)
+            except Deadline:
+                return _timed(
+                    PlanResult(PlanStatus.TIMEOUT, f"no path within {request.timeout} s"),
+                    t0,
+                    request.planner,
+                )
+            if joined is not None:
+                smoothed, reconnected = joined
         if smoothed is None:
             steps = ", ".join(f"{v:g}" for v in JOIN_STEPS)
             reason = (
                 f"the start direction {_fmt(request.start_direction or ())} cannot be joined: "
-                f"neither a cubic from the start along it nor one through a waypoint {steps} m "
-                "along it is clear"
+                f"no cubic from the start along it is clear, nor a path on from a waypoint {steps}"
+                " m along it"
             )
             return _timed(PlanResult(PlanStatus.NO_PATH, reason), t0, request.planner)
         return _timed(self._result(smoothed, reconnected), t0, request.planner)
+
+    def _join_by_search(
+        self,
+        request: PlanRequest,
+        checker: ConstraintChecker,
+        checks: Checks,
+        direction: NDArray[np.float64],
+        deadline: float,
+    ) -> tuple[Smoothed, bool] | None:
+        """The path found cannot be joined: search on from a waypoint along the direction."""
+        start, goal = np.array(request.start, float), np.array(request.goal, float)
+        unit = direction / float(np.linalg.norm(direction))
+        for step in JOIN_STEPS:
+            q = start + step * unit
+            point = (float(q[0]), float(q[1]), float(q[2]))
+            if not (
+                self.gis.inside_bounds(point) and checker.point_ok(point) and checks.line(start, q)
+            ):
+                continue
+            found = self._search(request, checker, q, goal, deadline)
+            if found is None:
+                continue
+            waypoints = np.vstack([start, found[0]])
+            smoothed = multilevel(waypoints, checks, request.speed, self.limits, direction)
+            if smoothed is not None:
+                return smoothed, found[1]
+        return None
 
     def _checks(self, checker: ConstraintChecker) -> Checks:
         gis = self.gis

@@ -162,3 +162,21 @@ def test_a_start_direction_into_a_wall_cannot_be_joined(
 ) -> None:
     assert multilevel(LINE, checks, 8.0, LIMITS, np.array(direction)) is None
     assert multilevel(LINE, checks, 8.0, LIMITS) is not None  # free, the line is fine
+
+
+def test_elimination_keeps_the_node_that_joins_the_start_direction() -> None:
+    # Sideways from the start, the cubic to (100, 0) swings out to y = 14.8 (blocked beyond
+    # 10.5), the one to (50, 0) to y = 7.4: eliminating (50, 0) first left nothing to join
+    # (a waypoint 5 or 10 m along the direction cannot see (100, 0) past the box).
+    pts = np.array([[0.0, 0, 10], [50, 0, 10], [100, 0, 10]])
+    wide = forbidden_box((-50, 10.5, 0), (150, 80, 20))
+    box = forbidden_box((70, 1, 0), (80, 4, 20))
+    checks = Checks(
+        lambda a, b: wide.line(a, b) and box.line(a, b),
+        lambda p: wide.curve(p) and box.curve(p),
+    )
+    out = multilevel(pts, checks, 8.0, LIMITS, np.array([0.0, 1.0, 0.0]))
+    assert out is not None and out.corners == 0
+    assert [seg.end for seg in out.segments] == [(50.0, 0.0, 10.0), (100.0, 0.0, 10.0)]
+    assert out.segments[0].tangent(0.0) == pytest.approx([0.0, 1.0, 0.0])
+    assert len(multilevel(pts, checks, 8.0, LIMITS).segments) == 1  # free start: eliminated
