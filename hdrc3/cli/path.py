@@ -53,6 +53,10 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         "--no-fly", action="append", default=[], metavar="E,N;E,N;...",
         help="a no-fly polygon for this query (repeatable)",
     )  # fmt: skip
+    plan.add_argument(
+        "--start-direction", metavar="E,N,U",
+        help="tangent the first segment leaves the start with (joining a path in flight)",
+    )  # fmt: skip
     plan.add_argument("--timeout", type=float, default=5.0, help="seconds")
     plan.add_argument("--json", action="store_true", help="print one JSON object")
     plan.set_defaults(handler=_plan)
@@ -160,6 +164,7 @@ def _plan(args: argparse.Namespace) -> int:
         PlannerKind(args.planner),
         args.timeout,
         Criterion(args.criterion),
+        parse_point(args.start_direction, "--start-direction") if args.start_direction else None,
     )
     planner = _planner(args)
     console = Console(stderr=True)

@@ -62,6 +62,7 @@ def test_plan_json_has_the_documented_fields(
             "invalid",
         ),
         (["--from=-60,0,15", "--to", "60,0,15", "--timeout", "0.000001"], 3, "timeout"),
+        (["--from=-60,0,15", "--to", "60,0,15", "--start-direction", "nan,0,0"], 4, "invalid"),
     ],
 )
 def test_plan_failures_have_statuses_and_exit_codes(
