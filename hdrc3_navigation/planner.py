@@ -225,21 +225,13 @@ class PathPlanner:
         try:
             found = self._search(request, checker, start, goal, deadline)
         except Deadline:
-            return _timed(
-                PlanResult(PlanStatus.TIMEOUT, f"no path within {request.timeout} s"),
-                t0,
-                request.planner,
-            )
+            return _timed(_timeout(request), t0, request.planner)
         if found is None:
             reason = "no path found"
             if request.planner is PlannerKind.PRM:
                 reason = "start and goal are not connected in the roadmap under the constraints"
             elif time.perf_counter() >= deadline:
-                return _timed(
-                    PlanResult(PlanStatus.TIMEOUT, f"no path within {request.timeout} s"),
-                    t0,
-                    request.planner,
-                )
+                return _timed(_timeout(request), t0, request.planner)
             return _timed(PlanResult(PlanStatus.NO_PATH, reason), t0, request.planner)
         waypoints, reconnected = found
         direction = _start_direction(request)
@@ -249,11 +241,7 @@ class PathPlanner:
             try:
                 joined = self._join_by_search(request, checker, checks, direction, deadline)
             except Deadline:
-                return _timed(
-                    PlanResult(PlanStatus.TIMEOUT, f"no path within {request.timeout} s"),
-                    t0,
-                    request.planner,
-                )
+                return _timed(_timeout(request), t0, request.planner)
             if joined is not None:
                 smoothed, reconnected = joined
         if smoothed is None:
@@ -417,6 +405,10 @@ class PathPlanner:
             reconnected=reconnected,
             hover_stops=smoothed.corners,
         )
+
+
+def _timeout(request: PlanRequest) -> PlanResult:
+    return PlanResult(PlanStatus.TIMEOUT, f"no path within {request.timeout} s")
 
 
 def _timed(result: PlanResult, t0: float, planner: PlannerKind) -> PlanResult:
