@@ -30,8 +30,13 @@ from sim.world_loader import WorldError, load_world
 
 EXIT_CODES = {PlanStatus.SOLVED: 0, PlanStatus.NO_PATH: 2, PlanStatus.TIMEOUT: 3}
 INVALID_EXIT = 4
-GIS_OPERATIONS = {"add-zone": 0, "remove-zone": 1, "add-obstacle": 2, "remove-obstacle": 3}
-"""``GisUpdate.Request`` operation of each ``path gis`` word (a test checks them)."""
+GIS_OPERATIONS = {
+    "add-zone": "ADD_NO_FLY_ZONE",
+    "remove-zone": "REMOVE_NO_FLY_ZONE",
+    "add-obstacle": "ADD_OBSTACLE",
+    "remove-obstacle": "REMOVE_OBSTACLE",
+}
+"""The ``GisUpdate.Request`` operation constant each ``path gis`` word names."""
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -218,7 +223,7 @@ def _gis(args: argparse.Namespace) -> int:
     from hdrc3_platform_server.client import check_agent
 
     check_agent(args.agent)
-    operation = GIS_OPERATIONS[args.operation]
+    operation = getattr(GisUpdate.Request, GIS_OPERATIONS[args.operation])
     polygon: tuple[tuple[float, float], ...] = ()
     if args.operation.startswith("add-"):
         if args.polygon is None:
@@ -235,15 +240,17 @@ def _gis(args: argparse.Namespace) -> int:
     service = f"/{args.agent}/path_planner/gis_update"
     with RosProcess(args=[]) as process:
         node = process.add_node(_client_node(process.context))
-        client = node.create_client(GisUpdate, service, qos_profile=SERVICE_QOS)
-        if not process.spin_until(client.service_is_ready, args.timeout):
-            print(f"{args.operation} {args.name}: no service {service}", flush=True)
-            return INVALID_EXIT
-        future: Any = client.call_async(request)  # rclpy's Future is untyped
-        if not process.spin_until(lambda: bool(future.done()), args.timeout):
-            print(f"{args.operation} {args.name}: no answer from {service}", flush=True)
-            return INVALID_EXIT
-        node.destroy_node()
+        try:
+            client = node.create_client(GisUpdate, service, qos_profile=SERVICE_QOS)
+            if not process.spin_until(client.service_is_ready, args.timeout):
+                print(f"{args.operation} {args.name}: no service {service}", flush=True)
+                return INVALID_EXIT
+            future: Any = client.call_async(request)  # rclpy's Future is untyped
+            if not process.spin_until(lambda: bool(future.done()), args.timeout):
+                print(f"{args.operation} {args.name}: no answer from {service}", flush=True)
+                return INVALID_EXIT
+        finally:
+            node.destroy_node()
     answer = future.result()
     verdict = "done" if answer.success else "refused"
     print(f"{args.operation} {args.name}: {verdict}: {answer.reason}", flush=True)
