@@ -108,7 +108,7 @@ def test_example_6_1_flies_with_two_aircraft_and_keeps_its_constraints(
 
 
 class System:
-    """Two agents launched with TST managers and task planners, a TST client and the DI."""
+    """Two agents launched with TST managers, task and path planners, a TST client and the DI."""
 
     def __init__(self, process: Any) -> None:
         from hdrc3_interfaces.msg import HelicopterState
@@ -157,7 +157,7 @@ def system(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[System]:
 
     launch = hdrc3_cli(
         "launch", "--agents", ",".join(AGENTS), "--world", "revinge", "--speed", "max",
-        "--nodes", "world_sim,control_kernel,platform_server,tst_manager,task_planner",
+        "--nodes", "world_sim,control_kernel,platform_server,tst_manager,task_planner,path_planner",
         "--seed", SEED,
     )  # fmt: skip
     launch.wait_for_line("READY", timeout=120)
