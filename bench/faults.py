@@ -73,6 +73,7 @@ class Launch:
         env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
         nodes = "world_sim,control_kernel,perception_kernel,platform_server"
         args = ["launch", "--agents", AGENT, "--world", WORLD, "--nodes", nodes, "--speed", "max"]
+        args.append("--fork-restarts")  # the figures of the fork server (hdrc3/zygote.py)
         self.proc = subprocess.Popen(
             [HDRC3, *args],
             stdout=subprocess.PIPE,

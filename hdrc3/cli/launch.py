@@ -51,6 +51,10 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument(
         "--ready-timeout", type=float, default=60.0, help="seconds to wait for every node"
     )
+    parser.add_argument(
+        "--fork-restarts", action="store_true",
+        help="restart crashed nodes by forking a pre-imported process (experimental)",
+    )  # fmt: skip
     parser.set_defaults(handler=run)
 
 
@@ -80,11 +84,12 @@ def _launch(args: argparse.Namespace, options: LaunchOptions) -> int:
     if options.domain_id is not None:
         os.environ["ROS_DOMAIN_ID"] = str(options.domain_id)
     specs = build_plan(options)
-    # restarts fork from a pre-imported zygote: a restarted node runs within milliseconds. It
-    # imports while the nodes start (before READY), not later, when a mission may be flying.
-    zygote = ForkServer(
-        [s.entry.partition(":")[0] for s in specs if s.entry], lambda line: print(line, flush=True)
-    )
+    # --fork-restarts: restarts fork from a pre-imported zygote, so a restarted node runs within
+    # milliseconds. It imports while the nodes start (before READY), not later, when a mission may
+    # be flying. Off by default: in one of four fresh-clone test runs a forked control kernel
+    # started but nothing it published reached the test within 60 s (not understood yet).
+    modules = [s.entry.partition(":")[0] for s in specs if s.entry] if args.fork_restarts else []
+    zygote = ForkServer(modules, lambda line: print(line, flush=True))
     with RosProcess() as process, zygote:
         supervisor = Supervisor(specs, spawn=zygote.spawn)
         launcher = LauncherNode(process.context, specs, supervisor=supervisor)

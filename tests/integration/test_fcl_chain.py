@@ -27,7 +27,7 @@ WORLD = "revinge"
 CALL_TIMEOUT_S = 10.0
 ALTITUDE = 12.0
 """Flight altitude, m up of the world origin (the pads are at -0.85 m): short climbs/descents."""
-OUTAGE_HOLD_S = 5.0
+OUTAGE_HOLD_S = 3.0
 """Sim time hovered on dead reckoning; the PFC declares navigation lost (and lands) after 10 s
 without GPS (StateEstimator max_dead_reckoning)."""
 
@@ -48,6 +48,7 @@ class Chain:
         self.process = process
         self.frame = frame_from_world(WORLD)
         self.client = PlatformClient(process, AGENT)
+        self._sim_clients: dict[str, Any] = {}
         self.node: Any = self.client.node  # rclpy is untyped
         self.states: list[Any] = []
         self.truth: list[Any] = []
@@ -115,9 +116,16 @@ class Chain:
         east, north, up = self.frame.to_enu(state.longitude, state.latitude, state.altitude)
         return (east, north, up)
 
-    def call_sim(self, srv: Any, name: str, **fields: Any) -> Any:
-        client = self.node.create_client(srv, name)
+    def sim_client(self, srv: Any, name: str) -> Any:
+        """A client of a simulator service, matched (made once per name)."""
+        if name not in self._sim_clients:
+            self._sim_clients[name] = self.node.create_client(srv, name)
+        client = self._sim_clients[name]
         self.wait(client.service_is_ready, CALL_TIMEOUT_S, f"service {name}")
+        return client
+
+    def call_sim(self, srv: Any, name: str, **fields: Any) -> Any:
+        client = self.sim_client(srv, name)
         future: Any = client.call_async(srv.Request(**fields))
         self.wait(future.done, CALL_TIMEOUT_S, f"answer of {name}")
         return future.result().result
@@ -168,6 +176,7 @@ def test_fcl_flight_through_the_whole_chain(chain: Chain) -> None:
         FclTraj3d,
         FclTraj3dFlyto,
         SimInjectFault,
+        SimPause,
     )
     from hdrc3_navigation.messages import segment_to_msg
     from hdrc3_platform_server.codes import EventKind
@@ -260,6 +269,7 @@ def test_fcl_flight_through_the_whole_chain(chain: Chain) -> None:
             None,
         )
 
+    c.sim_client(SimPause, "/world_sim/pause")  # matched before the window below opens
     c.wait(lambda: fault_report("navigation degraded") is not None, 30.0, "GPS loss reported")
     lost = fault_report("navigation degraded").time
     held = c.states_between(lost, lost + OUTAGE_HOLD_S)
@@ -270,10 +280,16 @@ def test_fcl_flight_through_the_whole_chain(chain: Chain) -> None:
     drift = math.dist(c.truth_at(lost).position_enu, c.truth_at(lost + OUTAGE_HOLD_S).position_enu)
     print(f"GPS outage: {drift:.2f} m true drift in {OUTAGE_HOLD_S:g} s on dead reckoning")
     assert drift < 3.0, f"drifted {drift:.2f} m in {OUTAGE_HOLD_S:g} s on dead reckoning"
+    # GPS comes back within the PFC's 10 s dead-reckoning window however loaded the machine is:
+    # sim time stands still while the restore is sent
+    paused = c.call_sim(SimPause, "/world_sim/pause", paused=True)
+    assert paused.code == SimResult.OK, paused.reason
     cleared = c.call_sim(
         SimInjectFault, "/world_sim/inject_fault", agent=AGENT, sensor="gps", mode=restore
     )
     assert cleared.code == SimResult.OK, cleared.reason
+    resumed = c.call_sim(SimPause, "/world_sim/pause", paused=False)
+    assert resumed.code == SimResult.OK, resumed.reason
     c.wait(lambda: fault_report("navigation recovered") is not None, 30.0, "GPS back")
 
     # landing ends on the ground with the engine shut down
@@ -472,10 +488,10 @@ def test_gps_loss_holds_and_hovers_when_back(chain: Chain) -> None:
 
 @pytest.mark.slow
 def test_a_queued_segment_is_replaced_before_it_is_flown(chain: Chain) -> None:
-    from hdrc3.demo_mission import segment_msg
     from hdrc3_control.path_segment import PathSegment
     from hdrc3_interfaces.msg import FclReturn
     from hdrc3_interfaces.srv import FclTraj3d
+    from hdrc3_navigation.messages import segment_to_msg
     from hdrc3_platform_server.codes import EventKind
 
     c = chain
@@ -492,7 +508,7 @@ def test_a_queued_segment_is_replaced_before_it_is_flown(chain: Chain) -> None:
         answer = c.fcl(
             FclTraj3d,
             "traj3d",
-            segment=segment_msg(seg),
+            segment=segment_to_msg(seg),
             velocity=seg.target_velocity,
             end_velocity=seg.end_velocity,
         )
