@@ -17,6 +17,8 @@ from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.transport import LoopbackNetwork, LoopbackTransport
 from sim.sensors.fault import FaultMode
 
+Vec3 = tuple[float, float, float]
+
 FINAL = (
     "Cmd-Finished-EV",
     "Cmd-Failed-EV",
@@ -59,6 +61,21 @@ def airborne_flight() -> KernelFlight:
     assert f.run_until(lambda: finished(f, cid) and hovering(f), 60)
     assert answers(f, cid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
     return f
+
+
+def first_segment(length: float) -> tuple[KernelFlight, Vec3, Vec3, int]:
+    """Airborne, flying a straight segment ``length`` m east at 5 m/s that asked for the next.
+
+    Returns the flight, the segment's start and end, and its command id.
+    """
+    f = airborne_flight()
+    state = f.kernel.state
+    assert state is not None
+    p = state.position
+    mid = (p[0] + length, p[1], p[2])
+    c1 = f.send_segment(PathSegment.straight(p, mid, 5.0, 5.0))
+    assert f.run_until(lambda: f.reply("Request-Segment-EV", c1) is not None, 5)
+    return f, p, mid, c1
 
 
 def test_figure_14_manual_takeoff_auto_switch_braking_hover() -> None:
@@ -106,14 +123,9 @@ def test_takeoff_hover_path_land() -> None:
 
 
 def test_segments_in_sequence_request_and_switch() -> None:
-    f = airborne_flight()
-    p = f.kernel.state.position  # type: ignore[union-attr]
-    mid = (p[0] + 25.0, p[1], p[2])
-    first = PathSegment.straight(p, mid, 5.0, 5.0)
+    f, p, mid, c1 = first_segment(25.0)
     end = (mid[0] + 15.0, mid[1] + 15.0, p[2])
     second = PathSegment(mid, end, (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), 5.0, 0.0)
-    c1 = f.send_segment(first)
-    assert f.run_until(lambda: f.reply("Request-Segment-EV", c1) is not None, 5)
     request_delay = f.sim.time
     c2 = f.send_segment(second)
     assert f.run_until(lambda: finished(f, c2), 40)
@@ -159,11 +171,7 @@ def test_an_interrupted_path_ends_the_segment_in_flight(
 ) -> None:
     # The replies the Mode Switch sends "data Command-DO" named the path's first segment, which
     # had long finished: the protocol dropped them and the segment in flight never ended.
-    f = airborne_flight()
-    p = f.kernel.state.position  # type: ignore[union-attr]
-    mid = (p[0] + 20.0, p[1], p[2])
-    c1 = f.send_segment(PathSegment.straight(p, mid, 5.0, 5.0))
-    assert f.run_until(lambda: f.reply("Request-Segment-EV", c1) is not None, 5)
+    f, p, mid, c1 = first_segment(20.0)
     c2 = f.send_segment(PathSegment.straight(mid, (mid[0] + 80.0, mid[1], p[2]), 5.0, 0.0))
     assert f.run_until(lambda: finished(f, c1), 20)
     assert answers(f, c1)[-1] == ("Cmd-Finished-EV", "")  # the PFCM flies c2 now
@@ -466,11 +474,7 @@ def test_yaw_then_climb() -> None:
 def test_next_segment_must_continue_the_path(
     offset: tuple[float, float, float], reason: str
 ) -> None:
-    f = airborne_flight()
-    p = f.kernel.state.position  # type: ignore[union-attr]
-    mid = (p[0] + 30.0, p[1], p[2])
-    c1 = f.send_segment(PathSegment.straight(p, mid, 5.0, 5.0))
-    assert f.run_until(lambda: f.reply("Request-Segment-EV", c1) is not None, 5)
+    f, _, mid, _ = first_segment(30.0)
     start = (mid[0] + offset[0], mid[1] + offset[1], mid[2] + offset[2])
     c2 = f.send_segment(PathSegment.straight(start, (start[0] + 10.0, start[1], start[2]), 4.0))
     assert f.run_until(lambda: bool(answers(f, c2)), 2)
@@ -489,11 +493,7 @@ def test_next_segment_must_continue_the_path(
 def test_a_queued_segment_is_replaced_before_it_is_flown(
     offset: tuple[float, float, float], replaced: bool
 ) -> None:
-    f = airborne_flight()
-    p = f.kernel.state.position  # type: ignore[union-attr]
-    mid = (p[0] + 30.0, p[1], p[2])
-    c1 = f.send_segment(PathSegment.straight(p, mid, 5.0, 5.0))
-    assert f.run_until(lambda: f.reply("Request-Segment-EV", c1) is not None, 5)
+    f, p, mid, c1 = first_segment(30.0)
     second = PathSegment.straight(mid, (mid[0] + 40.0, mid[1], p[2]), 5.0, 0.0)
     c2 = f.send_segment(second)
     assert f.run_until(lambda: f.reply("Cmd-Accepted-EV", c2) is not None, 2)
