@@ -48,6 +48,18 @@ def failed(reason: str) -> Status:
     return Status(Progress.FAILED, reason)
 
 
+COMMAND_BOUND_S = 60.0
+"""Mission seconds any command may take beyond its own expected duration (take-off, landing,
+braking, PTU moves); a command past its bound is stopped and fails its node."""
+SLACK = 3.0
+"""A flight may take this many times its length over its speed (turns, wind, braking)."""
+
+
+def flight_bound(length: float, speed: float) -> float:
+    """Mission seconds a flight (or one path segment) of ``length`` m at ``speed`` m/s may take."""
+    return COMMAND_BOUND_S + SLACK * length / max(speed, 0.1)
+
+
 @dataclass
 class ActionContext:
     """What one running action node sees: its arguments, its platform, the mission clock."""

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_navigation.planner import PlanRequest, PlanResult, PlanStatus
 from hdrc3_platform_server.codes import FclCommand
-from hdrc3_tst.executor import SUCCEEDED, ActionContext, Status, failed
+from hdrc3_tst.executor import SUCCEEDED, ActionContext, Status, failed, flight_bound
 from hdrc3_tst.navigation_port import NavigationPort
 from hdrc3_tst.platform_port import Command, CommandState
 
@@ -45,8 +45,6 @@ BUSY_RETRY_S = 20.0
 """Mission seconds a path start may be refused BUSY after a stop (the PFC is still braking)."""
 MAX_REPLANS = 20
 """Replans of one flight before it gives up (a world changing faster than it can fly)."""
-SEGMENT_BOUND_S = 60.0
-"""Mission seconds a segment may take beyond three times its length over its speed."""
 HOLD_RADIUS = 0.5
 HOLD_S = 2.0
 """After a stop, the aircraft holds once it moves less than HOLD_RADIUS m in HOLD_S s."""
@@ -179,7 +177,7 @@ class PlannedFlight:
         flying = self.flying
         if flying is not None:
             seg = flying.segment
-            bound = SEGMENT_BOUND_S + 3.0 * seg.arc_length() / max(seg.target_velocity, 0.1)
+            bound = flight_bound(seg.arc_length(), seg.target_velocity)
             if self.ctx.now - flying.since > bound:
                 self.ctx.platform.stop(flying.command, f"segment not flown in {bound:.0f} s")
                 return failed(f"a segment was not flown in {bound:.0f} s")

@@ -21,12 +21,14 @@ from hdrc3_control.path_segment import PathSegment
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
 from hdrc3_tst.coverage import footprint_width, lawn_mower, polyline
 from hdrc3_tst.executor import (
+    COMMAND_BOUND_S,
     SUCCEEDED,
     ActionContext,
     ActionExecutor,
     Progress,
     Status,
     failed,
+    flight_bound,
 )
 from hdrc3_tst.planned_flight import PlannedFlight, segment_args
 from hdrc3_tst.platform_port import Command, CommandState
@@ -36,18 +38,8 @@ DATA_TIMEOUT_S = 10.0
 """Mission seconds an executor waits for the first Data Interface sample."""
 TURN_SPEED = 3.0
 """m/s on the U-turns of a coverage pattern (the path follower may slow further)."""
-COMMAND_BOUND_S = 60.0
-"""Mission seconds any command may take beyond its own expected duration (take-off, landing,
-braking, PTU moves); a command past its bound is stopped and fails its node."""
 LANDING_SPEED = 1.0
 """m/s, the order of the RMAX's final descent (for the bound of a landing)."""
-SLACK = 3.0
-"""A flight may take this many times its length over its speed (turns, wind, braking)."""
-
-
-def flight_bound(length: float, speed: float) -> float:
-    """Mission seconds a flight of ``length`` m at ``speed`` m/s may take."""
-    return COMMAND_BOUND_S + SLACK * length / max(speed, 0.1)
 
 
 def finish(
