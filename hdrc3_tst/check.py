@@ -88,6 +88,9 @@ def node_line(tst: ResolvedTst, node: Node, depth: int) -> str:
 
 
 def tree_lines(tst: ResolvedTst) -> Iterator[str]:
-    """The tree, one node per line, depth first."""
+    """The tree, one node per line, depth first (a foreach's body as its template)."""
     for depth, node in tst.tree.walk():
         yield node_line(tst, node, depth)
+        if node.kind is NodeKind.FOREACH and node.expanded_as is None and node.template:
+            for sub_depth, sub in tst.tree.walk(node.template):
+                yield node_line(tst, sub, depth + 1 + sub_depth)

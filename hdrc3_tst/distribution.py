@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from hdrc3_tst.finite import SolveStatus
+from hdrc3_tst.model import NodeKind
 from hdrc3_tst.network import FixStatus
 from hdrc3_tst.resolver import ResolvedTst
 
@@ -74,8 +75,14 @@ def bind_open_agents(tst: ResolvedTst, preferred: str) -> tuple[list[Fix], str]:
 
 
 def involved_agents(tst: ResolvedTst) -> tuple[str, ...]:
-    """The agents holding nodes, the root's first (every ``P`` must be bound)."""
+    """The agents holding nodes, the root's first (every ``P`` must be bound).
+
+    A foreach's instances may run on any agent of the mission, so a mission with a foreach
+    involves them all.
+    """
     seen: dict[str, None] = {}
     for _, node in tst.tree.walk():
         seen.setdefault(tst.agent_of(node.node_id), None)
+        if node.kind is NodeKind.FOREACH:
+            seen.update(dict.fromkeys(tst.agents))
     return tuple(seen)

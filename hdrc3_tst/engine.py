@@ -10,8 +10,9 @@ end passes, and applies the control semantics:
 - **concurrent** starts all children and succeeds when all have; when one fails, the others are
   aborted and the node fails;
 - **if** asks its query once and runs the chosen branch; **while** asks before every round;
-  **foreach** binds the loop variables to the single answer (several concurrent instances of one
-  body are not supported yet: the node fails saying so); queries go to ``queries.py``;
+  **foreach** asks once for every binding of its variables, resolves one instance of its body
+  per answer (``ResolvedTst.expand_foreach``) and then acts as a concurrent node over them (no
+  answer: it succeeds); queries go to ``queries.py``;
 - **call** runs the instantiated library tree; **goal** asks the planner, attaches the plan's
   nodes and then acts as a sequence.
 
@@ -46,9 +47,13 @@ from hdrc3_tst.model import Node, NodeKind, NodeRef, NodeState
 from hdrc3_tst.navigation_port import NavigationPort
 from hdrc3_tst.network import FixStatus
 from hdrc3_tst.platform_port import PlatformPort
-from hdrc3_tst.queries import Answer, ask
-from hdrc3_tst.resolver import Place, ResolvedTst
+from hdrc3_tst.queries import Answer, QueryDomain, ask, ask_all
+from hdrc3_tst.resolver import InstanceStatus, Place, ResolvedTst
 from hdrc3_tst.stn import Inconsistent
+
+TICK_TOLERANCE_S = 1.0
+"""Mission seconds a start or end may be seen after its latest time (one tick of the manager
+at high sim speeds); it is then recorded at that latest time."""
 
 
 @dataclass
@@ -146,6 +151,9 @@ class ExecutionEngine:
     # --- commands -----------------------------------------------------------------------
     def execute(self, node_id: str, epoch: float, now: float) -> str:
         """Start a node this agent holds; "" or why not."""
+        reason = self.materialize(node_id)
+        if reason:
+            return reason
         if not self.holds(node_id):
             return f"{self.ctx.agent} does not hold node {node_id!r}"
         rec = self.records[node_id]
@@ -159,6 +167,18 @@ class ExecutionEngine:
         self._running.append(node_id)
         self.tick(now)
         return ""
+
+    def materialize(self, node_id: str) -> str:
+        """Make sure a node exists; "" or why not.
+
+        An instance of a foreach that another agent expanded is resolved from its id
+        (``f[uav1]/body``).
+        """
+        if node_id in self.records:
+            return ""
+        instance = self.tst.materialize(node_id)
+        self._record(instance.nodes)
+        return "" if instance.status is InstanceStatus.OK else instance.reason
 
     def abort(self, reason: str, node_id: str | None = None) -> list[str]:
         """Abort running nodes (all, or the subtree of ``node_id``); the ids aborted."""
@@ -267,7 +287,9 @@ class ExecutionEngine:
         if not self._check_deadline(node_id):
             return
         kind = node.acts_as
-        if kind is NodeKind.ACTION:
+        if kind is NodeKind.FOREACH:
+            self._expand_foreach(node, rec)
+        elif kind is NodeKind.ACTION:
             self._advance_action(node, rec)
         elif kind is NodeKind.GOAL:
             self._advance_goal(node, rec)
@@ -282,7 +304,7 @@ class ExecutionEngine:
         """Fail the node (stopping its subtree) when its latest end has passed; False then."""
         te = self.tst.tree.nodes[node_id].params["TE"]
         latest_end = self.tst.network.window(te).latest
-        if self.now > latest_end and te not in self.tst.network.values:
+        if self.now > latest_end + TICK_TOLERANCE_S and te not in self.tst.network.values:
             self._fail_running(
                 node_id, f"deadline: not done at {self.now:.1f} s, latest end {latest_end:.1f} s"
             )
@@ -295,16 +317,15 @@ class ExecutionEngine:
         window = self.tst.network.window(ts)
         if self.now < window.earliest:
             return False
+        start = self._observed(ts)
         if ts not in self.tst.network.values:
-            fixed = self.tst.network.fix(
-                ts, self.now, f"{node.node_id} started at {self.now:.3f} s"
-            )
+            fixed = self.tst.network.fix(ts, start, f"{node.node_id} started at {start:.3f} s")
             if fixed.status is not FixStatus.OK:
                 self._finish(
-                    rec, NodeState.FAILED, _conflict(f"started at {self.now:.1f} s", fixed.conflict)
+                    rec, NodeState.FAILED, _conflict(f"started at {start:.1f} s", fixed.conflict)
                 )
                 return False
-        rec.start = self.now
+        rec.start = start
         if node.kind is NodeKind.ACTION:
             reason = self._start_action(node, rec, self.now)
             if reason:
@@ -465,18 +486,46 @@ class ExecutionEngine:
         elif not holds:
             self._succeed(rec)
             return
-        elif node.kind is NodeKind.FOREACH:
-            self._finish(
-                rec,
-                NodeState.FAILED,
-                "foreach: the query answers yes/no only; concurrent instances of one body "
-                "over several answers are not supported yet",
-            )
-            return
         else:
             rec.chosen = children[0]
         rec.started_children.discard(rec.chosen)
         self._start_child(rec, rec.chosen)
+
+    def _expand_foreach(self, node: Node, rec: NodeRecord) -> None:
+        """Ask the query once, instantiate the body per answer, then run them concurrently."""
+        assert node.condition is not None
+        domain = QueryDomain(
+            self.tst.agents,
+            frozenset(self.ctx.executors),
+            {name: place.kind for name, place in self.tst.places.items()},
+        )
+        answers = ask_all(
+            node.condition,
+            node.loop_vars,
+            domain,
+            self.ctx.agent,
+            self.tst.network.values,
+            self.ctx.platform.state(),
+        )
+        if answers.answer is Answer.UNKNOWN:
+            self._finish(rec, NodeState.FAILED, answers.reason)
+            return
+        if not answers.bindings:
+            self._succeed(rec)
+            return
+        instance = self.tst.expand_foreach(node.node_id, answers.bindings)
+        self._record(instance.nodes)
+        if instance.status is not InstanceStatus.OK:
+            self._finish(rec, NodeState.FAILED, f"foreach instance: {instance.reason}")
+            return
+        listed = ", ".join(",".join(b) for b in answers.bindings)
+        self.ctx.sink.note(node.node_id, f"{len(answers.bindings)} instances: {listed}")
+        self._advance_concurrent(node, rec)
+
+    def _record(self, node_ids: tuple[str, ...]) -> None:
+        """Records for nodes added at run time (foreach instances), held by their agents."""
+        for node_id in node_ids:
+            self.records.setdefault(node_id, NodeRecord(node_id, self.tst.agent_of(node_id)))
 
     def _reset(self, node_id: str) -> None:
         """Make a loop body runnable again (its times are fixed per round only in the record)."""
@@ -562,19 +611,34 @@ class ExecutionEngine:
     def _succeed(self, rec: NodeRecord) -> None:
         node = self.tst.tree.node(rec.node_id)
         te = node.params["TE"]
+        end = self._observed(te)
         if te not in self.tst.network.values:
-            fixed = self.tst.network.fix(te, self.now, f"{rec.node_id} ended at {self.now:.3f} s")
+            fixed = self.tst.network.fix(te, end, f"{rec.node_id} ended at {end:.3f} s")
             if fixed.status is not FixStatus.OK:
                 self._finish(
-                    rec, NodeState.FAILED, _conflict(f"ended at {self.now:.1f} s", fixed.conflict)
+                    rec, NodeState.FAILED, _conflict(f"ended at {end:.1f} s", fixed.conflict)
                 )
                 return
-        self._finish(rec, NodeState.SUCCEEDED, "")
+        self._finish(rec, NodeState.SUCCEEDED, "", end)
 
-    def _finish(self, rec: NodeRecord, state: NodeState, reason: str) -> None:
+    def _observed(self, var: str) -> float:
+        """The time a start or end happened: now, or its latest time when a tick passed it.
+
+        The engine sees time at its ticks, so an end due between two ticks (a wait's or a
+        hover's, fixed by its duration) is seen up to a tick late; within
+        :data:`TICK_TOLERANCE_S` it is recorded at the latest time the network allows.
+        """
+        latest = self.tst.network.window(var).latest
+        if latest < self.now <= latest + TICK_TOLERANCE_S:
+            return latest
+        return self.now
+
+    def _finish(
+        self, rec: NodeRecord, state: NodeState, reason: str, at: float | None = None
+    ) -> None:
         if rec.state.finished:
             return
-        rec.state, rec.reason, rec.end = state, reason, self.now
+        rec.state, rec.reason, rec.end = state, reason, self.now if at is None else at
         if math.isnan(rec.start):
             rec.start = self.now
         rec.stepper = None

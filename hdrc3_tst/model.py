@@ -87,8 +87,10 @@ class Node:
     """The query of IF/WHILE/FOREACH nodes."""
     loop_vars: tuple[str, ...] = ()
     """FOREACH: the variables each answer binds."""
+    template: str = ""
+    """FOREACH: the root of its body as written (never executed; each answer instantiates it)."""
     expanded_as: NodeKind | None = None
-    """A GOAL node after planning acts as this SEQUENCE or CONCURRENT node."""
+    """A GOAL node after planning, or a FOREACH node after its query, acts as this node kind."""
     state: NodeState = NodeState.CREATED
     pos: SourcePos = field(default_factory=SourcePos)
 
@@ -151,3 +153,13 @@ class TaskTree:
             raise TstError(f"a goal expands as sequence or concurrent, not {mode.value}")
         goal.expanded_as = mode
         goal.children = list(children)
+
+    def expand_foreach(self, foreach_id: str, children: list[NodeRef]) -> None:
+        """Give a foreach node its instances (one per answer); it then acts as concurrent."""
+        node = self.node(foreach_id)
+        if node.kind is not NodeKind.FOREACH:
+            raise TstError(f"{foreach_id} is a {node.kind.value} node, not a foreach")
+        if node.expanded_as is not None:
+            raise TstError(f"foreach {foreach_id} is already expanded")
+        node.expanded_as = NodeKind.CONCURRENT
+        node.children = list(children)

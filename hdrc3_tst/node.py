@@ -295,8 +295,9 @@ class TstManagerNode(Node):
         if engine is None:
             return response
         node_id = str(request.node_id)
-        if node_id not in engine.records:
-            return _answer(response, TstReturn.TST_UNKNOWN_NODE, f"no node {node_id!r}")
+        unknown = engine.materialize(node_id)
+        if unknown:
+            return _answer(response, TstReturn.TST_UNKNOWN_NODE, unknown)
         now = self.sim_now()
         epoch = float(request.epoch) if math.isfinite(request.epoch) else now
         reason = engine.execute(node_id, epoch, now)

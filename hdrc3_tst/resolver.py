@@ -14,16 +14,18 @@ altitudes. Every constraint carries a label with its source position, so a confl
 from __future__ import annotations
 
 import enum
+import re
 from dataclasses import dataclass, field
 
 import shapely
 
 from hdrc3_tst.actions import ACTIONS, ActionSpec, ParamSpec, ParamType
 from hdrc3_tst.diagnostics import Diagnostic
-from hdrc3_tst.finite import LinearConstraint, SymbolConstraint
+from hdrc3_tst.finite import LinearConstraint, SolveStatus, SymbolConstraint
 from hdrc3_tst.model import UNASSIGNED, NodeKind, NodeRef, TaskTree
 from hdrc3_tst.model import Node as TreeNode
 from hdrc3_tst.network import ConstraintNetwork, FixResult, FixStatus
+from hdrc3_tst.stn import Inconsistent
 from hdrc3_tst.syntax import (
     ActionTask,
     AgentsDecl,
@@ -79,6 +81,8 @@ class ResolvedTst:
     agents: tuple[str, ...]
     places: dict[str, Place]
     world: str | None = None
+    resolver: _Resolver | None = field(default=None, repr=False, compare=False)
+    """What resolved it: foreach instances are resolved by it at run time."""
 
     def variable(self, node_id: str, param: str) -> str:
         """The network variable of one node parameter (misuse raises TstError)."""
@@ -110,6 +114,49 @@ class ResolvedTst:
         """The node's reference (agent + id)."""
         return NodeRef(self.agent_of(node_id), node_id)
 
+    def expand_foreach(self, foreach_id: str, answers: tuple[tuple[str, ...], ...]) -> Instance:
+        """Instantiate a foreach body once per answer and make them the node's children.
+
+        Returns:
+            An OK :class:`Instance` whose ``nodes`` are every node added, or the first refusal
+            (the node is then left unexpanded).
+        """
+        added: list[str] = []
+        roots: list[NodeRef] = []
+        for values in answers:
+            instance = self._instantiate(foreach_id, values)
+            added += instance.nodes
+            if instance.status is not InstanceStatus.OK:
+                return Instance(instance.status, "", tuple(added), instance.reason)
+            roots.append(NodeRef(UNASSIGNED, instance.root))
+        self.tree.expand_foreach(foreach_id, roots)
+        return Instance(InstanceStatus.OK, foreach_id, tuple(added))
+
+    def materialize(self, node_id: str) -> Instance:
+        """Resolve the foreach instances a node id names (``f[uav1]/body/leaf``).
+
+        Another agent's manager expanded the foreach and asks this one to execute an instance's
+        node; every replica resolves the same instance from its id, so they agree on it.
+        """
+        added: list[str] = []
+        for match in re.finditer(r"\[([^\[\]]*)\]/", node_id):
+            foreach_id = node_id[: match.start()]
+            node = self.tree.nodes.get(foreach_id)
+            if node is None or node.kind is not NodeKind.FOREACH:
+                continue
+            instance = self._instantiate(foreach_id, tuple(match.group(1).split(",")))
+            added += instance.nodes
+            if instance.status is not InstanceStatus.OK:
+                return Instance(instance.status, "", tuple(added), instance.reason)
+        if node_id not in self.tree.nodes:
+            return Instance(InstanceStatus.INVALID, "", tuple(added), f"no node {node_id!r}")
+        return Instance(InstanceStatus.OK, node_id, tuple(added))
+
+    def _instantiate(self, foreach_id: str, values: tuple[str, ...]) -> Instance:
+        if self.resolver is None or foreach_id not in self.resolver.foreach_bodies:
+            return Instance(InstanceStatus.INVALID, "", (), f"{foreach_id} is not a foreach node")
+        return self.resolver.instantiate(foreach_id, values)
+
 
 @dataclass(frozen=True)
 class ResolveResult:
@@ -118,6 +165,26 @@ class ResolveResult:
     status: ResolveStatus
     tst: ResolvedTst | None
     diagnostics: tuple[Diagnostic, ...] = ()
+
+
+class InstanceStatus(enum.Enum):
+    """Outcome of instantiating a foreach body for one answer."""
+
+    OK = "ok"
+    INVALID = "invalid"
+    """A value of the wrong type, or the body does not resolve with it."""
+    INCONSISTENT = "inconsistent"
+    """The instance's constraints conflict with the network."""
+
+
+@dataclass(frozen=True)
+class Instance:
+    """One foreach instance: its root node and every node it added (also when refused)."""
+
+    status: InstanceStatus
+    root: str
+    nodes: tuple[str, ...]
+    reason: str = ""
 
 
 @dataclass
@@ -149,9 +216,24 @@ class _Resolver:
     mission: str = ""
     root_scope: _Scope = field(default_factory=lambda: _Scope({}))
     pending: list[tuple[Constraint, _Scope, str]] = field(default_factory=list)
+    foreach_bodies: dict[str, tuple[TstDef, _Scope]] = field(default_factory=dict)
+    """FOREACH node id -> its body as written and the scope its instances resolve in."""
+    live: bool = False
+    """Resolving at run time (a foreach instance): every temporal edge propagates at once."""
 
     def error(self, code: str, message: str, pos: SourcePos) -> None:
         self.diags.append(Diagnostic(code, message, pos))
+
+    def edge(self, later: str, earlier: str, bound: float, strict: bool, label: str) -> None:
+        """``later - earlier <= bound``: recorded while loading, propagated when ``live``.
+
+        Raises:
+            Inconsistent: (live) the edge closes a negative cycle; the network is unchanged.
+        """
+        if self.live:
+            self.net.stn.add(later, earlier, bound, strict, label)
+        else:
+            self.net.stn.constrain(later, earlier, bound, strict, label)
 
     # --- declarations -------------------------------------------------------------------
     def declarations(self) -> None:
@@ -236,8 +318,8 @@ class _Resolver:
         self.net.declare(var, kind, self._domain(kind))
         if kind is ParamType.TIME:
             assert isinstance(value, float)
-            self.net.stn.constrain(var, "Z", value, False, label)
-            self.net.stn.constrain("Z", var, -value, False, label)
+            self.edge(var, "Z", value, False, label)
+            self.edge("Z", var, -value, False, label)
         elif kind.numeric:
             assert isinstance(value, float)
             self.net.finite.linear.append(LinearConstraint(((1.0, var),), Cmp.EQ, value, label))
@@ -289,9 +371,7 @@ class _Resolver:
             self._action(node, task, own)
         elif isinstance(task, GoalTask):
             node.action = task.name
-            node.goal_args = tuple(
-                a.id if isinstance(a, Name) else f"{a.value:g}" for a in task.args
-            )
+            node.goal_args = tuple(self._goal_arg(a, own) for a in task.args)
         elif isinstance(task, CallTask):
             self._call(node, task, own, prefix)
         else:
@@ -300,9 +380,10 @@ class _Resolver:
                 if task.cond.time is not None and own.find(task.cond.time) is None:
                     self.error("E101", f"unknown time variable {task.cond.time!r}", task.cond.pos)
             if isinstance(task, ForeachTask):
-                node.loop_vars = task.vars
-                for v in task.vars:
-                    own.vars[v] = prefix + v
+                self._foreach(node, task, own)
+                for cons in tst.where:
+                    self.pending.append((cons, own, node_id))
+                return node
             previous: TreeNode | None = None
             for sub in tst.children():
                 child = self.node(sub, own, node, prefix)
@@ -310,7 +391,7 @@ class _Resolver:
                     continue
                 node.children.append(NodeRef(UNASSIGNED, child.node_id))
                 if node_kind is NodeKind.SEQUENCE and previous is not None:
-                    self.net.stn.constrain(
+                    self.edge(
                         previous.params["TE"],
                         child.params["TS"],
                         0.0,
@@ -322,16 +403,100 @@ class _Resolver:
             self.pending.append((cons, own, node_id))
         return node
 
-    def _temporal_structure(self, node: TreeNode, parent: TreeNode | None) -> None:
-        ts, te, stn = node.params["TS"], node.params["TE"], self.net.stn
-        at = f"{node.pos}: {node.node_id}"
-        stn.constrain(ts, te, 0.0, False, f"{at}: TS <= TE")
-        if parent is not None and parent.params["TS"] != ts:
-            stn.constrain(
-                parent.params["TS"], ts, 0.0, False, f"{at} starts within {parent.node_id}"
+    def _goal_arg(self, arg: Name | Number, scope: _Scope) -> str:
+        """A goal's argument as the planner sees it: a bound variable (foreach) by its value."""
+        if isinstance(arg, Number):
+            return f"{arg.value:g}"
+        var = scope.find(arg.id)
+        value = self.net.values.get(var) if var is not None else None
+        if value is None:
+            return arg.id
+        return f"{value:g}" if isinstance(value, float) else value
+
+    def _foreach(self, node: TreeNode, task: ForeachTask, own: _Scope) -> None:
+        """Check the body once as a template; instances are resolved when the query answers.
+
+        The template is not the node's child: it never runs, and it does not keep the foreach
+        from ending at once when the query has no answer.
+        """
+        node.loop_vars = task.vars
+        for v in task.vars:
+            own.vars[v] = f"{node.node_id}[*].{v}"
+        self.foreach_bodies[node.node_id] = (task.body, own)
+        template = self.node(task.body, own, None, f"{node.node_id}[*]/")
+        if template is not None:
+            node.template = template.node_id
+
+    def instantiate(self, foreach_id: str, values: tuple[str, ...]) -> Instance:
+        """Resolve one instance of a foreach body with its loop variables bound to ``values``.
+
+        The instance's nodes are added to the tree and its constraints to the network, which
+        propagates at once; on a conflict the edge that closes it is not added, and the
+        instance is refused (the foreach node then fails).
+        """
+        assert self.tree is not None
+        foreach = self.tree.node(foreach_id)
+        body, scope = self.foreach_bodies[foreach_id]
+        tag = f"{foreach_id}[{','.join(values)}]"
+        if f"{tag}/{body.name}" in self.tree.nodes:
+            return Instance(InstanceStatus.OK, f"{tag}/{body.name}", ())
+        if len(values) != len(foreach.loop_vars):
+            return Instance(
+                InstanceStatus.INVALID,
+                "",
+                (),
+                f"{foreach_id} binds {len(foreach.loop_vars)} variables, got {len(values)} values",
             )
+        before = set(self.tree.nodes)
+        finite = self.net.finite
+        linear, symbolic = len(finite.linear), len(finite.symbolic)
+        self.diags, self.pending, self.live = [], [], True
+        try:
+            inner = _Scope({}, scope)
+            for name, value in zip(foreach.loop_vars, values, strict=True):
+                kind = self.net.types.get(scope.vars[name])
+                if kind is None:
+                    continue  # the body does not use it
+                if self._domain(kind) and value not in self._domain(kind):
+                    return Instance(
+                        InstanceStatus.INVALID, "", (), f"{value!r} is not a {kind.value}"
+                    )
+                inner.vars[name] = self.constant(value, kind, f"{tag}.{name}")
+            root = self.node(body, inner, foreach, f"{tag}/")
+            self.constraints()
+        except Inconsistent as exc:
+            return Instance(
+                InstanceStatus.INCONSISTENT,
+                "",
+                self._added(before),
+                "; ".join(e.label for e in exc.cycle),
+            )
+        finally:
+            self.live = False
+        added = self._added(before)
+        if self.diags or root is None:
+            reason = "; ".join(f"{d.pos}: {d.message}" for d in self.diags)
+            return Instance(InstanceStatus.INVALID, "", added, reason)
+        solved = self.net.finite.solve()
+        if solved.status is SolveStatus.INCONSISTENT:
+            del finite.linear[linear:], finite.symbolic[symbolic:]
+            return Instance(InstanceStatus.INCONSISTENT, "", added, "; ".join(solved.conflict))
+        for var, agent in _fixed_agents(self.net).items():
+            self.net.values.setdefault(var, agent)
+        return Instance(InstanceStatus.OK, root.node_id, added)
+
+    def _added(self, before: set[str]) -> tuple[str, ...]:
+        assert self.tree is not None
+        return tuple(n for n in self.tree.nodes if n not in before)
+
+    def _temporal_structure(self, node: TreeNode, parent: TreeNode | None) -> None:
+        ts, te = node.params["TS"], node.params["TE"]
+        at = f"{node.pos}: {node.node_id}"
+        self.edge(ts, te, 0.0, False, f"{at}: TS <= TE")
+        if parent is not None and parent.params["TS"] != ts:
+            self.edge(parent.params["TS"], ts, 0.0, False, f"{at} starts within {parent.node_id}")
         if parent is not None and parent.params["TE"] != te:
-            stn.constrain(te, parent.params["TE"], 0.0, False, f"{at} ends within {parent.node_id}")
+            self.edge(te, parent.params["TE"], 0.0, False, f"{at} ends within {parent.node_id}")
 
     def _action(self, node: TreeNode, task: ActionTask, scope: _Scope) -> None:
         node.action = task.name
@@ -350,8 +515,8 @@ class _Resolver:
             var = self._arg(node, arg, ParamSpec(key, ParamType.TIME, "s"), scope)
             if var is not None and var != node.params[key]:
                 label = f"{node.node_id}: {key} = {arg.id if isinstance(arg, Name) else arg.value}"
-                self.net.stn.constrain(var, node.params[key], 0.0, False, label)
-                self.net.stn.constrain(node.params[key], var, 0.0, False, label)
+                self.edge(var, node.params[key], 0.0, False, label)
+                self.edge(node.params[key], var, 0.0, False, label)
         for i, pspec in enumerate(spec.params):
             arg = (
                 args[i + 2] if i + 2 < len(args) else Number(float(pspec.default or 0.0), task.pos)
@@ -377,8 +542,8 @@ class _Resolver:
         if spec.duration == pspec.name and var in self.net.values:
             d = float(self.net.values[var])
             label = f"{node.pos}: {node.node_id}: TE - TS = {spec.duration} {d:g} s"
-            self.net.stn.constrain(node.params["TE"], node.params["TS"], d, False, label)
-            self.net.stn.constrain(node.params["TS"], node.params["TE"], -d, False, label)
+            self.edge(node.params["TE"], node.params["TS"], d, False, label)
+            self.edge(node.params["TS"], node.params["TE"], -d, False, label)
 
     def _arg(
         self, node: TreeNode, arg: Name | Number, pspec: ParamSpec, scope: _Scope
@@ -456,6 +621,8 @@ class _Resolver:
             if var is None:
                 return
             values = tuple(v.id for v in cons.values if isinstance(v, Name))
+            if not self._typed(var, list(values), cons.pos):
+                return
             text = f"{cons.pos}: {cons.var.id} in {{{', '.join(values)}}}"
             self._symbolic(var, Cmp.EQ, values, None, cons.pos, text)
             return
@@ -490,6 +657,23 @@ class _Resolver:
                 return
         self.net.finite.symbolic.append(SymbolConstraint(var, op, values, other, text))
 
+    def _typed(self, var: str, symbols: list[str], pos: SourcePos) -> bool:
+        """Type a variable no action argument typed (a loop variable) by the names it meets.
+
+        False (with an error) when nothing tells its type.
+        """
+        if var in self.net.types:
+            return True
+        known = [s for s in symbols if s in self.agents or s in self.places]
+        if not known:
+            self.error(
+                "E106", f"{var.rpartition('.')[2]} has no type: no action argument uses it", pos
+            )
+            return False
+        kind = ParamType.AGENT if known[0] in self.agents else self.places[known[0]].kind
+        self.net.declare(var, kind, self._domain(kind))
+        return True
+
     def _comparison(self, cons: Comparison, scope: _Scope) -> None:
         from hdrc3_tst.printer import constraint_text
 
@@ -510,6 +694,8 @@ class _Resolver:
                 if var is None:
                     return
                 terms[var] = terms.get(var, 0.0) + sign * term.coef
+        if not all(self._typed(v, symbols, cons.pos) for v in terms):
+            return
         kinds = {self.net.types[v] for v in terms}
         if symbols or any(not k.numeric for k in kinds):
             if len(terms) + len(symbols) != 2 or cons.op not in (Cmp.EQ, Cmp.NE) or len(terms) < 1:
@@ -554,11 +740,10 @@ class _Resolver:
         x = plus[0] if plus else "Z"
         y = minus[0] if minus else "Z"
         # x - y OP const
-        stn = self.net.stn
         if op in (Cmp.LE, Cmp.LT, Cmp.EQ):
-            stn.constrain(x, y, const, op is Cmp.LT, text)
+            self.edge(x, y, const, op is Cmp.LT, text)
         if op in (Cmp.GE, Cmp.GT, Cmp.EQ):
-            stn.constrain(y, x, -const, op is Cmp.GT, text)
+            self.edge(y, x, -const, op is Cmp.GT, text)
 
 
 class _NoPlace:
@@ -631,6 +816,7 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
         all_agents,
         resolver.places,
         world_decl.name if world_decl else None,
+        resolver,
     )
     conflict = resolver.net.check()
     if conflict:

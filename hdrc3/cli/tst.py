@@ -41,6 +41,8 @@ EXIT_FAILED = 1
 EXIT_REFUSED = 3
 EXIT_INVALID = 4
 ABORT_WAIT_S = 30.0
+LAST_STATUS_WAIT_S = 10.0
+"""Wall seconds to wait, once the root has ended, for the other nodes' last statuses."""
 SETTLE_S = 3.0
 """Sim seconds a launched run goes on after its root ended."""
 SETTLE_WAIT_S = 30.0
@@ -131,7 +133,8 @@ def _check(args: argparse.Namespace) -> int:
 
 def _console() -> Console:
     # soft wrap: one line per event even when piped to a file (no wrapping at 80 columns)
-    return Console(highlight=False, soft_wrap=True)
+    # no markup: node ids of foreach instances contain brackets (m[uav1]/s)
+    return Console(highlight=False, soft_wrap=True, markup=False)
 
 
 def _replies(console: Console, replies: list[Reply] | tuple[Reply, ...]) -> bool:
@@ -263,6 +266,8 @@ def _execute(
             process.stop_requested.clear()
             client.abort(mission, created.involved, reason)
             process.spin_until(root_done, ABORT_WAIT_S)
+        # other agents' last statuses may arrive after the root's (another publisher)
+        process.spin_until(lambda: not _running(client.latest(mission)), LAST_STATUS_WAIT_S)
         if hand_over_first:
             _settle(process, client)
         latest = client.latest(mission)
@@ -280,6 +285,12 @@ def _execute(
     what = _status_line(culprit) if culprit is not None else "the root did not end"
     console.print(f"MISSION FAILED: {what}")
     return EXIT_FAILED
+
+
+def _running(latest: dict[str, Any]) -> bool:
+    """True while a node is reported running or paused."""
+    busy = (NodeState.RUNNING.value, NodeState.PAUSED.value)
+    return any(m.state in busy for m in latest.values())
 
 
 def _settle(process: RosProcess, client: TstClient) -> None:

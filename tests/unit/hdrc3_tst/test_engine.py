@@ -134,8 +134,22 @@ def test_a_missed_deadline_fails_the_node_and_stops_its_command() -> None:
     rig.start("m")
     rig.run(25)  # the fly-to never finishes
     assert rig.state("m") is NodeState.FAILED
-    assert rig.reason("m").startswith("deadline: not done at 21.0 s, latest end 20.0 s")
+    # one tick of tolerance (TICK_TOLERANCE_S) after the latest end
+    assert rig.reason("m").startswith("deadline: not done at 22.0 s, latest end 20.0 s")
     assert [c.label for c, _ in rig.platform.stopped] == ["fcl_traj3d_flyto"]
+
+
+def test_an_end_seen_a_tick_late_is_recorded_at_its_due_time() -> None:
+    """A wait's end is due between two ticks; the engine records it when it was due."""
+    rig = Rig(mission("m(P, TS, TE) = wait(TS, TE, 3) where P = uav0\n"))
+    rig.start("m")
+    for _ in range(5):  # ticks at 0.7, 1.4, ... 3.5 s
+        rig.t += 0.7
+        rig.engine.tick(rig.t)
+    assert rig.state("m") is NodeState.SUCCEEDED
+    record = rig.engine.records["m"]
+    assert (record.start, record.end) == (0.0, 3.0)
+    assert rig.engine.tst.network.values[rig.engine.tst.variable("m", "TE")] == 3.0
 
 
 def test_abort_stops_commands_and_aborts_remote_children() -> None:
@@ -348,3 +362,65 @@ def test_an_executors_notes_reach_the_sink_and_fly_to_uses_the_agents_planner() 
     assert nav.requests[0].start == (0.0, 0.0, 30.0)
     assert [(n, t.split(" ")[0]) for n, t in rig.sink.notes] == [("m", "planned")]
     assert [(n, len(p)) for n, p in rig.sink.paths] == [("m", 1)]
+
+
+SCAN_ALL = (
+    "m(P, TS, TE) = foreach Av where [TS] can-scan(Av) do conc\n"
+    "  s(Av, U1, U2) = wait(U1, U2, {seconds})\n"
+    "where P = uav0\n"
+)
+
+
+def test_foreach_runs_one_instance_per_answer_across_agents() -> None:
+    """Section 9.4's scan-with-all-uavs: one instance per agent, each held by its agent."""
+    text = SCAN_ALL.format(seconds=5)
+    owner, other = Rig(mission(text)), Rig(mission(text), agent="uav1")
+    owner.start("m")
+    children = [c.node_id for c in owner.engine.tst.tree.node("m").children]
+    assert children == ["m[uav0]/s", "m[uav1]/s"]
+    assert owner.sink.remote_starts == [NodeRef("uav1", "m[uav1]/s")]
+    assert ("m", "2 instances: uav0, uav1") in owner.sink.notes
+    # uav1's manager resolves the instance from its id alone
+    assert other.engine.execute("m[uav1]/s", owner.t, other.t) == ""
+    owner.run(6)
+    assert owner.state("m[uav0]/s") is NodeState.SUCCEEDED
+    assert owner.state("m") is NodeState.RUNNING  # uav1's instance is not reported yet
+    other.run(6)
+    assert other.state("m[uav1]/s") is NodeState.SUCCEEDED
+    rec = other.engine.records["m[uav1]/s"]
+    owner.engine.on_remote_status("m[uav1]/s", rec.state, rec.start, rec.end, "")
+    owner.run(1)
+    assert owner.state("m") is NodeState.SUCCEEDED
+    assert owner.state("m[*]/s") is NodeState.CREATED  # the template never runs
+    values = owner.engine.tst.network.values
+    assert values["m[uav0]/U2"] - values["m[uav0]/U1"] == 5.0  # each instance has its own times
+
+
+@pytest.mark.parametrize(
+    ("condition", "body", "state", "reason"),
+    [
+        ("area(X)", "wait(U1, U2, 1)", NodeState.SUCCEEDED, ""),  # no area declared: no instance
+        ("seen(X)", "wait(U1, U2, 1)", NodeState.FAILED, "no agent answers seen(...) over X"),
+        ("not agent(X)", "wait(U1, U2, 1)", NodeState.FAILED, "not agent(X) has no finite set"),
+        ("on-ground(P)", "wait(U1, U2, 1)", NodeState.FAILED, "the query on-ground(...) binds"),
+        (
+            "agent(X)",
+            "sequence w(U3, U4) = wait(U3, U4, 1) where X != uav1",
+            NodeState.FAILED,
+            "foreach instance: <string>:5:60: X != uav1; m[uav1].X = uav1",
+        ),
+    ],
+)
+def test_foreach_answers_and_refusals(
+    condition: str, body: str, state: NodeState, reason: str
+) -> None:
+    tst = mission(
+        f"m(P, TS, TE) = foreach X where [TS] {condition} do conc\n"
+        f"  s(U1, U2) = {body}\nwhere P = uav0\n"
+    )
+    rig = Rig(tst)
+    rig.platform.sample = PlatformState(0, 0, 0, on_ground=True, autonomous=True)
+    rig.start("m")
+    rig.run(3)
+    assert rig.state("m") is state
+    assert rig.reason("m").startswith(reason)

@@ -72,6 +72,8 @@ def test_structure_adds_talf_semantics_and_durations() -> None:
         ("area A = polygon((0, 0), (900, 0), (0, 900))\nm(TS, TE) = land(TS, TE)", "E103", "4:6", "leaves the world"),  # noqa: E501
         ("point Q = nowhere at 3\nm(TS, TE) = land(TS, TE)", "E102", "4:7", "unknown place 'nowhere'"),  # noqa: E501
         ("m(TS, TE) = with S sequence a(TS, TE) = fly-to(TS, TE, S, Dest); b(TS, TE) = wait(TS, TE, S)", "E106", "4:91", "S is a speed, used here as a duration"),  # noqa: E501
+        ("m(TS, TE) = foreach X where agent(X) do conc s(U, V) = wait(U, V, 1) where X < 3", "E106", "4:78", "X has no type"),  # noqa: E501
+        ("m(TS, TE) = foreach X where agent(X) do conc s(U, V) = jump(U, V)", "E110", "4:56", "unknown action type"),  # noqa: E501
     ],
 )  # fmt: skip
 def test_bad_input_is_named_with_its_position(
@@ -161,3 +163,51 @@ def test_a_goal_node_expands_into_a_sequence() -> None:
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.tst")), ids=lambda p: p.name)
 def test_every_shipped_example_checks(path: Path) -> None:
     assert load_file(path).status is CheckStatus.OK
+
+
+FLY_TO_EACH = (
+    "point Dest2 = supply_depot at 25\n"
+    "m(P, TS, TE) = with Q foreach X where [TS] point(X) do conc\n"
+    "  f(Q, U1, U2) = fly-to(U1, U2, 5, X)\n"
+    "where P = uav0 and Q = uav1\n"
+)
+
+
+def test_a_foreach_body_is_a_template_until_instances_are_resolved() -> None:
+    tst = ok(FLY_TO_EACH)
+    foreach = tst.tree.node("m")
+    assert (foreach.children, foreach.template) == ([], "m[*]/f")
+    assert [n.node_id for _, n in tst.tree.walk()] == ["m"]  # nobody binds or runs the template
+    instance = tst.expand_foreach("m", (("Dest",), ("Dest2",)))
+    assert instance.status.value == "ok"
+    assert instance.nodes == ("m[Dest]/f", "m[Dest2]/f")
+    assert [c.node_id for c in foreach.children] == ["m[Dest]/f", "m[Dest2]/f"]
+    assert foreach.acts_as is NodeKind.CONCURRENT
+    assert tst.network.values[tst.variable("m[Dest2]/f", "destination")] == "Dest2"
+    assert tst.agent_of("m[Dest]/f") == "uav1"  # the head's Q is the foreach's, shared
+    window = tst.network.window(tst.variable("m[Dest]/f", "TS"))
+    assert window.earliest >= 0.0  # inside the foreach's interval, propagated at once
+
+
+def test_a_replica_resolves_the_same_instance_from_its_id() -> None:
+    owner, replica = ok(FLY_TO_EACH), ok(FLY_TO_EACH)
+    owner.expand_foreach("m", (("Dest",), ("Dest2",)))
+    made = replica.materialize("m[Dest2]/f")
+    assert (made.status.value, made.nodes) == ("ok", ("m[Dest2]/f",))
+    assert replica.tree.node("m[Dest2]/f").params == owner.tree.node("m[Dest2]/f").params
+    assert replica.tree.node("m").children == []  # the replica does not run the foreach
+
+
+@pytest.mark.parametrize(
+    ("node_id", "reason"),
+    [
+        ("m[uav0]/f", "'uav0' is not a point"),
+        ("m[Dest,Dest2]/f", "m binds 1 variables, got 2 values"),
+        ("m[Dest]/g", "no node 'm[Dest]/g'"),
+        ("n[Dest]/f", "no node 'n[Dest]/f'"),
+    ],
+)
+def test_a_node_id_naming_no_valid_instance_is_refused(node_id: str, reason: str) -> None:
+    made = ok(FLY_TO_EACH).materialize(node_id)
+    assert made.status.value == "invalid"
+    assert made.reason == reason
