@@ -74,6 +74,8 @@ class NodeRecord:
     rounds: int = 0
     plan: PlanHandle | None = None
     remote_requested: bool = False
+    memory: dict[str, float] = field(default_factory=dict)
+    """An action executor's memory across pause and resume (``ActionContext.memory``)."""
 
 
 class EngineSink(Protocol):
@@ -358,6 +360,7 @@ class ExecutionEngine:
             started,
             self.now,
             navigation=self.ctx.navigation,
+            memory=rec.memory,
         )
         rec.stepper = Stepper(executor(), action_ctx)
         self.ctx.sink.flag(node.node_id, node.action, True)

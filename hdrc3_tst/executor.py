@@ -86,6 +86,9 @@ class ActionContext:
     engine hands them to its sink after every tick."""
     paths: list[tuple[PathSegment, ...]] = field(default_factory=list)
     """Paths the executor planned since the last tick (handed to the sink likewise)."""
+    memory: dict[str, float] = field(default_factory=dict)
+    """What the executor keeps across a pause: each run of the node (start, resume) gets the
+    same dict (a scan resumes at the segment it was flying)."""
 
     def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
         """Send a command for this node."""

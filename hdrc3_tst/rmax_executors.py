@@ -35,6 +35,8 @@ from hdrc3_tst.platform_port import Command, CommandState
 
 Steps = Generator[None, None, Status]
 DATA_TIMEOUT_S = 10.0
+SEGMENTS_DONE = "segments_done"
+"""``ActionContext.memory`` key: segments of a streamed pattern flown to their end."""
 """Mission seconds an executor waits for the first Data Interface sample."""
 TURN_SPEED = 3.0
 """m/s on the U-turns of a coverage pattern (the path follower may slow further)."""
@@ -89,8 +91,18 @@ def fly_to(ctx: ActionContext, point: tuple[float, ...], speed: float) -> Steps:
     return (yield from finish(ctx, command, flight_bound(length, speed)))
 
 
+def resumed(ctx: ActionContext, segments: list[PathSegment]) -> list[PathSegment]:
+    """The segments still to fly: a resumed node starts again at the segment it was flying."""
+    return segments[int(ctx.memory.get(SEGMENTS_DONE, 0)) :]
+
+
 def stream(ctx: ActionContext, segments: list[PathSegment]) -> Steps:
-    """Fly to the first segment's start, then send each segment when the previous asks (§7.2)."""
+    """Fly to the first segment's start, then send each segment when the previous asks (§7.2).
+
+    ``ctx.memory[SEGMENTS_DONE]`` counts the segments flown to their end (of the node's whole
+    pattern: ``segments`` are the ones :func:`resumed` left).
+    """
+    done = int(ctx.memory.get(SEGMENTS_DONE, 0))
     first = segments[0]
     outcome = yield from fly_to(ctx, first.start, first.target_velocity)
     if outcome.progress is not Progress.SUCCEEDED:
@@ -103,6 +115,8 @@ def stream(ctx: ActionContext, segments: list[PathSegment]) -> Steps:
             return failed(f"segment {index - 1}: {outcome.reason}")
         if not previous.segment_requested:
             return failed(f"path following ended after segment {index - 1} of {len(segments)}")
+        # the PFC asks for the next segment while flying the last one: the one before is done
+        ctx.memory[SEGMENTS_DONE] = done + index - 1
         previous, flying = ctx.send(FclCommand.TRAJ3D, **segment_args(segment)), segment
     bound = flight_bound(flying.arc_length(), flying.target_velocity)
     outcome = yield from finish(ctx, previous, bound)
@@ -182,7 +196,7 @@ class FlyPath(ActionExecutor):
         if outcome.progress is not Progress.SUCCEEDED:
             return outcome
         points = [(p[0], p[1], p[2]) for p in ctx.place("path")]
-        return (yield from stream(ctx, polyline(points, ctx.number("speed"))))
+        return (yield from stream(ctx, resumed(ctx, polyline(points, ctx.number("speed")))))
 
 
 class ScanArea(ActionExecutor):
@@ -203,7 +217,7 @@ class ScanArea(ActionExecutor):
             ctx.number("speed"),
             min(TURN_SPEED, ctx.number("speed")),
         )
-        return (yield from stream(ctx, segments))
+        return (yield from stream(ctx, resumed(ctx, segments)))
 
 
 class LookAt(ActionExecutor):

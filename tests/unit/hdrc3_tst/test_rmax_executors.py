@@ -97,6 +97,33 @@ def test_a_path_ending_before_its_last_segment_fails() -> None:
     assert stepper.step(2.0) == Status(Progress.FAILED, "path following ended after segment 0 of 5")
 
 
+def test_a_resumed_scan_starts_again_at_the_segment_it_was_flying() -> None:
+    area = {"A": ((0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0))}
+    platform = FakePlatform(sample=FLYING)
+    stepper = step("scan-area", {"speed": 5.0, "area": "A", "altitude": 30.0}, platform)
+    stepper.ctx.points = area
+    stepper.step(0.0)
+    platform.complete(platform.sent[0])  # the fly-to the first leg
+    for t in range(1, 4):  # segments 0, 1, 2 sent, each asking for the next
+        stepper.step(float(t))
+        platform.sent[-1].segment_requested = True
+    stepper.step(4.0)
+    flown = [c for c in platform.sent if c.command is FclCommand.TRAJ3D]
+    assert len(flown) == 4  # segment 3 in flight: 0 to 2 are done
+    assert stepper.ctx.memory == {"segments_done": 2}
+    # pause: the engine stops the commands and later starts a new run with the same memory
+    again = step("scan-area", {"speed": 5.0, "area": "A", "altitude": 30.0}, platform)
+    again.ctx.points, again.ctx.memory = area, stepper.ctx.memory
+    sent = len(platform.sent)
+    again.step(5.0)
+    transit = platform.sent[sent]
+    assert transit.command is FclCommand.TRAJ3D_FLYTO  # to the start of segment 2, not 0
+    start = [flown[2].args[f"start_{axis}"] for axis in "xyz"]
+    assert start != [flown[0].args[f"start_{axis}"] for axis in "xyz"]
+    lon, lat, _ = FRAME.to_wgs84(*start)
+    assert (transit.args["longitude"], transit.args["latitude"]) == pytest.approx((lon, lat))
+
+
 @pytest.mark.parametrize(
     ("action", "args", "bound"),
     [
