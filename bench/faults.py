@@ -275,26 +275,30 @@ def touchdown(rig: Rig, since: float) -> str:
     return f"truth: touchdown at {touch[0].velocity_enu[2]:+.2f} m/s"
 
 
-def prepare(rig: Rig) -> tuple[float, float, float] | None:
-    """Autonomous, engine on, taken off; the hover point (ENU), or None."""
+def prepare(rig: Rig) -> tuple[tuple[float, float, float] | None, str]:
+    """Autonomous, engine on, taken off: the hover point (ENU) and "", or None and why not."""
     from hdrc3.safety_pilot import Switch, set_rc
     from hdrc3_interfaces.msg import FclReturn
     from hdrc3_interfaces.srv import FclTakeoff
 
     if not rig.wait(lambda: len(rig.states) > 0, 60.0):
-        return None
+        return None, "no Data Interface state in 60 s"
     set_rc(rig.process, rig.node, AGENT, Switch.AUTONOMOUS, Switch.ON, CALL_S)
     deadline = time.monotonic() + 120.0
+    refused = "no answer"
     while time.monotonic() < deadline:
         answer = rig.fcl(FclTakeoff, "takeoff")
         if answer is not None and answer.code == FclReturn.FCL_OK:
             done = rig.client.wait_final(answer.command_id, 120.0, lambda _e: None)
             if done is None or done.kind.name != "FINISHED":
-                return None
+                ended = "no terminal event in 120 s" if done is None else done.reason
+                return None, f"take-off did not finish: {ended}"
             rig.wait(lambda: settled(rig) == "safe hover", 60.0)
-            return rig.enu(rig.states[-1])
+            return rig.enu(rig.states[-1]), ""
+        if answer is not None:
+            refused = answer.reason
         rig.wait(lambda: False, 1.0)
-    return None
+    return None, f"take-off refused for 120 s: {refused}"
 
 
 def start_flyto(rig: Rig, pad: tuple[float, float, float], row: Row) -> int:
@@ -440,9 +444,9 @@ def run_entry(entry: str, domain: int) -> Row:
             return row
         with RosProcess(domain_id=domain, handle_signals=False) as process:
             rig = Rig(process)
-            pad = prepare(rig)
+            pad, why = prepare(rig)
             if pad is None:
-                row.note = "take-off failed"
+                row.note = why
                 return row
             mark = len(rig.client.events)
             t0_sim, t0_wall = rig.now(), time.monotonic()
