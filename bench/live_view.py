@@ -4,7 +4,7 @@ Starts ``hdrc3 launch`` with world_sim, control_kernel and platform_server for o
 view) on its own ROS domain and measures the CPU of its process tree over ``--window`` seconds.
 Then starts ``hdrc3 live``, connects a Foxglove WebSocket client subscribed to every live channel
 and measures, over the same window: the live view's own CPU, the system's CPU, and the rate of
-``/hdrc3/tf`` messages arriving at the client. CPU is given in % of one core and in % of the
+``/live/tf`` messages arriving at the client. CPU is given in % of one core and in % of the
 machine (all cores). Targets (issue 19): <= 10 % CPU added, 25 Hz poses.
 
 Run: .venv/bin/python bench/live_view.py [--window 20] [--domain-id 97] [--speed 1]
@@ -93,7 +93,7 @@ def main() -> None:
             if not client.wait_for_channels(set(CHANNEL_NAMES), 20):
                 raise SystemExit("channels not advertised within 20 s")
             client.subscribe(list(CHANNEL_NAMES))
-            while (f := client.receive(10)) is not None and f.topic != "/hdrc3/tf":
+            while (f := client.receive(10)) is not None and f.topic != "/live/tf":
                 pass
             live_procs = tree(live.pid)
             live_before, sys_before = cpu_seconds(live_procs), cpu_seconds(procs)
@@ -101,7 +101,7 @@ def main() -> None:
             poses = 0
             while (now := time.monotonic()) < start_t + args.window:
                 frame = client.receive(start_t + args.window - now)
-                poses += frame is not None and frame.topic == "/hdrc3/tf"
+                poses += frame is not None and frame.topic == "/live/tf"
             elapsed = time.monotonic() - start_t
             live_cpu = (cpu_seconds(live_procs) - live_before) / elapsed * 100
             with_live = (cpu_seconds(procs) - sys_before) / elapsed * 100

@@ -1,7 +1,8 @@
 """The registry of live channels: one source of truth for names, schemas, sources, converters.
 
 The live view node, the recorder and the saved Foxglove layout (``foxglove/hdrc3.json``, checked
-by a test) all read this table. A new channel (camera images, the saliency map) is one more
+by a test) all read this table. Names start with ``/live/``: in a recording they sit beside the
+ROS topics (``/hdrc3/launch_status`` is one) and must not be taken for them. A new channel (camera images, the saliency map) is one more
 :class:`LiveChannel` here with its converter; nothing else changes.
 """
 
@@ -61,7 +62,7 @@ TST_ROW = {
 
 CHANNELS: tuple[LiveChannel, ...] = (
     LiveChannel(
-        "/hdrc3/world",
+        "/live/world",
         WireSchema.well_known(SceneUpdate),
         (),
         WorldConverter,
@@ -69,7 +70,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
         "terrain, buildings, no-fly zones and roads of the world file",
     ),
     LiveChannel(
-        "/hdrc3/tf",
+        "/live/tf",
         WireSchema.well_known(FrameTransforms),
         (TRUTH,),
         TransformConverter,
@@ -77,7 +78,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
         "world -> <agent> pose of every aircraft, 25 Hz",
     ),
     LiveChannel(
-        "/hdrc3/aircraft",
+        "/live/aircraft",
         WireSchema.well_known(SceneUpdate),
         (TRUTH,),
         AircraftConverter,
@@ -85,7 +86,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
         "aircraft models, in their own frames",
     ),
     LiveChannel(
-        "/hdrc3/tracks",
+        "/live/tracks",
         WireSchema.well_known(SceneUpdate),
         (TRUTH,),
         TrackConverter,
@@ -93,7 +94,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
         "flown tracks, 2 Hz",
     ),
     LiveChannel(
-        "/hdrc3/planned_paths",
+        "/live/planned_paths",
         WireSchema.well_known(SceneUpdate),
         (Source("planned_path", "hdrc3_interfaces/msg/Path"),),
         PlannedPathConverter,
@@ -101,7 +102,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
         "the path each agent follows (cubic segments)",
     ),
     LiveChannel(
-        "/hdrc3/gis",
+        "/live/gis",
         WireSchema.well_known(SceneUpdate),
         (Source("path_planner/gis_state", "hdrc3_interfaces/msg/GisState"),),
         GisConverter,
@@ -109,7 +110,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
         "the path planners' runtime no-fly zones and obstacles",
     ),
     LiveChannel(
-        "/hdrc3/tst",
+        "/live/tst",
         WireSchema.json_schema(
             "hdrc3.TstTable", {"changed": TST_ROW, "nodes": {"type": "array", "items": TST_ROW}}
         ),
@@ -119,7 +120,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
         "latest state of every TST node (JSON)",
     ),
     LiveChannel(
-        "/hdrc3/hcsm",
+        "/live/hcsm",
         WireSchema.json_schema(
             "hdrc3.HcsmActiveStates",
             {
@@ -137,7 +138,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
         "active HCSM states of each agent's control kernel (JSON)",
     ),
     LiveChannel(
-        "/hdrc3/events",
+        "/live/events",
         WireSchema.well_known(Log),
         (
             Source("platform_events", "hdrc3_interfaces/msg/PlatformEvent"),

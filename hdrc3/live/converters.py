@@ -114,9 +114,10 @@ class RateLimiter:
         due = self._due.get(key)
         if due is not None and now_ns < due:
             return False
-        # keep the average period exact, but never catch up a long pause in a burst
+        # keep the average period exact (a late message does not delay the next slot), but
+        # never catch up a long pause in a burst: the next slot is at least half a period away
         nxt = now_ns + self.period_ns if due is None else due + self.period_ns
-        self._due[key] = max(nxt, now_ns)
+        self._due[key] = max(nxt, now_ns + self.period_ns // 2)
         return True
 
 
@@ -304,9 +305,10 @@ class TstConverter(_NoStart):
 
     def convert(self, source: str, agent: str, msg: Any, now_ns: int) -> list[Output]:
         """The whole table with the node of ``msg`` updated."""
-        row = {
-            "mission": str(msg.mission),
-            "agent": str(msg.agent) or agent,
+        key = (str(msg.mission), str(msg.agent) or agent, str(msg.node_id))
+        row: dict[str, Any] = {
+            "mission": key[0],
+            "agent": key[1],
             "node_id": str(msg.node_id),
             "parent": str(msg.parent),
             "kind": str(msg.kind),
@@ -316,7 +318,7 @@ class TstConverter(_NoStart):
             "reason": str(msg.reason),
             "time": _seconds(msg.header.stamp),
         }
-        self._nodes[(row["mission"], row["agent"], row["node_id"])] = row
+        self._nodes[key] = row
         table = {"changed": row, "nodes": [self._nodes[k] for k in sorted(self._nodes)]}
         return [Output("tst", encode_json(table))]
 

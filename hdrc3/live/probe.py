@@ -1,4 +1,9 @@
-"""A minimal Foxglove WebSocket client (protocol ``foxglove.websocket.v1``) for tests and benches.
+"""A minimal Foxglove WebSocket client for tests and benches.
+
+The server of foxglove-sdk 0.30 accepts the subprotocols ``foxglove.sdk.v1`` and
+``foxglove.sdk.v1.1`` only (a client asking for the older name ``foxglove.websocket.v1`` gets
+HTTP 400); ``foxglove.sdk.v1`` keeps the message layout of ``foxglove.websocket.v1``, which this
+client speaks: JSON ``serverInfo``/``advertise``/``subscribe``, binary message frames.
 
 Reads the server's channel advertisements, subscribes to channels by topic and yields their
 binary message frames (opcode 1: subscription id, log time, payload). Uses the ``websockets``
@@ -17,7 +22,7 @@ from typing import Any
 from websockets.sync.client import ClientConnection, connect
 from websockets.typing import Subprotocol
 
-SUBPROTOCOL = Subprotocol("foxglove.websocket.v1")
+SUBPROTOCOL = Subprotocol("foxglove.sdk.v1")
 MESSAGE_DATA = 0x01
 _HEADER = struct.Struct("<BIQ")
 

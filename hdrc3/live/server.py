@@ -10,7 +10,7 @@ from __future__ import annotations
 import threading
 from collections.abc import Iterable, Sequence
 
-from foxglove.websocket import ChannelView, Client
+from foxglove.websocket import ChannelView, Client, ServerListener
 
 import foxglove
 from hdrc3.live import DEFAULT_HOST, DEFAULT_PORT
@@ -23,7 +23,7 @@ class PortInUseError(ConfigError):
     """The WebSocket port is taken (another live view, or another program)."""
 
 
-class _Listener:
+class _Listener(ServerListener):
     """Collects subscriptions to latched channels (called on the SDK's threads)."""
 
     def __init__(self, latched: set[str]) -> None:

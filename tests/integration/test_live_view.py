@@ -4,6 +4,8 @@ WebSocket client speaking the Foxglove protocol, and the live channels in the re
 from __future__ import annotations
 
 import socket
+import time
+from collections import Counter
 from pathlib import Path
 
 import pytest
@@ -13,11 +15,20 @@ from hdrc3.live.channels import CHANNEL_NAMES, CHANNELS
 from hdrc3.live.probe import SUBPROTOCOL, FoxgloveProbe, Frame
 from hdrc3.live.wire import WireSchema, decode
 from hdrc3.mcap_recording import RecordingReader
+from hdrc3_base.errors import DataError
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 SYSTEM = ("--agents", "uav0", "--nodes", "world_sim,control_kernel,platform_server")
 TF_FRAMES = 10
+
+
+def flushed(path: Path) -> set[str]:
+    """Topics in the chunks a running recorder has flushed to ``path`` so far."""
+    try:
+        return {m.topic for m in RecordingReader.open(path).messages()}
+    except DataError:  # not created yet, or a chunk read while it is being written
+        return set()
 
 
 def free_port() -> int:
@@ -41,15 +52,15 @@ def test_launch_live_streams_the_system_and_records_the_same_channels(hdrc3_cli,
                 channel.schema.name,
                 channel.schema.message_encoding,
             )
-        client.subscribe(["/hdrc3/world", "/hdrc3/aircraft", "/hdrc3/tf"])
+        client.subscribe(["/live/world", "/live/aircraft", "/live/tf"])
         frames: dict[str, list[Frame]] = {
-            "/hdrc3/world": [],
-            "/hdrc3/aircraft": [],
-            "/hdrc3/tf": [],
+            "/live/world": [],
+            "/live/aircraft": [],
+            "/live/tf": [],
         }
 
         def complete() -> bool:
-            return len(frames["/hdrc3/tf"]) >= TF_FRAMES and all(frames.values())
+            return len(frames["/live/tf"]) >= TF_FRAMES and all(frames.values())
 
         while not complete():
             frame = client.receive(timeout_s=30)
@@ -57,21 +68,29 @@ def test_launch_live_streams_the_system_and_records_the_same_channels(hdrc3_cli,
             frames[frame.topic].append(frame)
 
     scene = WireSchema.well_known(SceneUpdate)
-    world = decode(scene, frames["/hdrc3/world"][0].data)
+    world = decode(scene, frames["/live/world"][0].data)
     assert "terrain" in [e.id for e in world.entities]
-    (aircraft,) = decode(scene, frames["/hdrc3/aircraft"][0].data).entities
+    (aircraft,) = decode(scene, frames["/live/aircraft"][0].data).entities
     assert (aircraft.id, aircraft.frame_id) == ("aircraft/uav0", "uav0")
-    for frame in frames["/hdrc3/tf"]:
+    for frame in frames["/live/tf"]:
         (tf,) = decode(WireSchema.well_known(FrameTransforms), frame.data).transforms
         assert (tf.parent_frame_id, tf.child_frame_id) == ("world", "uav0")
+
+    # the recorder starts last and flushes a chunk every second: wait until it wrote poses
+    deadline = time.monotonic() + 60
+    while "/live/tf" not in flushed(out) and time.monotonic() < deadline:
+        launch.poll_output(0.5)
     assert launch.interrupt(timeout=60) == 0
 
     reader = RecordingReader.open(out)
-    recorded = {m.topic: m for m in reader.messages() if m.topic.startswith("/hdrc3/")}
-    assert {"/hdrc3/world", "/hdrc3/tf", "/hdrc3/aircraft"} <= set(recorded)
-    (tf,) = decode(WireSchema.well_known(FrameTransforms), recorded["/hdrc3/tf"].data).transforms
+    messages = list(reader.messages())
+    recorded = {m.topic: m for m in messages if m.topic.startswith("/live/")}
+    assert {"/live/world", "/live/tf", "/live/aircraft"} <= set(recorded), Counter(
+        m.topic for m in messages
+    )
+    (tf,) = decode(WireSchema.well_known(FrameTransforms), recorded["/live/tf"].data).transforms
     assert tf.child_frame_id == "uav0"
-    assert not any(t.startswith("/hdrc3/") for t in reader.topics())  # not replayed as ROS
+    assert not any(t.startswith("/live/") for t in reader.topics())  # not replayed as ROS
 
 
 @pytest.mark.parametrize(

@@ -25,7 +25,7 @@ def strings(value: Any) -> Iterator[str]:
 
 def test_channel_names_are_unique_and_namespaced():
     assert len(set(CHANNEL_NAMES)) == len(CHANNEL_NAMES)
-    assert all(name.startswith("/hdrc3/") for name in CHANNEL_NAMES)
+    assert all(name.startswith("/live/") for name in CHANNEL_NAMES)
 
 
 def test_every_source_type_exists_and_agrees_across_channels():
@@ -38,7 +38,7 @@ def test_every_source_type_exists_and_agrees_across_channels():
 
 def test_the_saved_layout_shows_exactly_the_registered_channels():
     layout = json.loads(LAYOUT.read_text(encoding="utf-8"))
-    used = {s.split(".")[0] for s in strings(layout) if s.startswith("/hdrc3/")}
+    used = {s.split(".")[0] for s in strings(layout) if s.startswith("/live/")}
     assert used == set(CHANNEL_NAMES)
 
 

@@ -32,9 +32,9 @@ def test_route(world, topic, type_name, route):
 
 def test_start_sends_the_world_and_latches_it(world):
     view = LiveView(world)
-    assert [e.channel for e in view.start(0)] == ["/hdrc3/world"]
-    assert len(view.latched("/hdrc3/world")) == 1
-    assert view.latched("/hdrc3/tf") == []  # not latched
+    assert [e.channel for e in view.start(0)] == ["/live/world"]
+    assert len(view.latched("/live/world")) == 1
+    assert view.latched("/live/tf") == []  # not latched
 
 
 def test_one_truth_message_feeds_pose_model_and_track_channels(world):
@@ -43,12 +43,12 @@ def test_one_truth_message_feeds_pose_model_and_track_channels(world):
     first = view.on_message("uav0", "ground_truth/state", msg, 0)
     msg.position_enu = [5.0, 0.0, 0.0]
     second = view.on_message("uav0", "ground_truth/state", msg, 40_000_000)
-    assert [e.channel for e in first] == ["/hdrc3/tf", "/hdrc3/aircraft"]
-    assert [e.channel for e in second] == ["/hdrc3/tf", "/hdrc3/tracks"]
+    assert [e.channel for e in first] == ["/live/tf", "/live/aircraft"]
+    assert [e.channel for e in second] == ["/live/tf", "/live/tracks"]
 
 
 def test_latched_channels_keep_the_latest_message_per_agent(world):
     view = LiveView(world)
     for agent in ("uav0", "uav1", "uav0"):
         view.on_message(agent, "planned_path", Path(), 0)
-    assert len(view.latched("/hdrc3/planned_paths")) == 2
+    assert len(view.latched("/live/planned_paths")) == 2
