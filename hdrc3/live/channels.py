@@ -2,8 +2,9 @@
 
 The live view node, the recorder and the saved Foxglove layout (``foxglove/hdrc3.json``, checked
 by a test) all read this table. Names start with ``/live/``: in a recording they sit beside the
-ROS topics (``/hdrc3/launch_status`` is one) and must not be taken for them. A new channel (camera images, the saliency map) is one more
-:class:`LiveChannel` here with its converter; nothing else changes.
+ROS topics (``/hdrc3/launch_status`` is one) and must not be taken for them. A new channel
+(camera images, the saliency map) is one more :class:`LiveChannel` here with its converter;
+nothing else changes.
 """
 
 from __future__ import annotations
