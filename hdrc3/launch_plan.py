@@ -290,13 +290,12 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
                 )
             )
     if options.record is not None:
+        # with the live view, the recording holds its channels too (the same Foxglove layout)
+        live = ("--live-channels", "--world", options.world) if LIVE_VIEW in options.nodes else ()
         specs.append(
             ProcessSpec(
                 RECORDER,
-                (
-                    _executable("hdrc3"),
-                    *("record", str(options.record), "--all", "--world", options.world),
-                ),
+                (_executable("hdrc3"), "record", str(options.record), "--all", *live),
                 "/hdrc3_recorder",
                 entry=entry_point("hdrc3"),
             )

@@ -30,14 +30,16 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("--exclude", help="regular expression of topics not to record")
     parser.add_argument("--duration", type=float, help="stop after this many seconds")
     parser.add_argument(
-        "--world",
-        default="revinge",
-        help="world being flown: its scene goes into the live view's channels (default revinge)",
+        "--live-channels",
+        action="store_true",
+        help="also write the live view's Foxglove channels (protobuf/JSON), converted from the "
+        "recorded topics, so that the recording opens in foxglove/hdrc3.json; readers that "
+        "decode only ROS messages (rosbag2, mcap-ros2-support) do not decode those channels",
     )
     parser.add_argument(
-        "--no-live-channels",
-        action="store_true",
-        help="record only ROS topics, not the live view's Foxglove channels",
+        "--world",
+        default="revinge",
+        help="with --live-channels: the world being flown, for the scene (default revinge)",
     )
     parser.add_argument(
         "--wait-topics",
@@ -54,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigError(f"output file {args.output} must end in .mcap")
     if args.duration is not None and not args.duration > 0:
         raise ConfigError(f"--duration must be positive, got {args.duration}")
-    live = None if args.no_live_channels else LiveView(load_world(check_world(args.world)))
+    live = LiveView(load_world(check_world(args.world))) if args.live_channels else None
     writer = RecordingWriter(args.output)
     code = 0
     try:

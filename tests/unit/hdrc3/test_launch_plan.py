@@ -1,5 +1,6 @@
 import math
 import socket
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -93,9 +94,7 @@ def test_plan_namespaces_agent_nodes_and_passes_world_params(tmp_path: Path) -> 
     assert "world:=revinge" in world_args
     assert "speed:=0.0" in world_args
     assert specs[3].argv[-2:] == ("-r", "__ns:=/uav1")
-    assert specs[4].argv[1:] == (
-        *("record", str(tmp_path / "run.mcap"), "--all", "--world", "revinge"),
-    )
+    assert specs[4].argv[1:] == ("record", str(tmp_path / "run.mcap"), "--all")
 
 
 @pytest.mark.parametrize(("port", "args"), [(None, []), (9123, ["port:=9123"])])
@@ -109,8 +108,9 @@ def test_the_live_view_is_global_and_gets_its_port(port: int | None, args: list[
         domain_id=None,
         live_port=port,
     )
-    (_, live) = build_plan(options, launch_plan.CATALOG)
+    (_, live, recorder) = build_plan(replace(options, record=Path("run.mcap")), launch_plan.CATALOG)
     assert (live.name, live.node_name) == ("live_view", "/live_view")
+    assert recorder.argv[-3:] == ("--live-channels", "--world", "revinge")
     assert "world:=revinge" in live.argv
     assert [a for a in live.argv if a.startswith("port:=")] == args
 
