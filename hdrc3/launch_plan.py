@@ -9,6 +9,7 @@ from __future__ import annotations
 import enum
 import importlib.metadata
 import math
+import socket
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -19,6 +20,7 @@ from hdrc3_base.errors import ConfigError
 
 MAX_DOMAIN_ID = 101  # highest id whose DDS ports are valid on Linux with default port mapping
 RECORDER = "recorder"
+LIVE_VIEW = "live_view"
 
 
 class Scope(enum.Enum):
@@ -117,6 +119,14 @@ CATALOG: tuple[NodeKind, ...] = (
         world_params=True,
         default=False,
     ),
+    NodeKind(
+        LIVE_VIEW,
+        "hdrc3-live-view",
+        Scope.GLOBAL,
+        "live view: the world, aircraft, paths, TSTs and events for Foxglove over a WebSocket",
+        world_params=True,
+        default=False,
+    ),
 )
 ALWAYS_STARTED = frozenset({"system_monitor"})
 
@@ -136,6 +146,8 @@ class LaunchOptions:
     """Directory of this launch's run files (checkpoints); None: no checkpoints."""
     seed: int = 0
     """The simulation's seed (sensor noise and outages, wind): the same seed, the same world."""
+    live_port: int | None = None
+    """WebSocket port of the live view (None: its default), when ``live_view`` is started."""
 
 
 def parse_nodes(text: str | None, catalog: Sequence[NodeKind] = CATALOG) -> tuple[str, ...]:
@@ -194,6 +206,22 @@ def check_domain_id(domain_id: int | None) -> int | None:
     return domain_id
 
 
+def check_live_port(port: int | None, host: str = "127.0.0.1") -> int | None:
+    """A free TCP port for the live view, or ConfigError (out of range, or in use)."""
+    if port is None:
+        return None
+    if not 1 <= port <= 65535:
+        raise ConfigError(f"invalid --live-port {port}: expected 1..65535")
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
+        try:
+            probe.bind((host, port))
+        except OSError as exc:
+            raise ConfigError(
+                f"--live-port {port}: {host}:{port} is not free ({exc.strerror}); choose another"
+            ) from None
+    return port
+
+
 def check_record_path(path: str | None) -> Path | None:
     """Check that a recording can be created at ``path``."""
     if path is None:
@@ -235,6 +263,8 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             args += ["-p", f"speed:={speed}"]
         if kind.seeded:
             args += ["-p", f"seed:={options.seed}"]
+        if kind.name == LIVE_VIEW and options.live_port is not None:
+            args += ["-p", f"port:={options.live_port}"]
         if kind.scope is Scope.GLOBAL:
             if kind.checkpoint and options.run_dir is not None:
                 args += ["-p", f"checkpoint:={options.run_dir / kind.name}.checkpoint"]
@@ -260,10 +290,12 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
                 )
             )
     if options.record is not None:
+        # with the live view, the recording holds its channels too (the same Foxglove layout)
+        live = ("--live-channels", "--world", options.world) if LIVE_VIEW in options.nodes else ()
         specs.append(
             ProcessSpec(
                 RECORDER,
-                (_executable("hdrc3"), "record", str(options.record), "--all"),
+                (_executable("hdrc3"), "record", str(options.record), "--all", *live),
                 "/hdrc3_recorder",
                 entry=entry_point("hdrc3"),
             )

@@ -109,6 +109,24 @@ class RecordingWriter:
             metadata=metadata,
         )
 
+    def add_channel(
+        self, topic: str, schema: tuple[str, str, bytes], message_encoding: str
+    ) -> None:
+        """Register a channel that is not a ROS topic (the live view's Foxglove channels).
+
+        Args:
+            topic: Channel name.
+            schema: (name, encoding, data) of its schema, e.g. a protobuf descriptor set.
+            message_encoding: Encoding of its messages, e.g. ``protobuf`` or ``json``.
+        """
+        if topic in self._channels:
+            return
+        name, encoding, data = schema
+        schema_id = self._writer.register_schema(name=name, encoding=encoding, data=data)
+        self._channels[topic] = self._writer.register_channel(
+            topic=topic, message_encoding=message_encoding, schema_id=schema_id
+        )
+
     def write(self, topic: str, data: bytes, log_time_ns: int, publish_time_ns: int = 0) -> None:
         """Append one serialised message on a topic registered with :meth:`add_topic`."""
         channel_id = self._channels.get(topic)
@@ -165,10 +183,14 @@ class RecordingReader:
         return cls(file)
 
     def topics(self) -> dict[str, str]:
-        """Map every recorded topic to its message type (reads the whole file)."""
+        """Map every recorded ROS topic (CDR) to its message type (reads the whole file).
+
+        Channels in other encodings (the live view's Foxglove channels) are not ROS topics.
+        """
         found: dict[str, str] = {}
         for schema, channel in self._channels_seen():
-            found[channel.topic] = schema.name if schema else ""
+            if channel.message_encoding == MESSAGE_ENCODING:
+                found[channel.topic] = schema.name if schema else ""
         return found
 
     def messages(self, topics: Iterable[str] | None = None) -> Iterator[RecordedMessage]:

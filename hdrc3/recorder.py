@@ -13,7 +13,9 @@ from collections.abc import Callable, Sequence
 from rclpy.context import Context
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
 
+from hdrc3.live.view import Emission, LiveView
 from hdrc3.mcap_recording import RecordingWriter, TopicInfo
 from hdrc3.message_types import MessageTypeError, message_class
 
@@ -58,6 +60,7 @@ class RecorderNode(Node):
         writer: RecordingWriter,
         topics: Sequence[str] = (),
         exclude: str | None = None,
+        live: LiveView | None = None,
     ) -> None:
         """Record ``topics`` (all topics when empty) into ``writer``.
 
@@ -66,6 +69,8 @@ class RecorderNode(Node):
             writer: Open recording.
             topics: Explicit topic names; empty means every topic in the graph.
             exclude: Regular expression of topic names never to record.
+            live: Also write the live view's channels, converted from the recorded topics, so
+                that the recording opens in the live view's Foxglove layout.
 
         """
         super().__init__("hdrc3_recorder", context=context)
@@ -74,6 +79,12 @@ class RecorderNode(Node):
         self._exclude = re.compile(exclude) if exclude else None
         self._subscribed: set[str] = set()
         self.warnings: list[str] = []
+        self._live = live
+        if live is not None:
+            for channel in live.channels:
+                schema = (channel.schema.name, channel.schema.encoding, channel.schema.data)
+                writer.add_channel(channel.topic, schema, channel.schema.message_encoding)
+            self._write_live(live.start(time.time_ns()), time.time_ns())
         self.create_timer(DISCOVERY_PERIOD_S, self.discover)
         self.create_timer(FLUSH_PERIOD_S, writer.flush)
         self.discover()
@@ -124,11 +135,21 @@ class RecorderNode(Node):
             self._subscribed.add(topic)  # do not retry every discovery pass
             return
 
+        route = self._live.route(topic, types[0]) if self._live is not None else None
+
         def on_message(data: bytes, topic: str = topic) -> None:
-            self._writer.write(topic, data, time.time_ns())
+            now = time.time_ns()
+            self._writer.write(topic, data, now)
+            if route is not None and self._live is not None:
+                msg = deserialize_message(data, msg_type)
+                self._write_live(self._live.on_message(*route, msg, now), now)
 
         self.create_subscription(msg_type, topic, on_message, subscription_qos(offered), raw=True)
         self._subscribed.add(topic)
+
+    def _write_live(self, emissions: list[Emission], log_time_ns: int) -> None:
+        for e in emissions:
+            self._writer.write(e.channel, e.data, log_time_ns)
 
     def _warn(self, text: str) -> None:
         self.warnings.append(text)

@@ -12,9 +12,11 @@ from pathlib import Path
 
 from hdrc3.launch_plan import (
     CATALOG,
+    LIVE_VIEW,
     LaunchOptions,
     build_plan,
     check_domain_id,
+    check_live_port,
     check_record_path,
     check_seed,
     check_world,
@@ -22,6 +24,7 @@ from hdrc3.launch_plan import (
     parse_speed,
 )
 from hdrc3.launcher import LauncherNode
+from hdrc3.live import DEFAULT_PORT
 from hdrc3.supervisor import Supervisor
 from hdrc3.zygote import ForkServer
 from hdrc3_base.agents import parse_agents
@@ -46,6 +49,12 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("--domain-id", type=int, help="ROS_DOMAIN_ID for every node (0..101)")
     parser.add_argument("--nodes", help="comma-separated subset of nodes to start")
     parser.add_argument(
+        "--live", action="store_true", help="also start the live view (Foxglove WebSocket)"
+    )
+    parser.add_argument(
+        "--live-port", type=int, help="port of the live view on 127.0.0.1 (default 8765)"
+    )
+    parser.add_argument(
         "--seed", type=int, default=0, help="simulation seed: sensor noise, outages (default 0)"
     )
     parser.add_argument(
@@ -62,13 +71,23 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
     """Validate the command line into launch options (raises ConfigError)."""
     return LaunchOptions(
         agents=parse_agents(args.agents),
-        nodes=parse_nodes(args.nodes),
+        nodes=with_live(parse_nodes(args.nodes), args.live or args.live_port is not None),
         world=check_world(args.world),
         speed=parse_speed(args.speed),
         record=check_record_path(args.record),
         domain_id=check_domain_id(args.domain_id),
         seed=check_seed(args.seed),
+        live_port=check_live_port(
+            args.live_port if args.live_port is not None else DEFAULT_PORT if args.live else None
+        ),
     )
+
+
+def with_live(nodes: tuple[str, ...], live: bool) -> tuple[str, ...]:
+    """``nodes`` plus the live view when asked for (in catalogue order)."""
+    if not live or LIVE_VIEW in nodes:
+        return nodes
+    return tuple(k.name for k in CATALOG if k.name in nodes or k.name == LIVE_VIEW)
 
 
 def run(args: argparse.Namespace) -> int:

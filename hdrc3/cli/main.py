@@ -21,6 +21,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "hdrc3.cli.record",
     "hdrc3.cli.replay",
     "hdrc3.cli.report",
+    "hdrc3.cli.live",
     "hdrc3.cli.doctor",
     "hdrc3.cli.demo",
     "hdrc3.cli.hcsm",

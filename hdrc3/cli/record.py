@@ -6,10 +6,13 @@ import argparse
 import sys
 import time
 
+from hdrc3.launch_plan import check_world
+from hdrc3.live.view import LiveView
 from hdrc3.mcap_recording import RecordingWriter
 from hdrc3.recorder import RecorderNode
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import RosProcess
+from sim.world_loader import load_world
 
 DRAIN_S = 1.5
 """After a stop request, keep writing what DDS already delivered for at most this long, s."""
@@ -27,6 +30,18 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("--exclude", help="regular expression of topics not to record")
     parser.add_argument("--duration", type=float, help="stop after this many seconds")
     parser.add_argument(
+        "--live-channels",
+        action="store_true",
+        help="also write the live view's Foxglove channels (protobuf/JSON), converted from the "
+        "recorded topics, so that the recording opens in foxglove/hdrc3.json; readers that "
+        "decode only ROS messages (rosbag2, mcap-ros2-support) do not decode those channels",
+    )
+    parser.add_argument(
+        "--world",
+        default="revinge",
+        help="with --live-channels: the world being flown, for the scene (default revinge)",
+    )
+    parser.add_argument(
         "--wait-topics",
         type=float,
         default=10.0,
@@ -41,11 +56,12 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigError(f"output file {args.output} must end in .mcap")
     if args.duration is not None and not args.duration > 0:
         raise ConfigError(f"--duration must be positive, got {args.duration}")
+    live = LiveView(load_world(check_world(args.world))) if args.live_channels else None
     writer = RecordingWriter(args.output)
     code = 0
     try:
         with RosProcess() as process:
-            node = RecorderNode(process.context, writer, args.topics, args.exclude)
+            node = RecorderNode(process.context, writer, args.topics, args.exclude, live)
             process.add_node(node)
             start = time.monotonic()
             if (

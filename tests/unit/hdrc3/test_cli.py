@@ -21,6 +21,10 @@ from hdrc3.cli.main import main
         (["record", "{tmp}/out.txt"], "must end in .mcap"),
         (["record", "{tmp}/out.mcap", "--duration", "0"], "--duration must be positive"),
         (["rc", "UAV 0", "--engine", "on"], "invalid agent name"),
+        (["launch", "--live-port", "70000"], "invalid --live-port 70000"),
+        (["live", "--world", "atlantis"], "unknown world 'atlantis'"),
+        (["live", "--domain-id", "500"], "invalid --domain-id 500"),
+        (["record", "{tmp}/out.mcap", "--live-channels", "--world", "atlantis"], "unknown world"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, capsys, argv, message) -> None:
@@ -50,3 +54,17 @@ def test_doctor_reports_a_healthy_installation(capsys) -> None:
     out = capsys.readouterr().out
     assert "rmw implementation  rmw_fastrtps_cpp" in out
     assert "import hdrc3_interfaces.msg" in out and "healthy" in out
+
+
+@pytest.mark.parametrize(
+    ("nodes", "live", "expected"),
+    [
+        (("system_monitor", "world_sim"), False, ("system_monitor", "world_sim")),
+        (("system_monitor", "world_sim"), True, ("system_monitor", "world_sim", "live_view")),
+        (("system_monitor", "live_view"), True, ("system_monitor", "live_view")),
+    ],
+)
+def test_launch_live_adds_the_live_view_once(nodes, live, expected) -> None:
+    from hdrc3.cli.launch import with_live
+
+    assert with_live(nodes, live) == expected

@@ -1,4 +1,6 @@
 import math
+import socket
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -10,6 +12,7 @@ from hdrc3.launch_plan import (
     Scope,
     build_plan,
     check_domain_id,
+    check_live_port,
     check_record_path,
     check_world,
     parse_nodes,
@@ -92,6 +95,36 @@ def test_plan_namespaces_agent_nodes_and_passes_world_params(tmp_path: Path) -> 
     assert "speed:=0.0" in world_args
     assert specs[3].argv[-2:] == ("-r", "__ns:=/uav1")
     assert specs[4].argv[1:] == ("record", str(tmp_path / "run.mcap"), "--all")
+
+
+@pytest.mark.parametrize(("port", "args"), [(None, []), (9123, ["port:=9123"])])
+def test_the_live_view_is_global_and_gets_its_port(port: int | None, args: list[str]) -> None:
+    options = LaunchOptions(
+        agents=("uav0", "uav1"),
+        nodes=("world_sim", "live_view"),
+        world="revinge",
+        speed=1.0,
+        record=None,
+        domain_id=None,
+        live_port=port,
+    )
+    (_, live, recorder) = build_plan(replace(options, record=Path("run.mcap")), launch_plan.CATALOG)
+    assert (live.name, live.node_name) == ("live_view", "/live_view")
+    assert recorder.argv[-3:] == ("--live-channels", "--world", "revinge")
+    assert "world:=revinge" in live.argv
+    assert [a for a in live.argv if a.startswith("port:=")] == args
+
+
+def test_live_port_in_use_or_out_of_range_is_refused() -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        port = taken.getsockname()[1]
+        with pytest.raises(ConfigError, match=f"--live-port {port}: 127.0.0.1:{port} is not free"):
+            check_live_port(port)
+    for bad in (0, 65536):
+        with pytest.raises(ConfigError, match="invalid --live-port"):
+            check_live_port(bad)
+    assert check_live_port(None) is None
 
 
 @pytest.mark.parametrize("run_dir", [None, "run"])

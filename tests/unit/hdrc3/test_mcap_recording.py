@@ -130,3 +130,22 @@ def test_writing_an_unregistered_topic_is_misuse(tmp_path: Path) -> None:
 def test_unwritable_output_is_a_data_error(tmp_path: Path) -> None:
     with pytest.raises(DataError, match="cannot create"):
         RecordingWriter(tmp_path / "missing-dir" / "x.mcap")
+
+
+def test_other_channels_sit_beside_the_ros_topics_but_are_not_topics(tmp_path: Path) -> None:
+    path = tmp_path / "run.mcap"
+    writer = _write(path, 2)
+    writer.add_channel("/live/tst", ("hdrc3.TstTable", "jsonschema", b"{}"), "json")
+    writer.write("/live/tst", b'{"nodes":[]}', log_time_ns=2_000)
+    writer.close()
+    reader = RecordingReader.open(path)
+    assert reader.topics() == {TOPIC: TYPE}  # what replay republishes
+    last = list(reader.messages())[-1]
+    assert (last.topic, last.type_name, last.data) == (
+        "/live/tst",
+        "hdrc3.TstTable",
+        b'{"nodes":[]}',
+    )
+    with path.open("rb") as stream:
+        channels = make_reader(stream).get_summary().channels.values()
+    assert sorted(c.message_encoding for c in channels) == ["cdr", "json"]
