@@ -104,6 +104,7 @@ def find_regions(
     regions: list[ThermalRegion] = []
     rows, cols = image.shape[:2]
     for contour in contours:
+        # contourArea runs through the boundary pixels' centres: add half the boundary back
         pixels = int(cv2.contourArea(contour)) + len(contour) // 2 + 1
         if len(contour) < 5 or pixels < params.min_pixels:
             x, y, w, h = cv2.boundingRect(contour)
