@@ -32,7 +32,7 @@ from shapely.geometry.base import BaseGeometry
 
 from hdrc3_base.errors import Hdrc3Error
 from hdrc3_control.path_segment import PathSegment
-from hdrc3_control.ppc_hardware import COLOR, CameraSpec
+from hdrc3_control.ppc_hardware import CAMERAS, COLOR, CameraSpec
 
 OVERLAP = 0.2
 """Fraction of the footprint neighbouring legs share."""
@@ -52,6 +52,14 @@ class CoverageError(Hdrc3Error):
 def footprint_width(altitude: float, camera: CameraSpec = COLOR, zoom: float = 0.0) -> float:
     """Width (m) of the ground strip a nadir camera sees from ``altitude`` m above ground."""
     return 2.0 * altitude * math.tan(camera.hfov(zoom) / 2.0)
+
+
+def pair_footprint_width(altitude: float) -> float:
+    """Ground strip both cameras see at zoom 0 (Algorithm 4 needs a thermal and a colour view).
+
+    The thermal camera's 25 degrees bind, not the colour camera's 48.
+    """
+    return min(footprint_width(altitude, camera) for camera in CAMERAS.values())
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,6 +19,7 @@ from hdrc3_navigation.coverage import (
     Platform,
     footprint_width,
     lawn_mower,
+    pair_footprint_width,
     plan_coverage,
 )
 
@@ -92,6 +93,7 @@ def test_bad_areas_and_numbers_are_misuse(
 def test_footprint_grows_with_altitude() -> None:
     assert footprint_width(30.0) == pytest.approx(2 * 30 * math.tan(math.radians(24)))
     assert footprint_width(60.0) == pytest.approx(2 * footprint_width(30.0))
+    assert pair_footprint_width(40.0) == pytest.approx(2 * 40 * math.tan(math.radians(12.5)))
 
 
 FLEETS = {
