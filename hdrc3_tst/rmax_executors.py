@@ -18,8 +18,8 @@ from collections.abc import Callable, Generator, Mapping
 from types import MappingProxyType
 
 from hdrc3_control.path_segment import PathSegment
+from hdrc3_navigation.coverage import footprint_width, lawn_mower
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
-from hdrc3_tst.coverage import footprint_width, lawn_mower, polyline
 from hdrc3_tst.executor import (
     COMMAND_BOUND_S,
     SUCCEEDED,
@@ -32,6 +32,7 @@ from hdrc3_tst.executor import (
 )
 from hdrc3_tst.planned_flight import PlannedFlight, segment_args
 from hdrc3_tst.platform_port import Command, CommandState
+from hdrc3_tst.polyline import polyline
 
 Steps = Generator[None, None, Status]
 DATA_TIMEOUT_S = 10.0

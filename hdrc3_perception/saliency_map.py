@@ -1,0 +1,230 @@
+"""The saliency (certainty) map of Algorithm 4, lines 9-14 (§11.1.1).
+
+Every salient location carries T_frame, the number of processed frames in which the location
+was in view of both cameras, and T_body, the number of those frames in which the classifier said
+"body" there; its certainty is p_body = T_body / T_frame. The chapter measures both as times; at
+a fixed frame rate counts are the same ratio, and counting processed frames keeps the ratio
+right when frames are dropped (a dropped frame adds to neither). A location is a body when
+p_body > 0.5 (the chapter's flight-test value) and T_frame reaches a minimum observation
+(chapter: "a desired minimal observation time"; here :attr:`MapParams.min_frames`). Detections
+closer than the merge distance are one location, whose position is the mean of its
+observations. Memory is bounded: past ``max_locations`` the least certain unconfirmed location
+is dropped.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+import pymap3d
+from numpy.typing import NDArray
+
+from hdrc3_base.errors import Hdrc3Error
+
+
+class MapError(Hdrc3Error):
+    """The map was misused (non-finite location, time running backwards)."""
+
+
+class Origin(Protocol):
+    """A geodetic origin (the world's, e.g. ``World.origin``): degrees and metres, WGS84."""
+
+    @property
+    def latitude(self) -> float: ...  # noqa: D102
+
+    @property
+    def longitude(self) -> float: ...  # noqa: D102
+
+    @property
+    def altitude(self) -> float: ...  # noqa: D102
+
+
+@dataclass(frozen=True, slots=True)
+class MapParams:
+    """Certainty thresholds and merging."""
+
+    merge_distance: float = 4.0
+    """m: detections closer than this are one location (the chapter's ~2.5 m spread)."""
+    p_threshold: float = 0.5
+    min_frames: int = 5
+    """T_frame needed before a location can be confirmed (0.2 s at 25 Hz)."""
+    max_locations: int = 5000
+
+
+@dataclass(slots=True)
+class Location:
+    """One salient point: mean position (ENU, m) and its counters."""
+
+    ident: int
+    east: float
+    north: float
+    up: float
+    t_frame: int
+    t_body: int
+    first_seen: float
+    """Sim time of the first positive classification, s."""
+    observations: int = 1
+
+    @property
+    def p_body(self) -> float:
+        """Certainty T_body / T_frame."""
+        return self.t_body / self.t_frame if self.t_frame else 0.0
+
+    def confirmed(self, params: MapParams) -> bool:
+        """True if the location counts as a body."""
+        return self.p_body > params.p_threshold and self.t_frame >= params.min_frames
+
+
+VisibleFn = Callable[[NDArray[np.float64]], NDArray[np.bool_]]
+"""Mask of the ENU points (N, 3) in view of the frame's cameras."""
+
+
+@dataclass(frozen=True, slots=True)
+class FrameUpdate:
+    """What one frame did to the map."""
+
+    seen: int
+    """Known locations in view (their T_frame grew)."""
+    added: int
+    merged: int
+
+
+class SaliencyMap:
+    """Locations with T_frame / T_body, merged by distance."""
+
+    def __init__(self, params: MapParams | None = None) -> None:
+        self.params = params or MapParams()
+        self._locations: dict[int, Location] = {}
+        self._next = 0
+        self.last_time = -math.inf
+
+    def __len__(self) -> int:
+        return len(self._locations)
+
+    @property
+    def locations(self) -> list[Location]:
+        """All locations, oldest first."""
+        return list(self._locations.values())
+
+    def confirmed(self) -> list[Location]:
+        """Locations that count as bodies."""
+        return [loc for loc in self._locations.values() if loc.confirmed(self.params)]
+
+    def positions(self) -> NDArray[np.float64]:
+        """(N, 3) ENU positions in :attr:`locations` order."""
+        locs = self._locations.values()
+        return np.array([(loc.east, loc.north, loc.up) for loc in locs]).reshape(-1, 3)
+
+    def update(
+        self, time: float, visible: VisibleFn, positives: Sequence[NDArray[np.float64]]
+    ) -> FrameUpdate:
+        """Account one processed frame (Algorithm 4, lines 9-14).
+
+        Args:
+            time: Sim time of the frame, s; must grow from frame to frame.
+            visible: Which ENU points the frame's cameras saw.
+            positives: Ground points (3,) the classifier said "body" at in this frame.
+
+        Raises:
+            MapError: time did not grow, or a positive is not finite.
+        """
+        if not time > self.last_time:
+            raise MapError(f"frame time {time} not after the last frame's {self.last_time}")
+        if any(p.shape != (3,) or not np.all(np.isfinite(p)) for p in positives):
+            raise MapError("positives must be finite ENU points")
+        self.last_time = time
+        locs = list(self._locations.values())
+        if locs:
+            mask = visible(self.positions())
+            for loc, seen in zip(locs, mask, strict=True):
+                loc.t_frame += int(seen)
+            seen_count = int(np.count_nonzero(mask))
+        else:
+            seen_count = 0
+        added = merged = 0
+        credited: set[int] = set()
+        for point in positives:
+            target = self._nearest(point)
+            if target is None:
+                credited.add(self._add(point, time))
+                added += 1
+                continue
+            merged += 1
+            if target.ident not in credited:  # two regions on one body count one frame
+                credited.add(target.ident)
+                target.t_body += 1
+                target.t_frame = max(target.t_frame, target.t_body)
+            n = target.observations + 1
+            target.east += (float(point[0]) - target.east) / n
+            target.north += (float(point[1]) - target.north) / n
+            target.up += (float(point[2]) - target.up) / n
+            target.observations = n
+        return FrameUpdate(seen_count, added, merged)
+
+    def _nearest(self, point: NDArray[np.float64]) -> Location | None:
+        best: Location | None = None
+        best_d = self.params.merge_distance
+        for loc in self._locations.values():
+            d = math.hypot(loc.east - point[0], loc.north - point[1])
+            if d < best_d:
+                best, best_d = loc, d
+        return best
+
+    def _add(self, point: NDArray[np.float64], time: float) -> int:
+        if len(self._locations) >= self.params.max_locations:
+            self._evict()
+        loc = Location(self._next, float(point[0]), float(point[1]), float(point[2]), 1, 1, time)
+        self._locations[loc.ident] = loc
+        self._next += 1
+        return loc.ident
+
+    def _evict(self) -> None:
+        params = self.params
+        candidates = [loc for loc in self._locations.values() if not loc.confirmed(params)]
+        pool = candidates or list(self._locations.values())
+        victim = min(pool, key=lambda loc: (loc.p_body, loc.t_body, -loc.ident))
+        del self._locations[victim.ident]
+
+
+def to_geojson(
+    saliency: SaliencyMap, origin: Origin, only_confirmed: bool = False
+) -> dict[str, Any]:
+    """The map as a GeoJSON FeatureCollection of Points (lon, lat of the world's origin)."""
+    features = []
+    for loc in saliency.locations:
+        confirmed = loc.confirmed(saliency.params)
+        if only_confirmed and not confirmed:
+            continue
+        lat, lon, alt = pymap3d.enu2geodetic(
+            loc.east, loc.north, loc.up, origin.latitude, origin.longitude, origin.altitude
+        )
+        features.append(
+            {
+                "type": "Feature",
+                "geometry": {"type": "Point", "coordinates": [float(lon), float(lat)]},
+                "properties": {
+                    "id": loc.ident,
+                    "lon": float(lon),
+                    "lat": float(lat),
+                    "alt": float(alt),
+                    "east": loc.east,
+                    "north": loc.north,
+                    "p_body": loc.p_body,
+                    "t_frame": loc.t_frame,
+                    "t_body": loc.t_body,
+                    "first_seen": loc.first_seen,
+                    "confirmed": confirmed,
+                },
+            }
+        )
+    return {"type": "FeatureCollection", "features": features}
+
+
+def dumps_geojson(saliency: SaliencyMap, origin: Origin, only_confirmed: bool = False) -> str:
+    """:func:`to_geojson` as text."""
+    return json.dumps(to_geojson(saliency, origin, only_confirmed), indent=1)
