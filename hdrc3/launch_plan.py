@@ -64,6 +64,15 @@ CATALOG: tuple[NodeKind, ...] = (
         checkpoint=True,
     ),
     NodeKind(
+        "world_render",
+        "hdrc3-world-render",
+        Scope.GLOBAL,
+        "camera images: colour (rgb8) and thermal (mono16 centi-kelvin) of every agent",
+        world_params=True,
+        default=False,
+        seeded=True,
+    ),
+    NodeKind(
         "control_kernel",
         "hdrc3-control-kernel",
         Scope.AGENT,
@@ -119,6 +128,8 @@ CATALOG: tuple[NodeKind, ...] = (
     ),
 )
 ALWAYS_STARTED = frozenset({"system_monitor"})
+CAMERA_NODE = "world_render"
+"""Started by ``--cameras`` in addition to the default nodes."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -138,16 +149,22 @@ class LaunchOptions:
     """The simulation's seed (sensor noise and outages, wind): the same seed, the same world."""
 
 
-def parse_nodes(text: str | None, catalog: Sequence[NodeKind] = CATALOG) -> tuple[str, ...]:
-    """Parse ``a,b`` into catalogue node names; None selects the default nodes."""
+def parse_nodes(
+    text: str | None, catalog: Sequence[NodeKind] = CATALOG, cameras: bool = False
+) -> tuple[str, ...]:
+    """Parse ``a,b`` into catalogue node names; None selects the default nodes.
+
+    ``cameras`` (``--cameras``) adds the renderer ``world_render`` to the chosen nodes.
+    """
     known = [kind.name for kind in catalog]
+    extra = {CAMERA_NODE} if cameras else set()
     if text is None:
-        return tuple(kind.name for kind in catalog if kind.default)
+        return tuple(kind.name for kind in catalog if kind.default or kind.name in extra)
     nodes = tuple(n.strip() for n in text.split(",") if n.strip())
     unknown = [n for n in nodes if n not in known]
     if unknown:
         raise ConfigError(f"unknown node {unknown[0]!r}; known nodes: {', '.join(known)}")
-    return tuple(n for n in known if n in nodes or n in ALWAYS_STARTED)
+    return tuple(n for n in known if n in nodes or n in ALWAYS_STARTED or n in extra)
 
 
 def parse_speed(text: str) -> float:

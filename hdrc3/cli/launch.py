@@ -46,6 +46,11 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("--domain-id", type=int, help="ROS_DOMAIN_ID for every node (0..101)")
     parser.add_argument("--nodes", help="comma-separated subset of nodes to start")
     parser.add_argument(
+        "--cameras",
+        action="store_true",
+        help="also start world_render: colour and thermal images on /<agent>/camera/...",
+    )
+    parser.add_argument(
         "--seed", type=int, default=0, help="simulation seed: sensor noise, outages (default 0)"
     )
     parser.add_argument(
@@ -62,7 +67,7 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
     """Validate the command line into launch options (raises ConfigError)."""
     return LaunchOptions(
         agents=parse_agents(args.agents),
-        nodes=parse_nodes(args.nodes),
+        nodes=parse_nodes(args.nodes, cameras=args.cameras),
         world=check_world(args.world),
         speed=parse_speed(args.speed),
         record=check_record_path(args.record),
