@@ -54,9 +54,7 @@ def gl_bytes(matrix: NDArray[np.float64]) -> bytes:
     return np.ascontiguousarray(matrix.T, dtype=np.float32).tobytes()
 
 
-def look_at(
-    eye: tuple[float, float, float], target: tuple[float, float, float]
-) -> CameraPose:
+def look_at(eye: tuple[float, float, float], target: tuple[float, float, float]) -> CameraPose:
     """Pose of a camera at ``eye`` looking at ``target`` with the horizon level (image top
     towards north when looking straight down)."""
     position = np.asarray(eye, dtype=np.float64)
