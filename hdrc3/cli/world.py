@@ -7,7 +7,6 @@ import sys
 from pathlib import Path
 
 from hdrc3_base.errors import ConfigError
-
 from sim.world import ObjectKind
 from sim.world_generator import Population, generated_world
 from sim.world_loader import WorldError, load_world, shipped_worlds

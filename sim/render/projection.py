@@ -55,8 +55,10 @@ def gl_bytes(matrix: NDArray[np.float64]) -> bytes:
 
 
 def look_at(eye: tuple[float, float, float], target: tuple[float, float, float]) -> CameraPose:
-    """Pose of a camera at ``eye`` looking at ``target`` with the horizon level (image top
-    towards north when looking straight down)."""
+    """Pose of a camera at ``eye`` looking at ``target``, horizon level.
+
+    Looking straight down, the image top points north.
+    """
     position = np.asarray(eye, dtype=np.float64)
     z = np.asarray(target, dtype=np.float64) - position
     z /= np.linalg.norm(z)

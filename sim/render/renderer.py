@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import zlib
 from collections.abc import Iterable
+from dataclasses import dataclass
 from typing import Any
 
 import moderngl
@@ -21,6 +22,7 @@ from sim.render.imaging import ColorImaging, ThermalImaging, thermal_counts
 from sim.render.materials import ThermalEnvironment
 from sim.render.projection import clip_matrix, gl_bytes
 from sim.render.scene import object_mesh, static_mesh
+from sim.render.tiles import TiledMesh, ranges, tile_mesh
 from sim.sensors.camera_model import CameraPose, Intrinsics
 from sim.world import DynamicObject, World
 
@@ -118,6 +120,15 @@ def _context() -> moderngl.Context:
         ) from exc
 
 
+@dataclass(frozen=True, slots=True)
+class _Drawable:
+    """One vertex buffer, tiled for culling, bound to both programs."""
+
+    mesh: TiledMesh
+    colour: moderngl.VertexArray
+    thermal: moderngl.VertexArray
+
+
 def _uniform(program: moderngl.Program, name: str) -> moderngl.Uniform:
     member = program[name]
     assert isinstance(member, moderngl.Uniform), name
@@ -158,14 +169,14 @@ class Renderer:
     @property
     def renderer_name(self) -> str:
         """The OpenGL renderer string (``llvmpipe ...`` without a GPU)."""
-        return str(self.ctx.info["GL_RENDERER"])
+        with self.ctx:
+            return str(self.ctx.info["GL_RENDERER"])
 
-    def _buffers(
-        self, vertices: NDArray[np.float32]
-    ) -> tuple[moderngl.VertexArray, moderngl.VertexArray] | None:
+    def _buffers(self, vertices: NDArray[np.float32]) -> _Drawable | None:
         if vertices.shape[0] == 0:
             return None
-        vbo = self.ctx.buffer(np.ascontiguousarray(vertices).tobytes())
+        tiled = tile_mesh(vertices)
+        vbo = self.ctx.buffer(np.ascontiguousarray(tiled.vertices).tobytes())
         # Each program binds only the attributes it reads (the rest is skipped by byte count).
         colour = self.ctx.vertex_array(
             self._color_prog, [(vbo, "3f 3f 3f 4x", "in_pos", "in_normal", "in_albedo")]
@@ -173,7 +184,7 @@ class Renderer:
         thermal = self.ctx.vertex_array(
             self._thermal_prog, [(vbo, "3f 24x 1f", "in_pos", "in_temp")]
         )
-        return colour, thermal
+        return _Drawable(tiled, colour, thermal)
 
     def set_objects(self, objects: Iterable[DynamicObject]) -> None:
         """Replace the dynamic objects (after a spawn or a move)."""
@@ -204,15 +215,17 @@ class Renderer:
         else:
             fbo.clear(*self.color.sky, 1.0, depth=1.0)
         prog = self._thermal_prog if thermal else self._color_prog
-        _uniform(prog, "clip").write(gl_bytes(clip_matrix(pose, intrinsics)))
-        index = 1 if thermal else 0
-        for buffers, grain in ((self._static, True), (self._objects, False)):
-            if buffers is None:
+        clip = clip_matrix(pose, intrinsics)
+        _uniform(prog, "clip").write(gl_bytes(clip))
+        for drawable, grain in ((self._static, True), (self._objects, False)):
+            if drawable is None:
                 continue
             amp = (GROUND_THERMAL_GRAIN_K if thermal else GROUND_GRAIN) if grain else 0.0
             if "texture_amp" in prog:  # the thermal shader may optimise it away
                 _uniform(prog, "texture_amp").value = amp
-            buffers[index].render(moderngl.TRIANGLES)
+            vao = drawable.thermal if thermal else drawable.colour
+            for first, count in ranges(drawable.mesh, clip):
+                vao.render(moderngl.TRIANGLES, vertices=count, first=first)
         return fbo
 
     def frame_rng(self, stamp_ns: int, camera: int) -> np.random.Generator:

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from sim.render.projection import clip_matrix, gl_bytes
-from sim.sensors.fake_truth import make_truth
 from sim.sensors.camera_model import CameraPose, Intrinsics, camera_pose, pixel_ray, project
+from sim.sensors.fake_truth import make_truth
 from sim.truth_state import TruthState
 
 INTRINSICS = (
