@@ -12,6 +12,7 @@ dropped frame has no metadata and so no image.
 from __future__ import annotations
 
 import enum
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,9 +61,12 @@ def pose_to_ros(pose: CameraPose) -> tuple[tuple[float, float, float], tuple[flo
 
 def pose_from_ros(
     position: tuple[float, float, float], quaternion: tuple[float, float, float, float]
-) -> CameraPose:
-    """Inverse of :func:`pose_to_ros`."""
-    rotation = Rotation.from_quat(np.asarray(quaternion)).as_matrix()
+) -> CameraPose | None:
+    """Inverse of :func:`pose_to_ros`; None for non-finite values or a quaternion far from unit."""
+    values = np.asarray([*position, *quaternion], dtype=np.float64)
+    if not np.all(np.isfinite(values)) or abs(np.linalg.norm(values[3:]) - 1.0) > 1e-3:
+        return None
+    rotation = Rotation.from_quat(values[3:]).as_matrix()
     return CameraPose.of(np.asarray(position, dtype=np.float64), rotation)
 
 
@@ -84,7 +88,13 @@ class CameraFeed:
         self._last: tuple[CameraPose, CameraMeta] | None = None
 
     def on_meta(self, stamp_ns: int, meta: CameraMeta) -> FrameRequest | None:
-        """The CameraState of an exposure arrived; a request if its pose is there too."""
+        """The CameraState of an exposure arrived; a request if its pose is there too.
+
+        Metadata with non-finite angles or a zoom outside [0, 1] is ignored (no frame).
+        """
+        values = (meta.pan, meta.tilt, meta.zoom)
+        if not all(math.isfinite(v) for v in values) or not 0.0 <= meta.zoom <= 1.0:
+            return None
         self._meta[stamp_ns] = meta
         return self._pair(stamp_ns)
 

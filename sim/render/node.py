@@ -43,9 +43,9 @@ from sim.render.camera_feed import (
     projection_rows,
 )
 from sim.render.objects import objects_from_message
-from sim.render.renderer import Renderer
+from sim.render.renderer import Renderer, RenderError
 from sim.sensors.camera import CameraId
-from sim.world_loader import load_world, shipped_worlds
+from sim.world_loader import WorldError, load_world, shipped_worlds
 
 NODE_NAME = "world_render"
 INPUT_QOS = QoSProfile(depth=4, reliability=ReliabilityPolicy.RELIABLE)
@@ -98,8 +98,11 @@ class WorldRenderNode(Node):
             raise ConfigError(f"unknown world {world_name!r}")
         if seed < 0:
             raise ConfigError(f"parameter seed: expected an integer >= 0, got {seed}")
-        self.world = load_world(world_name)
-        self.renderer = Renderer(self.world, seed=seed)
+        try:
+            self.world = load_world(world_name)
+            self.renderer = Renderer(self.world, seed=seed)
+        except (WorldError, RenderError) as exc:
+            raise ConfigError(str(exc)) from exc
         self.get_logger().info(f"rendering with {self.renderer.renderer_name}")
         self.cameras: dict[tuple[str, CameraId], _CameraTopics] = {}
         for agent in agents:
@@ -135,6 +138,12 @@ class WorldRenderNode(Node):
             if topics.wanted():
                 p, q = msg.pose.position, msg.pose.orientation
                 pose = pose_from_ros((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
+                if pose is None:
+                    self.get_logger().warning(
+                        "camera pose with non-finite values or a non-unit quaternion ignored",
+                        throttle_duration_sec=5.0,
+                    )
+                    return
                 self._publish(topics, topics.feed.on_pose(_ns(msg.header.stamp), pose))
 
         return callback

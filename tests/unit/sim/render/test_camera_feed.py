@@ -69,8 +69,37 @@ def test_pose_round_trip_through_a_quaternion() -> None:
     position, quat = pose_to_ros(POSE_A)
     assert math.isclose(float(np.linalg.norm(quat)), 1.0)
     back = pose_from_ros(position, quat)  # type: ignore[arg-type]
+    assert back is not None
     assert np.allclose(back.matrix(), POSE_A.matrix(), atol=1e-12)
     assert back.position == POSE_A.position
+
+
+@pytest.mark.parametrize(
+    ("position", "quat"),
+    [
+        ((math.nan, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)),
+        ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0)),
+        ((0.0, 0.0, 0.0), (0.0, 0.0, math.inf, 1.0)),
+        ((0.0, 0.0, 0.0), (0.0, 0.0, 1.0, 1.0)),
+    ],
+)
+def test_bad_poses_are_refused(position: tuple[float, ...], quat: tuple[float, ...]) -> None:
+    assert pose_from_ros(position, quat) is None  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    "meta",
+    [
+        CameraMeta(math.nan, 0.0, 0.0),
+        CameraMeta(0.0, math.inf, 0.0),
+        CameraMeta(0.0, 0.0, 1.5),
+        CameraMeta(0.0, 0.0, math.nan),
+    ],
+)
+def test_bad_metadata_makes_no_frame(meta: CameraMeta) -> None:
+    feed = CameraFeed(CameraId.COLOR)
+    feed.on_pose(40, POSE_A)
+    assert feed.on_meta(40, meta) is None
 
 
 def test_camera_info_rows() -> None:
