@@ -51,6 +51,15 @@ float hash(vec2 p) {
     p += dot(p, p.yx + 19.19);
     return fract((p.x + p.y) * p.x);
 }
+// smooth value noise in [0, 1): hashes of the cell corners, blended with a smoothstep
+float vnoise(vec2 p) {
+    vec2 i = floor(p);
+    vec2 f = fract(p);
+    vec2 s = f * f * (3.0 - 2.0 * f);
+    float a = mix(hash(i), hash(i + vec2(1.0, 0.0)), s.x);
+    float b = mix(hash(i + vec2(0.0, 1.0)), hash(i + vec2(1.0, 1.0)), s.x);
+    return mix(a, b, s.y);
+}
 """
 _COLOR = (
     """
@@ -72,7 +81,8 @@ out vec4 colour;
     + """
 void main() {
     vec3 n = normalize(v_normal);
-    float grain = 1.0 + texture_amp * (hash(floor(v_world.xy * 4.0)) - 0.5);
+    float grain = 1.0 + texture_amp * (0.65 * vnoise(v_world.xy * 3.0)
+                                       + 0.35 * vnoise(v_world.xy * 11.0) - 0.5);
     float light = ambient + sun * max(dot(n, sun_dir), 0.0);
     vec3 c = v_albedo * grain * light * exposure;
     // zero-mean noise per pixel and channel (uniform of the same variance as the sigma)
@@ -95,14 +105,14 @@ out float temperature;
     + _HASH
     + """
 void main() {
-    temperature = v_temp + texture_amp * (hash(floor(v_world.xy * 2.0)) - 0.5);
+    temperature = v_temp + texture_amp * (vnoise(v_world.xy * 1.5) - 0.5);
 }
 """
 )
-GROUND_GRAIN = 0.18
-"""Relative albedo variation of the static scene's 25 cm texture cells (colour)."""
+GROUND_GRAIN = 0.35
+"""Relative albedo variation of the static scene's texture (value noise, 33 cm and 9 cm)."""
 GROUND_THERMAL_GRAIN_K = 0.8
-"""Temperature variation of the static scene's 50 cm cells (thermal)."""
+"""Temperature variation of the static scene (value noise, 67 cm)."""
 
 
 class RenderError(Hdrc3Error):
