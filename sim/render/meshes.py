@@ -40,16 +40,6 @@ def rot_up(heading: float) -> NDArray[np.float64]:
     return np.array([[s, -c, 0.0], [c, s, 0.0], [0.0, 0.0, 1.0]])
 
 
-def rot_axis(axis: Sequence[float], angle: float) -> NDArray[np.float64]:
-    """Rotation by ``angle`` about a unit ``axis`` (Rodrigues)."""
-    x, y, z = (float(a) for a in axis)
-    k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    rotation: NDArray[np.float64] = (
-        np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
-    )
-    return rotation
-
-
 class MeshBuilder:
     """Collects triangles; :meth:`array` gives the interleaved float32 vertex array."""
 
