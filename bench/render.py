@@ -58,14 +58,16 @@ def run(renderer: Renderer, agents: int, frames: int, color: Intrinsics) -> tupl
 
 
 EXAMPLES = {
-    "body01_car2": ("body01", 8.0, 40.0),
-    "body05": ("body05", 12.0, 40.0),
-    "body07_sitting_or_lying": ("body07", 10.0, 35.0),
-    "dummy1": ("dummy1", 10.0, 40.0),
-    "animal3": ("animal3", 15.0, 45.0),
-    "body10_cool": ("body10", 10.0, 60.0),
+    "body01": ("body01", 8.0, 40.0, 0.0),
+    "body05": ("body05", 12.0, 40.0, 0.0),
+    "body07": ("body07", 10.0, 35.0, 0.0),
+    "body04_zoom": ("body04", 8.0, 35.0, 0.4),
+    "body07_zoom": ("body07", 8.0, 35.0, 0.4),
+    "dummy1": ("dummy1", 10.0, 40.0, 0.0),
+    "animal3": ("animal3", 15.0, 45.0, 0.0),
+    "body10_cool": ("body10", 10.0, 60.0, 0.0),
 }
-"""File stem -> (object looked at, metres south of it, height above it)."""
+"""File stem -> (object looked at, metres south of it, height above it, colour zoom)."""
 
 
 def save_examples(renderer: Renderer, out: Path) -> None:
@@ -75,20 +77,21 @@ def save_examples(renderer: Renderer, out: Path) -> None:
     world = renderer.world
     objects = {o.id: o for o in world.objects}
     out.mkdir(parents=True, exist_ok=True)
-    for stem, (ident, south, height) in EXAMPLES.items():
+    for stem, (ident, south, height, zoom) in EXAMPLES.items():
         obj = objects[ident]
         ground = world.terrain.height(obj.east, obj.north)
         pose = look_at(
             (obj.east, obj.north - south, ground + height), (obj.east, obj.north, ground)
         )
-        colour = renderer.render_color(pose, camera_intrinsics(COLOR_CAMERA, 0.0), 1)
+        colour = renderer.render_color(pose, camera_intrinsics(COLOR_CAMERA, zoom), 1)
         counts = renderer.render_thermal(pose, camera_intrinsics(THERMAL_CAMERA, 0.0), 1)
         plt.imsave(out / f"{stem}_color.png", colour)
         kelvin = counts / CENTI_KELVIN
         plt.imsave(out / f"{stem}_thermal.png", kelvin, cmap="inferno", vmin=280.0, vmax=310.0)
         print(
             f"{out / stem}_{{color,thermal}}.png: {ident} from {height:.0f} m up, "
-            f"{south:.0f} m south; thermal {kelvin.min():.1f}..{kelvin.max():.1f} K",
+            f"{south:.0f} m south, colour zoom {zoom}; "
+            f"thermal {kelvin.min():.1f}..{kelvin.max():.1f} K",
             flush=True,
         )
 
