@@ -102,8 +102,14 @@ def test_images_follow_sim_time_camera_state_and_faults(hdrc3_cli, ros_context) 
     # on the pad with the PTU level: the ground (near the 15 C air) below the cold sky (-20 C)
     assert float(np.percentile(kelvin, 5)) < 258.0 < 280.0 < float(np.percentile(kelvin, 95))
     assert kelvin.min() > 240.0 and kelvin.max() < 330.0
+
     # CameraInfo of the same stamp: K of the zoom world_sim reported for that exposure
-    stamp = next(s for s, _, _ in reversed(images["color"]) if s in infos and s in zooms)
+    # (the test's CameraState subscription may match world_sim later than its image ones)
+    def matched() -> list[int]:
+        return [s for s, _, _ in images["color"] if s in infos and s in zooms]
+
+    assert _spin_until(executor, lambda: bool(matched()), 60.0), (sorted(zooms)[:3], clock[-1])
+    stamp = matched()[-1]
     k = camera_intrinsics(COLOR_CAMERA, zooms[stamp]).matrix()
     assert np.allclose(np.reshape(infos[stamp].k, (3, 3)), k)
     assert infos[stamp].header.frame_id == "uav0/color_optical"
