@@ -56,6 +56,8 @@ def draw(name: str, out: Path) -> None:
         ObjectKind.BOX: "ks",
         ObjectKind.CARRIER: "mD",
         ObjectKind.CAR: "c>",
+        ObjectKind.DUMMY: "y*",
+        ObjectKind.ANIMAL: "b^",
     }
     for kind, style in markers.items():
         objs = world.objects_of(kind)

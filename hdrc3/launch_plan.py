@@ -11,7 +11,7 @@ import importlib.metadata
 import math
 import socket
 import sys
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -64,6 +64,15 @@ CATALOG: tuple[NodeKind, ...] = (
         world_params=True,
         seeded=True,
         checkpoint=True,
+    ),
+    NodeKind(
+        "world_render",
+        "hdrc3-world-render",
+        Scope.GLOBAL,
+        "camera images: colour (rgb8) and thermal (mono16 centi-kelvin) of every agent",
+        world_params=True,
+        default=False,
+        seeded=True,
     ),
     NodeKind(
         "control_kernel",
@@ -129,6 +138,8 @@ CATALOG: tuple[NodeKind, ...] = (
     ),
 )
 ALWAYS_STARTED = frozenset({"system_monitor"})
+CAMERA_NODE = "world_render"
+"""Started by ``--cameras`` in addition to the default nodes."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -150,16 +161,22 @@ class LaunchOptions:
     """WebSocket port of the live view (None: its default), when ``live_view`` is started."""
 
 
-def parse_nodes(text: str | None, catalog: Sequence[NodeKind] = CATALOG) -> tuple[str, ...]:
-    """Parse ``a,b`` into catalogue node names; None selects the default nodes."""
+def parse_nodes(
+    text: str | None, catalog: Sequence[NodeKind] = CATALOG, extra: Collection[str] = ()
+) -> tuple[str, ...]:
+    """Parse ``a,b`` into catalogue node names; None selects the default nodes.
+
+    ``extra`` nodes are added to the chosen ones (``--cameras``: :data:`CAMERA_NODE`, ``--live``:
+    :data:`LIVE_VIEW`); the result is in catalogue order, each node once.
+    """
     known = [kind.name for kind in catalog]
     if text is None:
-        return tuple(kind.name for kind in catalog if kind.default)
+        return tuple(kind.name for kind in catalog if kind.default or kind.name in extra)
     nodes = tuple(n.strip() for n in text.split(",") if n.strip())
     unknown = [n for n in nodes if n not in known]
     if unknown:
         raise ConfigError(f"unknown node {unknown[0]!r}; known nodes: {', '.join(known)}")
-    return tuple(n for n in known if n in nodes or n in ALWAYS_STARTED)
+    return tuple(n for n in known if n in nodes or n in ALWAYS_STARTED or n in extra)
 
 
 def parse_speed(text: str) -> float:

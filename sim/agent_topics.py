@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from geometry_msgs.msg import TwistStamped
+from geometry_msgs.msg import PoseStamped, TwistStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
@@ -29,6 +29,8 @@ from hdrc3_interfaces.msg import (
     YacsStatus,
 )
 from sim.odometry import flu_odometry
+from sim.render.camera_feed import pose_to_ros
+from sim.sensors.camera import CameraFrame
 from sim.sensors.gps import GpsParams
 from sim.sensors.suite import SensorReadings
 from sim.truth_state import TruthState as Truth
@@ -67,6 +69,9 @@ class AgentTopics:
         self.ptu = pub(PtuState, f"{ns}/sensors/ptu", qos)
         self.color_camera = pub(CameraState, f"{ns}/sensors/color_camera", qos)
         self.thermal_camera = pub(CameraState, f"{ns}/sensors/thermal_camera", qos)
+        # the pose each frame was exposed at (ground truth, for world_render)
+        self.color_pose = pub(PoseStamped, f"{ns}/ground_truth/color_camera_pose", qos)
+        self.thermal_pose = pub(PoseStamped, f"{ns}/ground_truth/thermal_camera_pose", qos)
         self.laser = pub(RotatingLaserScan, f"{ns}/sensors/laser", qos)
         self.status = pub(YacsStatus, f"{ns}/yacs/status", qos)
         self.odometry = pub(Odometry, f"{ns}/ground_truth/odometry", qos)
@@ -94,6 +99,8 @@ class AgentTopics:
         self.m_power = PowerStatus()
         self.m_ptu = PtuState()
         self.m_cam = CameraState()
+        self.m_pose = PoseStamped()
+        self.m_pose.header.frame_id = "world_enu"
         self.m_laser = RotatingLaserScan()
         self.m_status = YacsStatus()
         self.m_odom = Odometry()
@@ -153,9 +160,9 @@ class AgentTopics:
                 stamp_header(m.header, _ns(r.ptu.time))
                 m.pan, m.tilt = r.ptu.pan, r.ptu.tilt
                 self.ptu.publish(m)
-            for frame, publisher in (
-                (r.color_camera, self.color_camera),
-                (r.thermal_camera, self.thermal_camera),
+            for frame, publisher, pose_publisher in (
+                (r.color_camera, self.color_camera, self.color_pose),
+                (r.thermal_camera, self.thermal_camera, self.thermal_pose),
             ):
                 if frame is not None and publisher.get_subscription_count():
                     m = self.m_cam
@@ -164,8 +171,19 @@ class AgentTopics:
                     m.pan, m.tilt, m.zoom = frame.pan, frame.tilt, frame.zoom
                     m.ipc_time = m.header.stamp
                     publisher.publish(m)
+                if frame is not None and pose_publisher.get_subscription_count():
+                    self._camera_pose(frame, pose_publisher)
             if r.laser is not None and self.laser.get_subscription_count():
                 self._laser(r)
+
+    def _camera_pose(self, frame: CameraFrame, publisher: Any) -> None:
+        m = self.m_pose
+        stamp_header(m.header, _ns(frame.time))
+        position, quat = pose_to_ros(frame.pose)
+        p, q = m.pose.position, m.pose.orientation
+        p.x, p.y, p.z = position
+        q.x, q.y, q.z, q.w = quat
+        publisher.publish(m)
 
     def _gps(self, r: SensorReadings) -> None:
         assert r.gps is not None

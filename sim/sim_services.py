@@ -46,6 +46,8 @@ SPAWN_DEFAULTS: dict[ObjectKind, dict[str, object]] = {
     ObjectKind.PERSON: {"temperature": ZERO_CELSIUS + 33.0},
     ObjectKind.BOX: {"contents": BoxContents.FOOD, "mass": 5.0},
     ObjectKind.CARRIER: {"capacity": 4, "mass": 20.0},
+    ObjectKind.DUMMY: {},
+    ObjectKind.ANIMAL: {"temperature": ZERO_CELSIUS + 30.0},
     ObjectKind.CAR: {"temperature": ZERO_CELSIUS + 20.0, "mass": 1300.0},
 }
 """Kind-specific properties of spawned objects (the service gives only kind, id and pose)."""

@@ -26,6 +26,10 @@ class ObjectKind(enum.Enum):
     BOX = "box"
     CARRIER = "carrier"
     CAR = "car"
+    DUMMY = "dummy"
+    """Person-shaped mannequin without body heat (a false target for body detection)."""
+    ANIMAL = "animal"
+    """A warm four-legged animal (a thermal distractor, section 11.1.1)."""
 
 
 class BoxContents(enum.Enum):
@@ -121,11 +125,12 @@ class Depot:
 
 @dataclass(frozen=True, slots=True)
 class DynamicObject:
-    """A movable object: person lying on the ground, supply box, carrier or car.
+    """A movable object: person, dummy or animal on the ground, supply box, carrier or car.
 
     Kind-specific properties are ``None`` where they do not apply: ``temperature`` (surface
-    temperature seen by the thermal camera, K) for persons and cars, ``contents`` for boxes,
-    ``capacity`` (boxes) for carriers; ``mass`` for boxes, carriers and cars.
+    temperature seen by the thermal camera, K) for persons, dummies, animals and cars,
+    ``contents`` for boxes, ``capacity`` (boxes) for carriers; ``mass`` for boxes, carriers,
+    cars and animals.
     """
 
     id: str

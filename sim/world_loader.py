@@ -46,6 +46,8 @@ DEFAULT_SIZES: dict[ObjectKind, tuple[float, float, float]] = {
     ObjectKind.BOX: (0.4, 0.4, 0.3),
     ObjectKind.CARRIER: (1.2, 0.8, 0.4),
     ObjectKind.CAR: (4.5, 1.8, 1.5),
+    ObjectKind.DUMMY: (1.8, 0.5, 0.3),
+    ObjectKind.ANIMAL: (1.1, 0.4, 0.8),
 }
 """Default object dimensions (length, width, height), m, when the file gives no ``size``."""
 
@@ -532,12 +534,16 @@ _KIND_KEYS: dict[ObjectKind, frozenset[str]] = {
     ObjectKind.BOX: frozenset({"contents", "mass"}),
     ObjectKind.CARRIER: frozenset({"capacity", "mass"}),
     ObjectKind.CAR: frozenset({"temperature_c", "mass"}),
+    ObjectKind.DUMMY: frozenset({"temperature_c"}),
+    ObjectKind.ANIMAL: frozenset({"temperature_c", "mass"}),
 }
 _KIND_REQUIRED: dict[ObjectKind, frozenset[str]] = {
     ObjectKind.PERSON: frozenset({"temperature_c"}),
     ObjectKind.BOX: frozenset({"contents", "mass"}),
     ObjectKind.CARRIER: frozenset({"capacity", "mass"}),
     ObjectKind.CAR: frozenset(),
+    ObjectKind.DUMMY: frozenset(),
+    ObjectKind.ANIMAL: frozenset({"temperature_c"}),
 }
 
 

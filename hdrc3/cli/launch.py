@@ -11,6 +11,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from hdrc3.launch_plan import (
+    CAMERA_NODE,
     CATALOG,
     LIVE_VIEW,
     LaunchOptions,
@@ -55,6 +56,11 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         "--live-port", type=int, help="port of the live view on 127.0.0.1 (default 8765)"
     )
     parser.add_argument(
+        "--cameras",
+        action="store_true",
+        help="also start world_render: colour and thermal images on /<agent>/camera/...",
+    )
+    parser.add_argument(
         "--seed", type=int, default=0, help="simulation seed: sensor noise, outages (default 0)"
     )
     parser.add_argument(
@@ -71,7 +77,7 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
     """Validate the command line into launch options (raises ConfigError)."""
     return LaunchOptions(
         agents=parse_agents(args.agents),
-        nodes=with_live(parse_nodes(args.nodes), args.live or args.live_port is not None),
+        nodes=parse_nodes(args.nodes, extra=_extra_nodes(args)),
         world=check_world(args.world),
         speed=parse_speed(args.speed),
         record=check_record_path(args.record),
@@ -83,11 +89,10 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
     )
 
 
-def with_live(nodes: tuple[str, ...], live: bool) -> tuple[str, ...]:
-    """``nodes`` plus the live view when asked for (in catalogue order)."""
-    if not live or LIVE_VIEW in nodes:
-        return nodes
-    return tuple(k.name for k in CATALOG if k.name in nodes or k.name == LIVE_VIEW)
+def _extra_nodes(args: argparse.Namespace) -> tuple[str, ...]:
+    """The nodes the flags add: the renderer (``--cameras``), the live view (``--live``)."""
+    live = args.live or args.live_port is not None
+    return (CAMERA_NODE,) * bool(args.cameras) + (LIVE_VIEW,) * bool(live)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -1,11 +1,14 @@
-"""`hdrc3 world`: list the shipped worlds and check world files (sim/worlds/README.md)."""
+"""`hdrc3 world`: list the shipped worlds, check world files, generate seeded variations."""
 
 from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
+from hdrc3_base.errors import ConfigError
 from sim.world import ObjectKind
+from sim.world_generator import Population, generated_world
 from sim.world_loader import WorldError, load_world, shipped_worlds
 
 
@@ -17,6 +20,19 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     check = actions.add_parser("check", help="load and validate a world (name or .toml path)")
     check.add_argument("world", help="shipped world name (e.g. revinge) or path to a .toml file")
     check.set_defaults(handler=_check)
+    generate = actions.add_parser(
+        "generate",
+        help="write a world with seeded random bodies and distractors (robustness runs)",
+    )
+    generate.add_argument("--seed", type=int, required=True, help="random seed (>= 0)")
+    generate.add_argument("--out", type=Path, required=True, help="world file to write (.toml)")
+    generate.add_argument("--base", default="revinge", help="base world (default revinge)")
+    defaults = Population()
+    for name in ("persons", "dummies", "animals", "cars"):
+        generate.add_argument(
+            f"--{name}", type=int, default=getattr(defaults, name), help=f"number of {name}"
+        )
+    generate.set_defaults(handler=_generate)
 
 
 def _list(args: argparse.Namespace) -> int:
@@ -47,4 +63,23 @@ def _check(args: argparse.Namespace) -> int:
         f"  pads {', '.join(p.name for p in world.pads)}; depots "
         f"{', '.join(d.name for d in world.depots)}; objects: {counts}"
     )
+    return 0
+
+
+def _generate(args: argparse.Namespace) -> int:
+    out: Path = args.out
+    if out.suffix != ".toml" or not out.parent.resolve().is_dir():
+        print(
+            f"hdrc3 world generate: error: {out} must be a .toml file in an existing directory",
+            file=sys.stderr,
+        )
+        return 2
+    population = Population(args.persons, args.dummies, args.animals, args.cars)
+    try:
+        world = generated_world(args.seed, out, args.base, population)
+    except (ConfigError, WorldError) as exc:
+        print(f"hdrc3 world generate: error: {exc}", file=sys.stderr)
+        return 2
+    counts = ", ".join(f"{len(world.objects_of(k))} {k.value}" for k in ObjectKind)
+    print(f"{out}: {world.name} ok; objects: {counts}", flush=True)
     return 0

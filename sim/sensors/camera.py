@@ -1,7 +1,7 @@
 """Colour and thermal cameras on the PTU: zoom state, intrinsics and per-frame pose.
 
-Image rendering comes with the perception work; a frame here carries everything a renderer and
-the geolocation of section 11.1.1 need: time, pose, intrinsics, PTU angles and zoom.
+A frame here carries everything the renderer (``sim/render``, node ``world_render``) and the
+geolocation of section 11.1.1 need: time, pose, intrinsics, PTU angles and zoom.
 """
 
 from __future__ import annotations
@@ -62,6 +62,19 @@ THERMAL_CAMERA = CameraParams(CameraId.THERMAL, 160, 120, math.radians(25.0), ma
 """ThermalEye-3600AS-class uncooled microbolometer: 160x120, fixed lens (FOV assumed 25 deg)."""
 
 
+def camera_intrinsics(params: CameraParams, zoom: float) -> Intrinsics:
+    """Intrinsics of a camera at ``zoom`` (clamped to [0, 1]); focal length is linear in zoom."""
+    z = min(max(zoom, 0.0), 1.0)
+    f_wide = (params.width / 2.0) / math.tan(params.hfov_wide / 2.0)
+    f_tele = (params.width / 2.0) / math.tan(params.hfov_tele / 2.0)
+    f = f_wide + z * (f_tele - f_wide)
+    return Intrinsics(params.width, params.height, f, f, params.width / 2.0, params.height / 2.0)
+
+
+CAMERAS = {COLOR_CAMERA.camera: COLOR_CAMERA, THERMAL_CAMERA.camera: THERMAL_CAMERA}
+"""Parameters of each camera by id."""
+
+
 class ZoomStatus(enum.Enum):
     """Outcome of a zoom command."""
 
@@ -72,7 +85,7 @@ class ZoomStatus(enum.Enum):
 
 @dataclass(frozen=True, slots=True)
 class CameraFrame:
-    """What one frame's metadata says (the image itself comes with the renderer)."""
+    """What one frame's metadata says (``world_render`` renders the image from it)."""
 
     time: float
     camera: CameraId
@@ -124,13 +137,8 @@ class Camera(Sensor[CameraFrame]):
         self.zoom += min(max(self.zoom_target - self.zoom, -travel), travel)
 
     def intrinsics(self, zoom: float | None = None) -> Intrinsics:
-        """Intrinsics at ``zoom`` (default: current); focal length is linear in zoom."""
-        p = self.params
-        z = self.zoom if zoom is None else min(max(zoom, 0.0), 1.0)
-        f_wide = (p.width / 2.0) / math.tan(p.hfov_wide / 2.0)
-        f_tele = (p.width / 2.0) / math.tan(p.hfov_tele / 2.0)
-        f = f_wide + z * (f_tele - f_wide)
-        return Intrinsics(p.width, p.height, f, f, p.width / 2.0, p.height / 2.0)
+        """Intrinsics at ``zoom`` (default: current); see :func:`camera_intrinsics`."""
+        return camera_intrinsics(self.params, self.zoom if zoom is None else zoom)
 
     def pose(
         self, truth: TruthState, pan: float | None = None, tilt: float | None = None

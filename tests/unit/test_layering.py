@@ -28,8 +28,9 @@ LAYERS: dict[str, int] = {
     "hdrc3": 9,  # the CLI, launcher and demo: the top, imported by nobody
 }
 """Layer of each top-level package; the architecture of ../shared/DESIGN.md, bottom up."""
-SIM_DATA = frozenset({"sim.world", "sim.world_loader"})
-"""The simulator modules the autonomy stack may use: world files are data (terrain, origin)."""
+SIM_DATA = frozenset({"sim.world", "sim.world_loader", "sim.world_generator"})
+"""The simulator modules the autonomy stack may use: world files are data (terrain, origin);
+the generator writes such files (``hdrc3 world generate``)."""
 SIM_HARNESSES = frozenset({"hdrc3_control.kernel_harness"})
 """Stack modules that couple a kernel with the simulator in one process (tests and benches)."""
 

@@ -57,14 +57,18 @@ def test_doctor_reports_a_healthy_installation(capsys) -> None:
 
 
 @pytest.mark.parametrize(
-    ("nodes", "live", "expected"),
+    ("argv", "expected"),
     [
-        (("system_monitor", "world_sim"), False, ("system_monitor", "world_sim")),
-        (("system_monitor", "world_sim"), True, ("system_monitor", "world_sim", "live_view")),
-        (("system_monitor", "live_view"), True, ("system_monitor", "live_view")),
+        (["--nodes", "world_sim"], ("system_monitor", "world_sim")),
+        (["--nodes", "world_sim", "--live"], ("system_monitor", "world_sim", "live_view")),
+        (["--nodes", "live_view", "--live"], ("system_monitor", "live_view")),
+        (["--nodes", "world_sim", "--live-port", "9000", "--cameras"],
+         ("system_monitor", "world_sim", "world_render", "live_view")),
     ],
-)
-def test_launch_live_adds_the_live_view_once(nodes, live, expected) -> None:
-    from hdrc3.cli.launch import with_live
+)  # fmt: skip
+def test_launch_flags_add_their_nodes_once(argv: list[str], expected: tuple[str, ...]) -> None:
+    from hdrc3.cli.launch import options_from
+    from hdrc3.cli.main import build_parser
 
-    assert with_live(nodes, live) == expected
+    args = build_parser().parse_args(["launch", *argv])
+    assert options_from(args).nodes == expected

@@ -216,3 +216,26 @@ def test_only_the_simulator_gets_the_seed(seed: int) -> None:
 def test_a_negative_seed_is_refused() -> None:
     with pytest.raises(ConfigError, match="seed must be an integer >= 0, got -1"):
         launch_plan.check_seed(-1)
+
+
+def test_cameras_add_the_renderer_with_world_parameters_and_seed() -> None:
+    assert "world_render" not in parse_nodes(None)
+    assert "world_render" in parse_nodes(None, extra=("world_render",))
+    assert parse_nodes("world_sim", extra=("world_render",)) == (
+        "system_monitor",
+        "world_sim",
+        "world_render",
+    )
+    options = LaunchOptions(
+        agents=("uav0", "uav1"),
+        nodes=parse_nodes("world_sim", extra=("world_render",)),
+        world="revinge",
+        speed=1.0,
+        record=None,
+        domain_id=None,
+        seed=3,
+    )
+    spec = next(s for s in build_plan(options, launch_plan.CATALOG) if s.name == "world_render")
+    assert spec.argv[0].endswith("hdrc3-world-render")
+    assert "agents:=['uav0','uav1']" in spec.argv and "seed:=3" in spec.argv
+    assert "world:=revinge" in spec.argv

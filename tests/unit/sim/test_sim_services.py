@@ -144,6 +144,9 @@ def test_valid_requests_change_the_simulation(services: SimServices) -> None:
     assert sim.agents["uav0"].sensors.gps.fault.mode is FaultMode.BIAS
     assert services.spawn_object("extra_box", "box", 0.0, 0.0, 0.5).ok
     assert sim.objects["extra_box"].contents is not None
+    assert services.spawn_object("extra_fox", "animal", 2.0, 0.0, 0.5).ok
+    assert services.spawn_object("extra_dummy", "dummy", 4.0, 0.0, 0.5).ok
+    assert (sim.objects["extra_fox"].temperature or 0.0) > 300.0
     assert services.set_wind((3.0, 0.0, 0.0), 1.0).ok
     assert sim.wind.mean == (3.0, 0.0, 0.0)
     assert services.set_power("uav0", int(PowerDevice.LASER), True).ok

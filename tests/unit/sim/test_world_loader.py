@@ -10,7 +10,7 @@ import pytest
 
 from sim.geodesy import enu_to_geodetic
 from sim.world import BoxContents, DepotKind, ObjectKind
-from sim.world_loader import WorldError, load_world, parse_world, shipped_worlds
+from sim.world_loader import DEFAULT_SIZES, WorldError, load_world, parse_world, shipped_worlds
 
 BASE = """\
 [world]
@@ -86,6 +86,16 @@ BAD_WORLDS = {
     "person without temperature": (
         BASE + '[[object]]  # <-- error\nid = "p1"\ntype = "person"\nposition = [-20.0, 3.0]\n',
         "person 'p1' has no temperature_c",
+    ),
+    "animal without temperature": (
+        BASE + '[[object]]  # <-- error\nid = "a1"\ntype = "animal"\nposition = [-20.0, 3.0]\n',
+        "animal 'a1' has no temperature_c",
+    ),
+    "property of a dummy": (
+        BASE
+        + '[[object]]\nid = "d1"\ntype = "dummy"\nposition = [-20.0, 3.0]\n'
+        + "mass = 4.0  # <-- error\n",
+        "mass does not apply to a dummy",
     ),
     "box contents": (
         BASE
@@ -257,3 +267,25 @@ def test_mutated_worlds_never_crash_the_loader() -> None:
             assert exc.issues and all(i.line >= 1 for i in exc.issues)
             outcomes["error"] += 1
     assert outcomes["ok"] > 0 and outcomes["error"] > 0
+
+
+def test_dummies_and_animals_load_with_default_sizes() -> None:
+    text = (
+        BASE
+        + '[[object]]\nid = "d1"\ntype = "dummy"\nposition = [-20.0, 3.0]\n'
+        + '[[object]]\nid = "a1"\ntype = "animal"\nposition = [-30.0, 3.0]\n'
+        + "temperature_c = 30.0\nmass = 25.0\n"
+    )
+    world = parse_world(text, "distractors")
+    dummy, animal = world.objects
+    assert (dummy.kind, dummy.temperature, dummy.size) == (
+        ObjectKind.DUMMY, None, DEFAULT_SIZES[ObjectKind.DUMMY]
+    )  # fmt: skip
+    assert animal.kind is ObjectKind.ANIMAL and animal.mass == 25.0
+    assert animal.temperature == pytest.approx(303.15)
+
+
+def test_revinge_has_dummies_and_animals() -> None:
+    world = load_world("revinge")
+    assert len(world.objects_of(ObjectKind.DUMMY)) >= 2
+    assert len(world.objects_of(ObjectKind.ANIMAL)) >= 3

@@ -1,0 +1,1 @@
+"""Colour and thermal image rendering of the simulated world (moderngl on Mesa/EGL)."""
