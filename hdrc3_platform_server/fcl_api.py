@@ -519,16 +519,6 @@ class FlightCommandLayer:
             self._end_current(EventKind.FAILED, RESTARTED_PFC)
             self._stop_pfc()
 
-    def on_kernel_exit(self, reason: str, now: float) -> None:
-        """The PFC process died (the launcher saw it): the running command ends FAILED now.
-
-        The restarted PFC starts without it; its first report then finds nothing to end.
-        """
-        if self.current is not None:
-            self._end_current(EventKind.FAILED, reason)
-            self._stop_pfc()
-            self.kernel.step(now)
-
     def on_world_reset(self, reason: str, now: float) -> None:
         """The simulated world started over (sim/WORLD_SIM.md): the running command ends FAILED."""
         if self.current is not None:

@@ -30,7 +30,6 @@ from hdrc3_platform_server.fcl_api import (
 )
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.journal import CommandJournal
-from hdrc3_platform_server.kernel_watch import KernelExit
 from hdrc3_platform_server.ppcl_api import RESTARTED_PPC
 
 FRAME = WorldFrame(55.70, 13.47, 95.0)
@@ -178,36 +177,3 @@ def test_ppc_restart_fails_its_pending_commands_once_and_the_next_works(pending:
     assert final is not None and final.kind is EventKind.FINISHED
     rig.run(1.0)
     assert all(terminal(rig, cid) == [EventKind.FAILED] for cid in ids)
-
-
-PFC_EXIT = KernelExit("PFC", "control kernel (PFC) exited (code -9): the command was lost")
-PPC_EXIT = KernelExit("PPC", "perception kernel (PPC) exited (code -9): the command was lost")
-
-
-def test_a_pfc_exit_seen_by_the_launcher_fails_the_command_before_the_restart() -> None:
-    rig = FakeRig(FRAME, on_ground=False, timing=SLOW)
-    cid = start_flyto(rig)
-    rig.core.on_kernel_exit(PFC_EXIT, rig.t)
-    assert terminal(rig, cid) == [EventKind.FAILED]
-    assert rig.log.final(cid).reason == PFC_EXIT.reason  # type: ignore[union-attr]
-    rig.restart_pfc()  # the new incarnation's notice finds nothing left to end
-    rig.pfc.mode = FlightMode.HOVER
-    rig.run(0.5)
-    next_command_works(rig)
-    rig.run(5.0)
-    assert terminal(rig, cid) == [EventKind.FAILED]
-
-
-def test_a_ppc_exit_seen_by_the_launcher_fails_its_pending_commands_once() -> None:
-    rig = FakeRig(FRAME, on_ground=False)
-    assert rig.core.ppcl.control(Resource.PTU, True, "exec").code is PpclCode.OK
-    assert rig.ppc is not None
-    rig.ppc.move_time = 60.0
-    answer = rig.core.ppcl.submit(PpclCommand.TURN_TO, (0.5, 0.2), rig.t)
-    assert answer.code is PpclCode.OK, answer.reason
-    rig.run(0.5)
-    rig.core.on_kernel_exit(PPC_EXIT, rig.t)
-    rig.restart_ppc()
-    rig.run(0.5)
-    assert terminal(rig, answer.command_id) == [EventKind.FAILED]
-    assert rig.log.final(answer.command_id).reason == PPC_EXIT.reason  # type: ignore[union-attr]
