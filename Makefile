@@ -9,9 +9,13 @@ BUILD := build
 MYPY_PACKAGES := $(filter-out hdrc3_interfaces,$(wildcard hdrc3 hdrc3_[a-z]* sim))
 
 # Stamps are keyed on the content of their inputs (for pyproject.toml: the [project] and
-# [build-system] tables only), so a no-op setup is a few hash computations.
+# [build-system] tables only), so a no-op setup is a few hash computations. The interfaces depend
+# only on the ROS 2 wheels they are generated and compiled against (the `ros-*` requirements, the
+# `interfaces` extra, the build system) and on their own files: a new Python dependency or entry
+# point reinstalls the package without regenerating them.
 DEPS_HASH := $(shell $(PYTHON) -c 'import hashlib, json, tomllib; d = tomllib.load(open("pyproject.toml", "rb")); print(hashlib.sha256(json.dumps([d["project"], d["build-system"]], sort_keys=True).encode()).hexdigest()[:16])')
-IFACE_HASH := $(shell (echo $(DEPS_HASH); find hdrc3_interfaces -type f | LC_ALL=C sort | xargs cat) | sha256sum | cut -c1-16)
+ROS_DEPS_HASH := $(shell $(PYTHON) -c 'import hashlib, json, sys, tomllib; d = tomllib.load(open("pyproject.toml", "rb")); p = d["project"]; ros = sorted(r for r in p["dependencies"] if r.startswith("ros-")); print(hashlib.sha256(json.dumps([sys.version_info[:2], ros, p["optional-dependencies"]["interfaces"], d["build-system"]], sort_keys=True).encode()).hexdigest()[:16])')
+IFACE_HASH := $(shell (echo $(ROS_DEPS_HASH); find hdrc3_interfaces -type f | LC_ALL=C sort | xargs cat) | sha256sum | cut -c1-16)
 DEPS_STAMP := $(VENV)/.stamp-deps-$(DEPS_HASH)
 IFACE_STAMP := $(VENV)/.stamp-interfaces-$(IFACE_HASH)
 
@@ -44,7 +48,7 @@ $(DEPS_STAMP):
 	@rm -f $(VENV)/.stamp-deps-*
 	@touch $@
 
-$(IFACE_STAMP): $(DEPS_STAMP)
+$(IFACE_STAMP): | $(DEPS_STAMP)
 	@rm -rf $(BUILD)/hdrc3_interfaces && mkdir -p $(BUILD)/hdrc3_interfaces
 	cd $(BUILD)/hdrc3_interfaces && \
 	  PATH=$(CURDIR)/$(VENV)/bin:$$PATH CMAKE_PREFIX_PATH=$(CURDIR)/$(VENV) AMENT_PREFIX_PATH=$(CURDIR)/$(VENV) \
