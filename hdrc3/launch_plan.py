@@ -98,6 +98,14 @@ CATALOG: tuple[NodeKind, ...] = (
         world_params=True,
     ),
     NodeKind(
+        "saliency",
+        "hdrc3-saliency",
+        Scope.AGENT,
+        "Algorithm 4: the saliency map from the camera images while the PPC engages it (11.1.1)",
+        world_params=True,
+        default=False,
+    ),
+    NodeKind(
         "tst_manager",
         "hdrc3-tst-manager",
         Scope.AGENT,
@@ -138,8 +146,8 @@ CATALOG: tuple[NodeKind, ...] = (
     ),
 )
 ALWAYS_STARTED = frozenset({"system_monitor"})
-CAMERA_NODE = "world_render"
-"""Started by ``--cameras`` in addition to the default nodes."""
+CAMERA_NODES = ("world_render", "saliency")
+"""Started by ``--cameras`` in addition to the chosen nodes: the images and the saliency map."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -166,7 +174,7 @@ def parse_nodes(
 ) -> tuple[str, ...]:
     """Parse ``a,b`` into catalogue node names; None selects the default nodes.
 
-    ``extra`` nodes are added to the chosen ones (``--cameras``: :data:`CAMERA_NODE`, ``--live``:
+    ``extra`` nodes are added to the chosen ones (``--cameras``: :data:`CAMERA_NODES`, ``--live``:
     :data:`LIVE_VIEW`); the result is in catalogue order, each node once.
     """
     known = [kind.name for kind in catalog]

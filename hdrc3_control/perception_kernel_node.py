@@ -5,8 +5,9 @@ iteration per PTU angle report (``sensors/ptu``, 25 Hz of sim time), takes the a
 from the PFC (``pfc/state``) and the camera states from ``sensors/color_camera`` /
 ``sensors/thermal_camera``, commands the devices on ``ptu/command`` (PtuCommand),
 ``camera/command`` (CameraCommand) and ``laser/command`` (LaserCommand), republishes the camera
-state stamped with the PPC clock on ``ppc/camera_state``, and talks to the DRC over
-``hcsm/events/*``.
+state stamped with the PPC clock on ``ppc/camera_state``, publishes the engaged image
+processing function on ``ppc/image_processing`` (latched ``std_msgs/UInt8``,
+:class:`~hdrc3_control.ppc_modes.ImageProcessing`), and talks to the DRC over ``hcsm/events/*``.
 """
 
 from __future__ import annotations
@@ -17,11 +18,12 @@ from typing import Any
 from rclpy.context import Context
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import UInt8
 
 from hdrc3_base.ros_runtime import run_node
 from hdrc3_control.ppc_kernel import PpcKernel, PpcOutputs
-from hdrc3_control.ppc_modes import Pose
+from hdrc3_control.ppc_modes import ImageProcessing, Pose
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import (
     CameraCommand,
@@ -34,6 +36,11 @@ from hdrc3_interfaces.msg import (
 
 NODE_NAME = "perception_kernel"
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+IMAGE_PROCESSING_TOPIC = "ppc/image_processing"
+"""The engaged :class:`ImageProcessing` function (relative to the agent's namespace)."""
+LATCHED = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
+)
 
 
 def _set_stamp(stamp: Any, ns: int) -> None:
@@ -59,6 +66,8 @@ class PerceptionKernelNode(Node):
         self.camera_pub = self.create_publisher(CameraCommand, "camera/command", QOS)
         self.laser_pub = self.create_publisher(LaserCommand, "laser/command", QOS)
         self.state_pub = self.create_publisher(CameraState, "ppc/camera_state", QOS)
+        self.ip_pub = self.create_publisher(UInt8, IMAGE_PROCESSING_TOPIC, LATCHED)
+        self._publish_ip(self.kernel.image_processing)
         self.create_subscription(PfcState, "pfc/state", self._on_pfc, QOS)
         self.create_subscription(PtuState, "sensors/ptu", self._on_ptu, QOS)
         for topic in ("sensors/color_camera", "sensors/thermal_camera"):
@@ -118,6 +127,11 @@ class PerceptionKernelNode(Node):
             lm.rotation_speed, lm.hold_angle = la.rotation_speed, la.hold_angle
             lm.rotation_angle, lm.collect = la.rotation_angle, la.collect
             self.laser_pub.publish(lm)
+        if out.image_processing is not None:
+            self._publish_ip(out.image_processing)
+
+    def _publish_ip(self, mode: ImageProcessing) -> None:
+        self.ip_pub.publish(UInt8(data=int(mode)))
 
 
 def main() -> int:

@@ -2,7 +2,8 @@
 
 ``automata_ppc/ppc.hcsm`` receives the PPCL events from the DRC and raises action flags; this
 module is the flag consumer (RunControlFunctions of Algorithm 1) that engages the pan-tilt modes
-(:mod:`hdrc3_control.ppc_modes`), the camera parameters and the laser configuration, and the
+(:mod:`hdrc3_control.ppc_modes`), the camera parameters, the laser configuration and the image
+processing function (the saliency pipeline, a node of its own, runs while it is engaged), and the
 source of the conditions (on target, zoom reached, timeouts). :meth:`PpcKernel.step` is one
 iteration, driven by the PTU angle reports (25 Hz of sim time) in the node.
 """
@@ -16,7 +17,7 @@ from pathlib import Path
 
 from hdrc3_control.event_codec import Decoded, decode, encode
 from hdrc3_control.ppc_hardware import PtuLimits
-from hdrc3_control.ppc_modes import Pose, PtuController, PtuMode, on_target
+from hdrc3_control.ppc_modes import ImageProcessing, Pose, PtuController, PtuMode, on_target
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.interpreter import Interpreter
 from hdrc3_hcsm.loader import load_file
@@ -58,6 +59,7 @@ class PpcOutputs:
     ptu: tuple[float, float] | None = None
     cameras: list[CameraSetting] = field(default_factory=list)
     laser: LaserSetting | None = None
+    image_processing: ImageProcessing | None = None
 
 
 def model_path() -> Path:
@@ -85,6 +87,7 @@ class PpcKernel:
         self.zooms: dict[int, float] = {}
         self.cameras = {cam: CameraSetting(cam) for cam in (0, 1)}
         self.laser = LaserSetting()
+        self.image_processing = ImageProcessing.IDLE
         self._ptu_since = 0.0
         self._zoom_since = 0.0
         self._zoom_camera = 0
@@ -163,6 +166,13 @@ class PpcKernel:
         if laser != self.laser:
             self.laser = laser
             out.laser = laser
+        ip = self.image_processing
+        if flags.is_set("Ip-Saliency-AC"):
+            ip = ImageProcessing.SALIENCY
+        if flags.is_set("Ip-Stop-AC"):
+            ip = ImageProcessing.IDLE
+        if ip is not self.image_processing:
+            self.image_processing = out.image_processing = ip
 
     def _ptu_started(self, memory: MemoryBank, command_id: int, now: float) -> None:
         self._ptu_since = now

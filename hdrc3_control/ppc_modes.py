@@ -22,6 +22,14 @@ PTU_MOUNT_OFFSET: Vec3 = (0.3, 0.0, 0.45)
 """PTU centre relative to the centre of gravity, body FRD, m (as the simulated payload)."""
 
 
+class ImageProcessing(enum.IntEnum):
+    """Image processing function the PPC has engaged (ppcl_ip_*; ``ppc/image_processing``)."""
+
+    IDLE = 0
+    SALIENCY = 1
+    """The saliency map pipeline of mission leg I (§11.1.1, Algorithm 4)."""
+
+
 class PtuMode(enum.Enum):
     """Active pan-tilt control mode (ppcl_ptu_activity_info)."""
 

@@ -24,7 +24,7 @@ import enum
 import itertools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import shapely
 from shapely.geometry import Polygon, box
@@ -333,6 +333,35 @@ def plan_coverage(
     assert best is not None
     by_name = {a.platform.name: a for a in best}
     return CoveragePlan(CoverageStatus.PLANNED, "", tuple(by_name[p.name] for p in platforms))
+
+
+def plan_part(
+    polygon: Sequence[Sequence[float]],
+    part: int,
+    parts: int,
+    platform: Platform,
+    altitude_up: float,
+    turn_speed: float = 3.0,
+    bounds: tuple[float, float, float, float] | None = None,
+) -> CoveragePlan:
+    """Band ``part`` (1-based) of ``parts`` equal bands of ``polygon``, flown by ``platform``.
+
+    For aircraft that plan their share each on its own (a TST's concurrent scan nodes): the
+    bands come in a fixed order across the sweep (band 1 at the low offset), so aircraft given
+    the same polygon and number of parts agree on the split without talking; each enters its
+    band at the corner nearest its own start. Equal bands assume equal sweep rates (use
+    :func:`plan_coverage` when one planner knows the whole fleet).
+    """
+    if not (isinstance(part, int) and isinstance(parts, int) and 1 <= part <= parts):
+        return _fail(CoverageStatus.BAD_NUMBERS, f"part {part} of {parts}: need 1 <= part <= parts")
+    fleet = [replace(platform, name=f"{platform.name}#{k}") for k in range(1, parts + 1)]
+    plan = plan_coverage(polygon, fleet[:1], altitude_up, turn_speed, bounds)
+    if plan.status is not CoverageStatus.PLANNED:
+        return plan
+    area, _ = _check_area(polygon)
+    assert area is not None  # plan_coverage checked it
+    ours = _plan_order(area, SweepAxes.of(area), fleet, altitude_up, turn_speed)[part - 1]
+    return CoveragePlan(CoverageStatus.PLANNED, "", (replace(ours, platform=platform),))
 
 
 def _cut(

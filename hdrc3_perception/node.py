@@ -6,13 +6,19 @@ Interface's ``helicopter_state`` (the aircraft's own navigation solution, WGS84 
 the world's origin) and ``camera_state`` (PTU pan and tilt). Each thermal image is paired with
 the colour image of the same stamp (within ``pair_tolerance_s``) and handed to the pure core.
 
+The PPC engages the pipeline (``ppcl_ip_saliency``, stopped by ``ppcl_ip_abort``): the node
+follows the kernel's latched ``ppc/image_processing`` and subscribes the images only while it is
+``SALIENCY``, so the renderer draws nothing for it otherwise. ``gated`` false processes every
+pair from the start (a camera feed without a PPC).
+
 Publishes ``~/pair_result`` (``std_msgs/String``, JSON: status, reason, per-stage counts) for
 every thermal image, and when the map changed ``~/map`` (``std_msgs/String``, latched: the map as
 GeoJSON) and ``~/markers`` (``visualization_msgs/MarkerArray``, one sphere per location, green
 when confirmed); with ``geojson_path`` set, the file is rewritten on each change.
 
 Parameters: ``world`` (shipped name or .toml path: origin and terrain), ``detector``
-(``haar_kruppa`` | ``hog_people``), ``geojson_path`` ("" = no file), ``pair_tolerance_s``.
+(``haar_kruppa`` | ``hog_people``), ``geojson_path`` ("" = no file), ``pair_tolerance_s``,
+``gated`` (default true).
 """
 
 from __future__ import annotations
@@ -29,13 +35,16 @@ import pymap3d
 from numpy.typing import NDArray
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rclpy.subscription import Subscription
 from sensor_msgs.msg import CameraInfo, Image
-from std_msgs.msg import String
+from std_msgs.msg import String, UInt8
 from visualization_msgs.msg import Marker, MarkerArray
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
 from hdrc3_base.ros_env import apply_localhost_default
 from hdrc3_base.ros_runtime import run_node
+from hdrc3_control.perception_kernel_node import IMAGE_PROCESSING_TOPIC
+from hdrc3_control.ppc_modes import ImageProcessing
 from hdrc3_interfaces.msg import CameraState, HelicopterState
 from hdrc3_perception.camera import Intrinsics, NavPose
 from hdrc3_perception.classifier import ClassifierParams, Detector
@@ -92,6 +101,7 @@ class SaliencyNode(Node):
         detector = str(self.declare_parameter("detector", Detector.HAAR_KRUPPA.value).value)
         path = str(self.declare_parameter("geojson_path", "").value)
         self._tolerance = float(self.declare_parameter("pair_tolerance_s", 0.02).value)
+        gated = bool(self.declare_parameter("gated", True).value)
         try:
             kind = Detector(detector)
         except ValueError as exc:
@@ -112,21 +122,51 @@ class SaliencyNode(Node):
         self._result_pub = self.create_publisher(String, "~/pair_result", RESULT_QOS)
         self._map_pub = self.create_publisher(String, "~/map", LATCHED)
         self._marker_pub = self.create_publisher(MarkerArray, "~/markers", LATCHED)
-        for cam in ("color", "thermal"):
-            self.create_subscription(
-                CameraInfo,
-                f"camera/{cam}/camera_info",
-                functools.partial(self._on_info, cam),
-                qos_profile_sensor_data,
-            )
-        self.create_subscription(
-            Image, "camera/color/image_raw", self._on_color, qos_profile_sensor_data
-        )
-        self.create_subscription(
-            Image, "camera/thermal/image_raw", self._on_thermal, qos_profile_sensor_data
-        )
+        self._images: list[Subscription] = []
         self.create_subscription(HelicopterState, "helicopter_state", self._on_state, STATE_QOS)
         self.create_subscription(CameraState, "camera_state", self._on_ptu, STATE_QOS)
+        if gated:
+            self.create_subscription(UInt8, IMAGE_PROCESSING_TOPIC, self._on_mode, LATCHED)
+        else:
+            self._engage(True)
+
+    @property
+    def engaged(self) -> bool:
+        """Whether the node subscribes the images (the PPC engaged the pipeline, or not gated)."""
+        return bool(self._images)
+
+    def _on_mode(self, msg: UInt8) -> None:
+        self._engage(msg.data == ImageProcessing.SALIENCY)
+
+    def _engage(self, on: bool) -> None:
+        if on == self.engaged:
+            return
+        if not on:
+            for sub in self._images:
+                self.destroy_subscription(sub)
+            self._images = []
+            self._color = self._thermal = None
+            self._publish_map()
+            return
+        for cam in ("color", "thermal"):
+            self._images.append(
+                self.create_subscription(
+                    CameraInfo,
+                    f"camera/{cam}/camera_info",
+                    functools.partial(self._on_info, cam),
+                    qos_profile_sensor_data,
+                )
+            )
+        self._images.append(
+            self.create_subscription(
+                Image, "camera/color/image_raw", self._on_color, qos_profile_sensor_data
+            )
+        )
+        self._images.append(
+            self.create_subscription(
+                Image, "camera/thermal/image_raw", self._on_thermal, qos_profile_sensor_data
+            )
+        )
 
     def _on_info(self, cam: str, msg: CameraInfo) -> None:
         self._info[cam] = Intrinsics.from_k(int(msg.width), int(msg.height), list(msg.k))

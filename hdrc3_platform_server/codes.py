@@ -77,6 +77,7 @@ class PpclCommand(enum.Enum):
     IP_COLOR_TRACKER = "ip_color_tracker"
     IP_STATE_ESTIMATION = "ip_state_estimation"
     IP_ABORT = "ip_abort"
+    IP_SALIENCY = "ip_saliency"
     ZOOM = "zoom"
     EXPOSURE = "exposure"
     IRIS = "iris"

@@ -304,6 +304,7 @@ PPCL: dict[PpclCommand, PpclSpec] = {
         ),
         PpclSpec(_P.IP_STATE_ESTIMATION, "PpclTrigger", "Api-Pl-IP-State-Est-EV", 0, _IP, "ip"),
         PpclSpec(_P.IP_ABORT, "PpclTrigger", "Api-Pl-IP-Abort-EV", 0, _IP, "ip"),
+        PpclSpec(_P.IP_SALIENCY, "PpclTrigger", "Api-Pl-IP-Saliency-EV", 0, _IP, "ip"),
         PpclSpec(
             _P.ZOOM,
             "PpclZoom",

@@ -250,6 +250,10 @@ class FlightCommandLayer:
         cur = self.current
         if command is FclCommand.TRAJ3D and cur is not None and cur.command is command:
             return self._next_segment(cur, numbers, now)
+        if cur is not None:
+            # the DRC automaton takes a command during an emergency brake (its flight state is
+            # the brake's target, hovering); the brake still owes its outcome: busy until then
+            return FclAnswer(FclCode.BUSY, self.busy_with() or "a command is being executed")
         return self._start(command, numbers, now)
 
     def _cancel(self, now: float) -> FclAnswer:

@@ -28,7 +28,10 @@ from hdrc3_platform_server.fcl_api import IdSource
 from hdrc3_platform_server.geo_frame import WorldFrame
 
 LANDING_CONTROLLED = frozenset({Resource.PTU, Resource.CAMERA, Resource.IMAGE_PROCESSING})
-IP_NOT_AVAILABLE = "image processing functions are not available in this version of the PPC"
+IP_NOT_AVAILABLE = (
+    "colour tracking and vision-based state estimation are not available in this version of the"
+    " PPC (ppcl_ip_saliency is)"
+)
 RESTARTED_PPC = "perception kernel (PPC) restarted: the command was lost"
 """Reason of the terminal event of a PPCL command the PPC forgot in a restart."""
 
@@ -158,15 +161,12 @@ class PayloadCommandLayer:
             )
         if command in (PpclCommand.IP_COLOR_TRACKER, PpclCommand.IP_STATE_ESTIMATION):
             return PpclAnswer(PpclCode.NOT_ACCEPTED, IP_NOT_AVAILABLE)
-        cid = self.ids.next()
-        if command is PpclCommand.IP_ABORT:
-            self._emit(cid, command, EventKind.FINISHED, "no image processing function running")
-            return PpclAnswer(PpclCode.OK, "", cid)
         if not self.kernel.status.ppc_fresh():
             return PpclAnswer(
                 PpclCode.NOT_ACCEPTED,
                 "no data from the perception kernel (PPC): is perception_kernel running?",
             )
+        cid = self.ids.next()
         key = spec.mode_key(values)
         for old, (old_command, old_key) in list(self.pending.items()):
             if old_key == key:

@@ -10,9 +10,12 @@ type-checks calls against them. Trailing parameters with a default may be left o
 from __future__ import annotations
 
 import enum
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
+
+from hdrc3_control.ppc_hardware import PtuLimits
 
 
 class ParamType(enum.Enum):
@@ -76,6 +79,9 @@ class ActionSpec:
 _SPEED = ParamSpec("speed", ParamType.SPEED, "m/s", None, 0.5, 15.0, preferred=8.0)
 _ALT = ParamSpec("altitude", ParamType.LENGTH, "m above ground", 30.0, 5.0, 150.0)
 _DURATION = ParamSpec("duration", ParamType.DURATION, "s", None, 0.0, None)
+_PTU = PtuLimits()
+MAX_PARTS = 16
+"""Most parts a scanned area is split into (one per aircraft)."""
 
 ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
     {
@@ -108,8 +114,15 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
             ),
             ActionSpec(
                 "scan-area",
-                "lawn-mower coverage of a polygon at an altitude",
-                (_SPEED, ParamSpec("area", ParamType.AREA, "area"), _ALT),
+                "camera coverage of a polygon (or of part PART of PARTS equal bands of it) at an"
+                " altitude, the camera straight down and the saliency pipeline running",
+                (
+                    _SPEED,
+                    ParamSpec("area", ParamType.AREA, "area"),
+                    _ALT,
+                    ParamSpec("part", ParamType.NUMBER, "band, 1..parts", 1.0, 1.0, MAX_PARTS),
+                    ParamSpec("parts", ParamType.NUMBER, "bands", 1.0, 1.0, MAX_PARTS),
+                ),
                 None,
                 "traj3d",
             ),
@@ -124,8 +137,22 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
                 "ptu-turn-to",
                 "turn the pan-tilt unit to fixed angles",
                 (
-                    ParamSpec("pan", ParamType.ANGLE, "deg", None, -180.0, 180.0),
-                    ParamSpec("tilt", ParamType.ANGLE, "deg", None, -90.0, 30.0),
+                    ParamSpec(
+                        "pan",
+                        ParamType.ANGLE,
+                        "deg",
+                        None,
+                        math.degrees(_PTU.min_pan),
+                        math.degrees(_PTU.max_pan),
+                    ),
+                    ParamSpec(
+                        "tilt",
+                        ParamType.ANGLE,
+                        "deg, positive looks down",
+                        None,
+                        math.degrees(_PTU.min_tilt),
+                        math.degrees(_PTU.max_tilt),
+                    ),
                 ),
                 None,
                 "ppcl turn_to",

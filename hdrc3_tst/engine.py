@@ -689,6 +689,7 @@ class ExecutionEngine:
         for command in rec.stepper.ctx.commands:
             if not command.state.ended:
                 self.ctx.platform.stop(command, reason)
+        rec.stepper.close()
         self.ctx.sink.flag(node_id, self.tst.tree.nodes[node_id].action, False)
 
     def _abort_child(self, child_id: str, reason: str) -> None:

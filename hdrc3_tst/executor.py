@@ -131,6 +131,10 @@ class Stepper:
         self.ctx = ctx
         self._steps = executor.run(ctx)
 
+    def close(self) -> None:
+        """The node stops before its executor returned (abort, pause): let it clean up."""
+        self._steps.close()
+
     def step(self, now: float) -> Status:
         """Advance the executor to mission time ``now``; RUNNING or its outcome."""
         self.ctx.now = now

@@ -18,7 +18,7 @@ from collections.abc import Callable, Generator, Mapping
 from types import MappingProxyType
 
 from hdrc3_control.path_segment import PathSegment
-from hdrc3_navigation.coverage import footprint_width, lawn_mower
+from hdrc3_navigation.coverage import CoverageStatus, Platform, pair_footprint_width, plan_part
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
 from hdrc3_tst.executor import (
     COMMAND_BOUND_S,
@@ -36,9 +36,13 @@ from hdrc3_tst.polyline import polyline
 
 Steps = Generator[None, None, Status]
 DATA_TIMEOUT_S = 10.0
+"""Mission seconds an executor waits for the first Data Interface sample."""
 SEGMENTS_DONE = "segments_done"
 """``ActionContext.memory`` key: segments of a streamed pattern flown to their end."""
-"""Mission seconds an executor waits for the first Data Interface sample."""
+SCAN_START = ("scan_start_east", "scan_start_north")
+"""``ActionContext.memory`` keys: where a scan was planned from (its entry corner follows)."""
+NADIR_TILT = math.pi / 2
+"""rad: the PTU's tilt that points the cameras straight down (positive tilt looks down)."""
 TURN_SPEED = 3.0
 """m/s on the U-turns of a coverage pattern (the path follower may slow further)."""
 LANDING_SPEED = 1.0
@@ -201,24 +205,63 @@ class FlyPath(ActionExecutor):
 
 
 class ScanArea(ActionExecutor):
-    """``scan-area(speed, area, altitude)``: lawn-mower coverage at an altitude above ground."""
+    """``scan-area(speed, area, altitude, part, parts)``: camera coverage for the saliency map.
+
+    The coverage pattern (§11.1.1) of band ``part`` of ``parts`` equal bands of the area (so
+    that concurrent scan nodes of several aircraft split it without talking), strips as wide as
+    both cameras see (:func:`pair_footprint_width`). Before the pattern the PTU turns the
+    cameras straight down and the PPC engages the saliency pipeline (``ppcl_ip_saliency``);
+    after it, however it ended, ``ppcl_ip_abort`` stops the pipeline.
+    """
 
     def run(self, ctx: ActionContext) -> Steps:
-        """Take off if needed, then stream the coverage pattern."""
+        """Take off if needed, point the cameras down, start image processing, fly the band."""
         outcome = yield from airborne(ctx)
         if outcome.progress is not Progress.SUCCEEDED:
             return outcome
+        segments = self._pattern(ctx)
+        if isinstance(segments, str):
+            return failed(segments)
+        outcome = yield from finish(ctx, ctx.send(PpclCommand.TURN_TO, pan=0.0, tilt=NADIR_TILT))
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+        try:
+            outcome = yield from finish(ctx, ctx.send(PpclCommand.IP_SALIENCY))
+            if outcome.progress is Progress.SUCCEEDED:
+                outcome = yield from stream(ctx, resumed(ctx, segments))
+        except GeneratorExit:  # aborted or paused (Stepper.close): stop the pipeline, no wait
+            ctx.send(PpclCommand.IP_ABORT)
+            raise
+        stopped = yield from finish(ctx, ctx.send(PpclCommand.IP_ABORT))
+        if outcome.progress is Progress.SUCCEEDED and stopped.progress is not Progress.SUCCEEDED:
+            return stopped
+        return outcome
+
+    @staticmethod
+    def _pattern(ctx: ActionContext) -> list[PathSegment] | str:
         corners = ctx.place("area")
-        altitude = ctx.number("altitude")
+        altitude, speed = ctx.number("altitude"), ctx.number("speed")
+        part, parts = ctx.number("part"), ctx.number("parts")
+        if not (part.is_integer() and parts.is_integer() and 1 <= part <= parts):
+            return f"part {part:g} of {parts:g}: parts are numbered 1..parts"
+        if SCAN_START[0] not in ctx.memory:  # a resumed scan keeps its pattern (and entry corner)
+            state = ctx.state()
+            here = (state.east, state.north) if state is not None else corners[0][:2]
+            ctx.memory.update(zip(SCAN_START, here, strict=True))
+        start = (ctx.memory[SCAN_START[0]], ctx.memory[SCAN_START[1]])
         ground = max(ctx.frame.ground_up(c[0], c[1]) for c in corners)
-        segments = lawn_mower(
-            corners,
+        me = Platform(ctx.agent, pair_footprint_width(altitude), speed, (start[0], start[1]))
+        plan = plan_part(
+            [c[:2] for c in corners],
+            int(part),
+            int(parts),
+            me,
             ground + altitude,
-            footprint_width(altitude),
-            ctx.number("speed"),
-            min(TURN_SPEED, ctx.number("speed")),
+            min(TURN_SPEED, speed),
         )
-        return (yield from stream(ctx, resumed(ctx, segments)))
+        if plan.status is not CoverageStatus.PLANNED:
+            return f"scan-area: {plan.reason}"
+        return list(plan.assignments[0].segments)
 
 
 class LookAt(ActionExecutor):

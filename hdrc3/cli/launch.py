@@ -11,7 +11,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from hdrc3.launch_plan import (
-    CAMERA_NODE,
+    CAMERA_NODES,
     CATALOG,
     LIVE_VIEW,
     LaunchOptions,
@@ -58,7 +58,8 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument(
         "--cameras",
         action="store_true",
-        help="also start world_render: colour and thermal images on /<agent>/camera/...",
+        help="also start world_render (colour and thermal images on /<agent>/camera/...) and "
+        "each agent's saliency node (Algorithm 4 while the PPC engages it: ppcl ip_saliency)",
     )
     parser.add_argument(
         "--seed", type=int, default=0, help="simulation seed: sensor noise, outages (default 0)"
@@ -92,7 +93,7 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
 def _extra_nodes(args: argparse.Namespace) -> tuple[str, ...]:
     """The nodes the flags add: the renderer (``--cameras``), the live view (``--live``)."""
     live = args.live or args.live_port is not None
-    return (CAMERA_NODE,) * bool(args.cameras) + (LIVE_VIEW,) * bool(live)
+    return CAMERA_NODES * bool(args.cameras) + (LIVE_VIEW,) * bool(live)
 
 
 def run(args: argparse.Namespace) -> int:

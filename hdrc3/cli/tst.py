@@ -26,7 +26,7 @@ from typing import Any
 from rich.console import Console
 from rosgraph_msgs.msg import Clock
 
-from hdrc3.launch_plan import CATALOG
+from hdrc3.launch_plan import CAMERA_NODES, CATALOG
 from hdrc3.launched_system import LaunchedSystem
 from hdrc3.safety_pilot import hand_over
 from hdrc3_base.agents import parse_agents
@@ -219,6 +219,8 @@ def _run(args: argparse.Namespace) -> int:
     if world is None:
         raise ConfigError("--launch needs a world: the file declares none; give --world")
     nodes = [k.name for k in CATALOG if k.default] + ["tst_manager", "task_planner", "path_planner"]
+    if any(node.action == "scan-area" for node in check.tst.tree.nodes.values()):
+        nodes += CAMERA_NODES  # a scan builds the saliency map from rendered images
     record = out / "run.mcap" if out is not None else None
     system = LaunchedSystem(
         agents, world, args.speed, args.domain_id, record, nodes, console.print, args.seed

@@ -1,5 +1,6 @@
 """The saliency node over real rclpy/DDS: image pairs, Data Interface state and PTU in; the map
-(GeoJSON, markers) and per-pair results out; bad images answered with a status."""
+(GeoJSON, markers) and per-pair results out; bad images answered with a status; the PPC's
+image processing mode engages and stops it."""
 
 from __future__ import annotations
 
@@ -12,6 +13,8 @@ from typing import Any
 
 import numpy as np
 import pytest
+
+from hdrc3_control.ppc_modes import ImageProcessing
 
 pytestmark = pytest.mark.ros
 
@@ -57,9 +60,10 @@ def rig(ros_context: object, tmp_path: Path) -> Iterator[Rig]:
     from rclpy.parameter import Parameter
     from rclpy.qos import qos_profile_sensor_data
     from sensor_msgs.msg import CameraInfo, Image
-    from std_msgs.msg import String
+    from std_msgs.msg import String, UInt8
     from visualization_msgs.msg import MarkerArray
 
+    from hdrc3_control.perception_kernel_node import IMAGE_PROCESSING_TOPIC
     from hdrc3_interfaces.msg import CameraState, HelicopterState
     from hdrc3_perception.node import LATCHED, RESULT_QOS, STATE_QOS, SaliencyNode
 
@@ -99,16 +103,27 @@ def rig(ros_context: object, tmp_path: Path) -> Iterator[Rig]:
         ),
         "state": tester.create_publisher(HelicopterState, "/uav0/helicopter_state", STATE_QOS),
         "ptu": tester.create_publisher(CameraState, "/uav0/camera_state", STATE_QOS),
+        "mode": tester.create_publisher(UInt8, f"/uav0/{IMAGE_PROCESSING_TOPIC}", LATCHED),
     }
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
     executor.add_node(tester)
+    rig = Rig(executor, node, pubs, results, maps, markers)
+    set_mode(rig, ImageProcessing.SALIENCY)
     try:
-        yield Rig(executor, node, pubs, results, maps, markers)
+        yield rig
     finally:
         executor.shutdown()
         tester.destroy_node()
         node.destroy_node()
+
+
+def set_mode(rig: Rig, mode: ImageProcessing) -> None:
+    """Publish the PPC's image processing mode and wait until the node follows it."""
+    from std_msgs.msg import UInt8
+
+    rig.pubs["mode"].publish(UInt8(data=int(mode)))
+    assert rig.spin_until(lambda: rig.node.engaged is (mode is ImageProcessing.SALIENCY))
 
 
 def send_frame(rig: Rig, i: int, broken: bool = False) -> float:
@@ -191,3 +206,19 @@ def test_a_bad_image_gets_a_status_and_the_node_goes_on(rig: Rig) -> None:
             break
     good = result_at(rig, t)
     assert good is not None and good["status"] == "processed"
+
+
+def test_the_pipeline_runs_only_while_the_ppc_engages_it(rig: Rig) -> None:
+    first = send_frame(rig, 0)
+    assert rig.spin_until(lambda: result_at(rig, first) is not None)
+    set_mode(rig, ImageProcessing.IDLE)
+    idle = [send_frame(rig, i) for i in range(1, 4)]
+    for _ in range(20):
+        rig.executor.spin_once(timeout_sec=SPIN_TIMEOUT)
+    assert all(result_at(rig, t) is None for t in idle)
+    set_mode(rig, ImageProcessing.SALIENCY)
+    for i in range(4, 14):
+        t = send_frame(rig, i)
+        if rig.spin_until(lambda t=t: result_at(rig, t) is not None):
+            break
+    assert result_at(rig, t) is not None

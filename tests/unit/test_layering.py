@@ -20,7 +20,7 @@ LAYERS: dict[str, int] = {
     "hdrc3_dyknow": 1,
     "sim": 1,
     "hdrc3_control": 2,
-    "hdrc3_perception": 2,  # Algorithm 4 (§11.1.1) beside the PPC; its own camera geometry
+    "hdrc3_perception": 3,  # Algorithm 4 (§11.1.1), engaged by the PPC's image processing mode
     "hdrc3_platform_server": 3,
     "hdrc3_navigation": 3,  # path planning needs the PFC's segment type and limits (layer 2)
     "hdrc3_deliberative": 4,

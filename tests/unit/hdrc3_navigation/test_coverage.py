@@ -21,6 +21,7 @@ from hdrc3_navigation.coverage import (
     lawn_mower,
     pair_footprint_width,
     plan_coverage,
+    plan_part,
 )
 
 AREAS = {
@@ -221,3 +222,41 @@ def test_bad_requests_answer_with_a_status(
     plan = plan_coverage(corners, fleet, altitude, bounds=bounds)
     assert plan.status is status
     assert bool(plan.reason) == (status is not CoverageStatus.PLANNED)
+
+
+@pytest.mark.parametrize("name", ["rectangle", "L-shape", "slanted"])
+@pytest.mark.parametrize("parts", [1, 2, 3])
+def test_parts_planned_apart_agree_on_the_split_and_cover_the_area(name: str, parts: int) -> None:
+    corners, area = AREAS[name], Polygon(AREAS[name])
+    footprint = pair_footprint_width(30.0)
+    starts = [(-300.0, -100.0), (200.0, 150.0), (0.0, 300.0)]
+    plans = [
+        plan_part(corners, k, parts, Platform(f"uav{k}", footprint, 6.0, starts[k - 1]), 30.0)
+        for k in range(1, parts + 1)
+    ]
+    assert all(p.status is CoverageStatus.PLANNED for p in plans), [p.reason for p in plans]
+    bands = [p.assignments[0].part for p in plans]
+    for a, b in itertools.combinations(bands, 2):
+        assert a.intersection(b).area < 1e-6 * area.area  # each aircraft its own band
+    assert shapely.union_all(bands).symmetric_difference(area).area < 1e-6 * area.area
+    for k, plan in enumerate(plans):
+        # the same band whatever the aircraft's start: only the entry corner follows it
+        elsewhere = Platform("x", footprint, 6.0, (1000.0, -1000.0))
+        again = plan_part(corners, k + 1, parts, elsewhere, 30.0).assignments[0]
+        assert again.part.equals(plan.assignments[0].part)
+        assert plan.assignments[0].platform.name == f"uav{k + 1}"
+
+
+@pytest.mark.parametrize(
+    ("part", "parts", "corners", "status"),
+    [
+        (0, 2, AREAS["rectangle"], CoverageStatus.BAD_NUMBERS),
+        (3, 2, AREAS["rectangle"], CoverageStatus.BAD_NUMBERS),
+        (1, 2, [(0, 0), (10, 10), (10, 0), (0, 10)], CoverageStatus.INVALID_AREA),
+    ],
+)
+def test_a_bad_part_answers_with_a_status(
+    part: int, parts: int, corners: list[tuple[float, float]], status: CoverageStatus
+) -> None:
+    me = Platform("uav0", 10.0, 5.0, (0.0, 0.0))
+    assert plan_part(corners, part, parts, me, 30.0).status is status

@@ -35,6 +35,10 @@ steps = st.lists(st.one_of(fcl_step, ppcl_step, control_step, run_step), max_siz
 @example([("ppcl", PpclCommand.IRIS, [math.inf])], False)
 @example([("ppcl", PpclCommand.EXPOSURE, [math.inf])], False)
 @example([("ppcl", PpclCommand.ZOOM, [math.inf])], True)
+# A land accepted during an emergency brake replaced the brake, whose outcome was lost.
+@example(
+    [("fcl", FclCommand.EMERGENCY_BRAKE, [], False), ("fcl", FclCommand.LAND, [], True)], False
+)
 def test_random_requests(sequence: list[tuple[object, ...]], on_ground: bool) -> None:
     rig = FakeRig(FRAME, on_ground=on_ground)
     accepted: list[int] = []

@@ -39,6 +39,7 @@ VALID: dict[PpclCommand, tuple[float, ...]] = {
     P.IP_COLOR_TRACKER: (100.0, 100.0),
     P.IP_STATE_ESTIMATION: (),
     P.IP_ABORT: (),
+    P.IP_SALIENCY: (),
 }
 RESOURCE = {
     P.TURN_TO: Resource.PTU,
@@ -51,6 +52,7 @@ RESOURCE = {
     P.IP_COLOR_TRACKER: Resource.IMAGE_PROCESSING,
     P.IP_STATE_ESTIMATION: Resource.IMAGE_PROCESSING,
     P.IP_ABORT: Resource.IMAGE_PROCESSING,
+    P.IP_SALIENCY: Resource.IMAGE_PROCESSING,
 }
 
 

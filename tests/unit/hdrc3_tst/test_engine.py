@@ -95,9 +95,12 @@ def test_example_6_1_on_uav0_runs_its_nodes_and_starts_tau3_on_uav1() -> None:
     rig.run(60, flown(rig.platform))
     assert rig.state("tau2") is NodeState.SUCCEEDED
     assert rig.state("tau1") is NodeState.RUNNING  # tau3 on uav1 still runs
-    labels = [c.label for c in rig.platform.sent]
+    labels = [c.label for c in rig.platform.sent if c.label.startswith("fcl_")]
     assert labels[:3] == ["fcl_takeoff", "fcl_traj3d_flyto", "fcl_traj3d"]
-    assert labels.count("fcl_traj3d") == 7  # 4 legs and 3 turns over AreaA
+    # AreaA is 80 m across; the thermal camera's 13.3 m strip at 30 m, 20 % overlap: 8 legs
+    assert labels.count("fcl_traj3d") == 15  # 8 legs and 7 turns
+    payload = [c.label for c in rig.platform.sent if c.label.startswith("ppcl_")]
+    assert payload == ["ppcl_turn_to", "ppcl_ip_saliency", "ppcl_ip_abort"]
     rig.engine.on_remote_status("tau3", NodeState.SUCCEEDED, 1.0, 50.0, "")
     rig.run(10, flown(rig.platform))
     assert [rig.state(n) for n in ("tau1", "tau4", "tau0")] == [NodeState.SUCCEEDED] * 3
@@ -155,11 +158,13 @@ def test_an_end_seen_a_tick_late_is_recorded_at_its_due_time() -> None:
 def test_abort_stops_commands_and_aborts_remote_children() -> None:
     rig = Rig(example_6_1())
     rig.start("tau0")
-    rig.run(3, flown(rig.platform))
+    rig.run(6, flown(rig.platform))
     aborted = rig.engine.abort("operator")
     assert set(aborted) == {"tau0", "tau1", "tau2"}
     assert all(rig.state(n) is NodeState.ABORTED for n in ("tau0", "tau1", "tau2"))
-    assert rig.platform.stopped and not rig.platform.running()
+    assert rig.platform.stopped
+    # the aborted scan stops the saliency pipeline it started
+    assert [c.label for c in rig.platform.running()] == ["ppcl_ip_abort"]
     assert rig.sink.remote_aborts[0][0] == NodeRef("uav1", "tau3")
     assert rig.state("tau4") is NodeState.CREATED
 

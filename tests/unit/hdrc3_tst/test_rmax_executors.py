@@ -17,6 +17,7 @@ from hdrc3_tst.rmax_executors import DATA_TIMEOUT_S, RMAX_EXECUTORS
 FRAME = frame_from_world("revinge")
 POINTS = {"Sq": ((100.0, 50.0, 30.0),)}
 FLYING = PlatformState(0.0, 0.0, 30.0, on_ground=False, autonomous=True)
+FLYING_ELSEWHERE = PlatformState(100.0, 60.0, 30.0, on_ground=False, autonomous=True)
 
 
 def test_every_action_has_an_rmax_executor() -> None:
@@ -24,7 +25,10 @@ def test_every_action_has_an_rmax_executor() -> None:
 
 
 def step(action: str, args: dict[str, float | str], platform: FakePlatform) -> Stepper:
-    ctx = ActionContext("n", "uav0", ACTIONS[action], args, POINTS, platform, FRAME, 0.0)
+    """The action's executor with ``args`` and the defaults of the parameters not given."""
+    spec = ACTIONS[action]
+    defaults = {p.name: p.default for p in spec.params if p.default is not None}
+    ctx = ActionContext("n", "uav0", spec, defaults | args, POINTS, platform, FRAME, 0.0)
     return Stepper(RMAX_EXECUTORS[action](), ctx)
 
 
@@ -32,8 +36,8 @@ def step(action: str, args: dict[str, float | str], platform: FakePlatform) -> S
     ("action", "args", "command", "sent"),
     [
         ("land", {"heading": 90.0}, FclCommand.LAND, {"heading": math.pi / 2}),
-        ("ptu-turn-to", {"pan": 90.0, "tilt": -45.0}, PpclCommand.TURN_TO,
-         {"pan": math.pi / 2, "tilt": -math.pi / 4}),
+        ("ptu-turn-to", {"pan": 90.0, "tilt": 45.0}, PpclCommand.TURN_TO,
+         {"pan": math.pi / 2, "tilt": math.pi / 4}),
         ("camera-zoom", {"camera": 0.0, "zoom": 20.0}, PpclCommand.ZOOM,
          {"camera_id": 0.0, "value": 1.0}),
         ("fly-to", {"speed": 4.0, "destination": "Sq"}, FclCommand.TRAJ3D_FLYTO, None),
@@ -84,17 +88,32 @@ def test_a_failsafe_fails_hover() -> None:
     assert stepper.step(2.0) == Status(Progress.FAILED, "hover interrupted by a failsafe: GPS lost")
 
 
+def start_scan(stepper: Stepper, platform: FakePlatform) -> None:
+    """Step a scan past its camera commands (PTU down, saliency on), each done at once."""
+    for t, command in enumerate((PpclCommand.TURN_TO, PpclCommand.IP_SALIENCY)):
+        stepper.step(t / 10.0)
+        assert platform.sent[-1].command is command
+        platform.complete(platform.sent[-1])
+    stepper.step(0.2)
+    assert platform.sent[-1].command is FclCommand.TRAJ3D_FLYTO  # to the first leg
+
+
 def test_a_path_ending_before_its_last_segment_fails() -> None:
     platform = FakePlatform(sample=FLYING)
     stepper = step("scan-area", {"speed": 5.0, "area": "A", "altitude": 30.0}, platform)
     stepper.ctx.points = {"A": ((0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0))}
-    stepper.step(0.0)
-    platform.complete(platform.sent[0])  # the fly-to the first leg
+    start_scan(stepper, platform)
+    platform.complete(platform.sent[-1])  # the fly-to the first leg
     stepper.step(1.0)
-    first = platform.sent[1]
+    first = platform.sent[-1]
     assert first.command is FclCommand.TRAJ3D
     platform.complete(first)  # finished without asking for the next segment
-    assert stepper.step(2.0) == Status(Progress.FAILED, "path following ended after segment 0 of 5")
+    stepper.step(2.0)
+    assert platform.sent[-1].command is PpclCommand.IP_ABORT  # the pipeline stops however it ends
+    platform.complete(platform.sent[-1])
+    outcome = stepper.step(2.1)
+    assert outcome.progress is Progress.FAILED
+    assert outcome.reason.startswith("path following ended after segment 0 of ")
 
 
 def test_a_resumed_scan_starts_again_at_the_segment_it_was_flying() -> None:
@@ -102,22 +121,25 @@ def test_a_resumed_scan_starts_again_at_the_segment_it_was_flying() -> None:
     platform = FakePlatform(sample=FLYING)
     stepper = step("scan-area", {"speed": 5.0, "area": "A", "altitude": 30.0}, platform)
     stepper.ctx.points = area
-    stepper.step(0.0)
-    platform.complete(platform.sent[0])  # the fly-to the first leg
+    start_scan(stepper, platform)
+    platform.complete(platform.sent[-1])  # the fly-to the first leg
     for t in range(1, 4):  # segments 0, 1, 2 sent, each asking for the next
         stepper.step(float(t))
         platform.sent[-1].segment_requested = True
     stepper.step(4.0)
     flown = [c for c in platform.sent if c.command is FclCommand.TRAJ3D]
     assert len(flown) == 4  # segment 3 in flight: 0 to 2 are done
-    assert stepper.ctx.memory == {"segments_done": 2}
+    assert stepper.ctx.memory == {
+        "segments_done": 2,
+        "scan_start_east": 0.0,
+        "scan_start_north": 0.0,
+    }
     # pause: the engine stops the commands and later starts a new run with the same memory
     again = step("scan-area", {"speed": 5.0, "area": "A", "altitude": 30.0}, platform)
     again.ctx.points, again.ctx.memory = area, stepper.ctx.memory
-    sent = len(platform.sent)
-    again.step(5.0)
-    transit = platform.sent[sent]
-    assert transit.command is FclCommand.TRAJ3D_FLYTO  # to the start of segment 2, not 0
+    platform.sample = FLYING_ELSEWHERE  # the entry corner stays the one planned first
+    start_scan(again, platform)
+    transit = platform.sent[-1]  # to the start of segment 2, not 0
     start = [flown[2].args[f"start_{axis}"] for axis in "xyz"]
     assert start != [flown[0].args[f"start_{axis}"] for axis in "xyz"]
     lon, lat, _ = FRAME.to_wgs84(*start)
