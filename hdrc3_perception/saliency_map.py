@@ -166,6 +166,33 @@ class SaliencyMap:
             target.observations = n
         return FrameUpdate(seen_count, added, merged)
 
+    def absorb(self, locations: Sequence[Location]) -> None:
+        """Merge another map's locations (another aircraft's): by distance, as detections are.
+
+        A location within the merge distance of one of ours adds its frame and body counts to
+        it (both aircraft saw the place) and moves it to the observation-weighted mean; any
+        other is added.
+        """
+        for other in locations:
+            target = self._nearest(np.array([other.east, other.north, other.up]))
+            if target is None:
+                ident = self._add(np.array([other.east, other.north, other.up]), other.first_seen)
+                loc = self._locations[ident]
+                loc.t_frame, loc.t_body = other.t_frame, other.t_body
+                loc.observations = other.observations
+                continue
+            n = target.observations + other.observations
+            for axis in ("east", "north", "up"):
+                mean = (
+                    getattr(target, axis) * target.observations
+                    + getattr(other, axis) * other.observations
+                ) / n
+                setattr(target, axis, mean)
+            target.t_frame += other.t_frame
+            target.t_body += other.t_body
+            target.first_seen = min(target.first_seen, other.first_seen)
+            target.observations = n
+
     def _nearest(self, point: NDArray[np.float64]) -> Location | None:
         best: Location | None = None
         best_d = self.params.merge_distance
@@ -214,6 +241,7 @@ def to_geojson(
                     "alt": float(alt),
                     "east": loc.east,
                     "north": loc.north,
+                    "up": loc.up,
                     "p_body": loc.p_body,
                     "t_frame": loc.t_frame,
                     "t_body": loc.t_body,
@@ -228,3 +256,39 @@ def to_geojson(
 def dumps_geojson(saliency: SaliencyMap, origin: Origin, only_confirmed: bool = False) -> str:
     """:func:`to_geojson` as text."""
     return json.dumps(to_geojson(saliency, origin, only_confirmed), indent=1)
+
+
+_COUNTS = ("t_frame", "t_body")
+_FLOATS = ("east", "north", "up", "first_seen")
+
+
+def locations_from_geojson(data: Any) -> list[Location]:
+    """The locations of a map written by :func:`to_geojson` (another node's, a file).
+
+    Raises:
+        MapError: not a FeatureCollection of this module's points, naming the first bad feature.
+    """
+    if not isinstance(data, dict) or data.get("type") != "FeatureCollection":
+        raise MapError("not a GeoJSON FeatureCollection")
+    features = data.get("features")
+    if not isinstance(features, list):
+        raise MapError("the FeatureCollection has no list of features")
+    locations = []
+    for index, feature in enumerate(features):
+        props = feature.get("properties") if isinstance(feature, dict) else None
+        if not isinstance(props, dict):
+            raise MapError(f"feature {index}: no properties")
+        numbers = [
+            float(v)
+            for key in _FLOATS
+            if isinstance(v := props.get(key), int | float) and math.isfinite(v)
+        ]
+        counts = [v for key in _COUNTS if isinstance(v := props.get(key), int) and v >= 0]
+        if len(numbers) != len(_FLOATS) or len(counts) != len(_COUNTS):
+            raise MapError(f"feature {index}: needs finite {_FLOATS} and counts {_COUNTS} >= 0")
+        east, north, up, first_seen = numbers
+        t_frame, t_body = counts
+        locations.append(
+            Location(index, east, north, up, t_frame, t_body, first_seen, max(1, t_body))
+        )
+    return locations

@@ -29,6 +29,7 @@ from rosgraph_msgs.msg import Clock
 from hdrc3.launch_plan import CAMERA_NODES, CATALOG
 from hdrc3.launched_system import LaunchedSystem
 from hdrc3.safety_pilot import hand_over
+from hdrc3.saliency_output import collect
 from hdrc3_base.agents import parse_agents
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import RosProcess
@@ -80,7 +81,11 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     run.add_argument(
         "--seed", type=int, default=0, help="with --launch: simulation seed (sensor outages)"
     )
-    run.add_argument("--out", default=None, help="directory for run.mcap and timeline.csv")
+    run.add_argument(
+        "--out",
+        default=None,
+        help="directory for run.mcap, timeline.csv and (a launched scan) saliency.geojson",
+    )
     run.add_argument(
         "--timeout", type=float, default=3600.0, help="wall seconds to wait for the root"
     )
@@ -225,8 +230,11 @@ def _run(args: argparse.Namespace) -> int:
     system = LaunchedSystem(
         agents, world, args.speed, args.domain_id, record, nodes, console.print, args.seed
     )
+    scanned = world if CAMERA_NODES[-1] in nodes else None
     with system:
-        code = _execute(console, path, mission, agents, out, args.timeout, hand_over_first=True)
+        code = _execute(
+            console, path, mission, agents, out, args.timeout, hand_over_first=True, scanned=scanned
+        )
     if record is not None:
         console.print(f"recording: {record}")
     return code
@@ -240,7 +248,9 @@ def _execute(
     out: Path | None,
     timeout: float,
     hand_over_first: bool = False,
+    scanned: str | None = None,
 ) -> int:
+    """Create and run the mission; ``scanned``: the world, when the run builds saliency maps."""
     with RosProcess() as process:
         client = TstClient(process, on_status=lambda m: console.print(_status_line(m)))
         if hand_over_first:
@@ -273,6 +283,15 @@ def _execute(
         if hand_over_first:
             _settle(process, client)
         latest = client.latest(mission)
+        if out is not None and scanned is not None:
+            got = collect(process, client.node, agents, scanned, out / "saliency.geojson")
+            console.print(
+                f"saliency map: {got.locations} locations, {got.confirmed} confirmed: {got.path}"
+            )
+            for agent in got.missing:
+                console.print(f"  no saliency map from {agent}")
+            for line in got.refused:
+                console.print(f"  map refused: {line}")
     if out is not None:
         _write_timeline(out / "timeline.csv", latest)
         console.print(f"timeline: {out / 'timeline.csv'}")

@@ -7,6 +7,12 @@ with a :class:`FrameRequest`: render a new image, or repeat the previous one whe
 is unchanged (a frozen camera: world_sim's FREEZE fault repeats the old pose and angles with a
 fresh stamp, so the frame is the old image with the new stamp, like every frozen sensor). A
 dropped frame has no metadata and so no image.
+
+An :class:`ExposurePairs` holds one agent's requests while both of its cameras have subscribers
+(the saliency pipeline pairs a colour and a thermal image of one exposure time): it releases the
+two requests of one stamp together, and a request whose partner never came is dropped unrendered
+when a newer one of its camera arrives. A renderer that falls behind then spends its time on
+pairs, instead of on halves whose partner it skipped.
 """
 
 from __future__ import annotations
@@ -125,3 +131,37 @@ class CameraFeed:
         return FrameRequest(
             stamp_ns, self.camera, pose, camera_intrinsics(self.params, meta.zoom), meta, action
         )
+
+
+class ExposurePairs:
+    """One agent's colour and thermal requests, released in pairs of one stamp."""
+
+    def __init__(self) -> None:
+        self._held: dict[CameraId, FrameRequest] = {}
+        self.dropped = 0
+        """Requests dropped unrendered: their partner was lost (renderer behind, camera fault)."""
+
+    def offer(self, request: FrameRequest, paired: bool) -> list[FrameRequest]:
+        """The requests to render now, given one more (``paired``: both cameras are wanted)."""
+        if not paired:
+            self._held.pop(request.camera, None)
+            return [request]
+        if request.camera in self._held:
+            self.dropped += 1  # superseded before its partner came
+        self._held[request.camera] = request
+        if len(self._held) < len(CameraId):
+            return []
+        stamps = {held.stamp_ns for held in self._held.values()}
+        if len(stamps) > 1:
+            newest = max(stamps)
+            for camera in [c for c, held in self._held.items() if held.stamp_ns < newest]:
+                del self._held[camera]
+                self.dropped += 1
+            return []
+        pair = [self._held[camera] for camera in CameraId]
+        self._held.clear()
+        return pair
+
+    def reset(self) -> None:
+        """Forget what is held (the world restarted)."""
+        self._held.clear()

@@ -13,7 +13,9 @@ publishes ``sensor_msgs/Image`` + ``CameraInfo`` stamped with the exposure's sim
 
 A camera is rendered only while one of its two topics has a subscriber. When the renderer falls
 behind, it renders the newest exposure and skips older ones (it never holds the simulation).
-See ``sim/WORLD_SIM.md`` ("Camera images").
+While both cameras of an agent have subscribers, the two images of one exposure are rendered
+together and a half whose partner was skipped is not rendered (:class:`ExposurePairs`): the
+saliency pipeline needs pairs. See ``sim/WORLD_SIM.md`` ("Camera images").
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ from sim.node import LATCHED_QOS
 from sim.render.camera_feed import (
     CameraFeed,
     CameraMeta,
+    ExposurePairs,
     FrameAction,
     FrameRequest,
     pose_from_ros,
@@ -63,6 +66,7 @@ class _CameraTopics:
 
     def __init__(self, node: Node, agent: str, camera: CameraId) -> None:
         name = _NAMES[camera]
+        self.agent = agent
         self.feed = CameraFeed(camera)
         self.image_pub = node.create_publisher(
             Image, f"/{agent}/camera/{name}/image_raw", IMAGE_QOS
@@ -105,6 +109,7 @@ class WorldRenderNode(Node):
             raise ConfigError(str(exc)) from exc
         self.get_logger().info(f"rendering with {self.renderer.renderer_name}")
         self.cameras: dict[tuple[str, CameraId], _CameraTopics] = {}
+        self.pairs = {agent: ExposurePairs() for agent in agents}
         for agent in agents:
             for camera in CameraId:
                 topics = _CameraTopics(self, agent, camera)
@@ -129,7 +134,7 @@ class WorldRenderNode(Node):
         def callback(msg: Any) -> None:
             if topics.wanted():
                 meta = CameraMeta(msg.pan, msg.tilt, msg.zoom)
-                self._publish(topics, topics.feed.on_meta(_ns(msg.header.stamp), meta))
+                self._offer(topics, topics.feed.on_meta(_ns(msg.header.stamp), meta))
 
         return callback
 
@@ -144,7 +149,7 @@ class WorldRenderNode(Node):
                         throttle_duration_sec=5.0,
                     )
                     return
-                self._publish(topics, topics.feed.on_pose(_ns(msg.header.stamp), pose))
+                self._offer(topics, topics.feed.on_pose(_ns(msg.header.stamp), pose))
 
         return callback
 
@@ -154,10 +159,19 @@ class WorldRenderNode(Node):
     def _on_run(self, msg: Any) -> None:
         for topics in self.cameras.values():  # stamps restart (reset) or jump (resume)
             topics.feed.reset()
+        for pairs in self.pairs.values():
+            pairs.reset()
 
-    def _publish(self, topics: _CameraTopics, request: FrameRequest | None) -> None:
+    def _offer(self, topics: _CameraTopics, request: FrameRequest | None) -> None:
+        """Render what the agent's pairing releases (both cameras wanted: pairs only)."""
         if request is None:
             return
+        agent = topics.agent
+        paired = all(self.cameras[(agent, camera)].wanted() for camera in CameraId)
+        for ready in self.pairs[agent].offer(request, paired):
+            self._publish(self.cameras[(agent, ready.camera)], ready)
+
+    def _publish(self, topics: _CameraTopics, request: FrameRequest) -> None:
         image, info = topics.image, topics.info
         if request.action is FrameAction.RENDER or not topics.has_image:
             k = request.intrinsics

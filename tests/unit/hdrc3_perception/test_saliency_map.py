@@ -10,7 +10,14 @@ import numpy as np
 import pymap3d
 import pytest
 
-from hdrc3_perception.saliency_map import MapError, MapParams, SaliencyMap, dumps_geojson
+from hdrc3_perception.saliency_map import (
+    MapError,
+    MapParams,
+    SaliencyMap,
+    dumps_geojson,
+    locations_from_geojson,
+    to_geojson,
+)
 from sim.geodesy import GeodeticOrigin
 
 A = np.array([10.0, 20.0, 0.0])
@@ -129,3 +136,36 @@ def test_geojson() -> None:
     assert (east, north) == pytest.approx((A[0], A[1]), abs=1e-6)
     only = json.loads(dumps_geojson(saliency, origin, only_confirmed=True))
     assert len(only["features"]) == 1
+
+
+def test_maps_of_two_aircraft_merge_where_both_saw_a_body() -> None:
+    origin = GeodeticOrigin(55.72, 13.54, 60.0)
+    west = run([[A]] * 3 + [[]] * 2)  # uav0 saw A at the edge of its band: 5 frames, 3 positive
+    east = run([[A + D1, B]] * 4)  # uav1 saw A (1.8 m off) and B
+    merged = SaliencyMap()
+    for one in (west, east):
+        merged.absorb(locations_from_geojson(json.loads(dumps_geojson(one, origin))))
+    counts = sorted((loc.t_frame, loc.t_body) for loc in merged.locations)
+    assert counts == [(4, 4), (9, 7)]
+    a = next(loc for loc in merged.locations if loc.t_frame == 9)
+    # the mean of the 3 + 4 observations
+    assert (a.east, a.north) == pytest.approx(tuple((3 * A + 4 * (A + D1))[:2] / 7))
+    assert len(merged.confirmed()) == 1  # A: 7 of 9 frames; B: seen in 4 frames only
+    assert to_geojson(merged, origin)["features"][0]["properties"]["up"] == pytest.approx(0.0)
+
+
+@pytest.mark.parametrize(
+    ("data", "words"),
+    [
+        ([], "FeatureCollection"),
+        ({"type": "FeatureCollection"}, "list of features"),
+        ({"type": "FeatureCollection", "features": [{"type": "Feature"}]}, "feature 0"),
+        (
+            {"type": "FeatureCollection", "features": [{"properties": {"east": 1.0}}]},
+            "feature 0: needs finite",
+        ),
+    ],
+)
+def test_a_bad_map_is_refused_with_a_reason(data: object, words: str) -> None:
+    with pytest.raises(MapError, match=words):
+        locations_from_geojson(data)

@@ -11,7 +11,9 @@ from sim.render.camera_feed import (
     MAX_PENDING,
     CameraFeed,
     CameraMeta,
+    ExposurePairs,
     FrameAction,
+    FrameRequest,
     pose_from_ros,
     pose_to_ros,
     projection_rows,
@@ -108,3 +110,40 @@ def test_camera_info_rows() -> None:
     assert np.allclose(np.reshape(rows, (3, 3)), k.matrix())
     assert np.allclose(np.reshape(p, (3, 4))[:, :3], k.matrix())
     assert p[3] == p[7] == p[11] == 0.0
+
+
+def request(camera: CameraId, stamp: int) -> FrameRequest:
+    intrinsics = camera_intrinsics(COLOR_CAMERA, 0.0)
+    return FrameRequest(stamp, camera, POSE_A, intrinsics, META, FrameAction.RENDER)
+
+
+C, T = CameraId.COLOR, CameraId.THERMAL
+
+
+@pytest.mark.parametrize(
+    ("offers", "released", "dropped"),
+    [
+        # (camera, stamp) offered in order -> the (camera, stamp) rendered, in order
+        ([(C, 40), (T, 40)], [(C, 40), (T, 40)], 0),
+        ([(T, 40), (C, 40)], [(C, 40), (T, 40)], 0),
+        # the renderer fell behind: thermal 40 was skipped, colour 40 is not rendered alone
+        ([(C, 40), (C, 80), (T, 80)], [(C, 80), (T, 80)], 1),
+        ([(C, 40), (T, 80), (C, 80)], [(C, 80), (T, 80)], 1),
+        ([(C, 40), (T, 80), (C, 120), (T, 120)], [(C, 120), (T, 120)], 2),
+    ],
+)
+def test_both_cameras_wanted_render_in_pairs_of_one_stamp(
+    offers: list[tuple[CameraId, int]], released: list[tuple[CameraId, int]], dropped: int
+) -> None:
+    pairs = ExposurePairs()
+    out = [r for camera, stamp in offers for r in pairs.offer(request(camera, stamp), True)]
+    assert [(r.camera, r.stamp_ns) for r in out] == released
+    assert pairs.dropped == dropped
+
+
+def test_one_camera_wanted_renders_every_request() -> None:
+    pairs = ExposurePairs()
+    assert pairs.offer(request(C, 40), True) == []  # held while both were wanted
+    out = [r.stamp_ns for s in (80, 120) for r in pairs.offer(request(C, s), False)]
+    assert out == [80, 120]
+    assert pairs.offer(request(T, 80), True) == []  # the colour one held before is gone
