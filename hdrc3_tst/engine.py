@@ -608,7 +608,7 @@ class ExecutionEngine:
             self.records[node_id] = NodeRecord(node_id, step.agent)
             refs.append(NodeRef(step.agent, node_id))
             previous_te = params["TE"]
-        self.tst.tree.expand_goal(goal.node_id, NodeKind.SEQUENCE, refs)
+        self.tst.tree.expand(goal.node_id, NodeKind.SEQUENCE, refs)
 
     # --- endings ------------------------------------------------------------------------
     def _succeed(self, rec: NodeRecord) -> None:

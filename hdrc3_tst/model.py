@@ -42,6 +42,13 @@ class NodeKind(enum.Enum):
     ACTION = "action"
 
 
+EXPANDS_AS: dict[NodeKind, tuple[NodeKind, ...]] = {
+    NodeKind.GOAL: (NodeKind.SEQUENCE, NodeKind.CONCURRENT),
+    NodeKind.FOREACH: (NodeKind.CONCURRENT,),
+}
+"""The node kinds that get their children at run time, and what they may then act as."""
+
+
 class NodeState(enum.Enum):
     """Lifecycle of a node (the executors' framework moves it; the model only stores it)."""
 
@@ -139,27 +146,21 @@ class TaskTree:
             raise TstError(f"node {node.node_id!r} already exists")
         self.nodes[node.node_id] = node
 
-    def expand_goal(self, goal_id: str, mode: NodeKind, children: list[NodeRef]) -> None:
-        """Attach a plan's subtree to a goal node, which then acts as ``mode`` (section 6.3).
+    def expand(self, node_id: str, mode: NodeKind, children: list[NodeRef]) -> None:
+        """Give a node the children it makes at run time; it then acts as ``mode`` (§6.3).
 
-        The children must already be nodes of this tree or references to another agent's.
+        A goal node gets a plan's subtree (as a sequence or a concurrent node), a foreach node
+        one instance per answer (as a concurrent node). The children must already be nodes of
+        this tree or references to another agent's.
         """
-        goal = self.node(goal_id)
-        if goal.kind is not NodeKind.GOAL:
-            raise TstError(f"{goal_id} is a {goal.kind.value} node, not a goal")
-        if goal.expanded_as is not None:
-            raise TstError(f"goal {goal_id} is already expanded")
-        if mode not in (NodeKind.SEQUENCE, NodeKind.CONCURRENT):
-            raise TstError(f"a goal expands as sequence or concurrent, not {mode.value}")
-        goal.expanded_as = mode
-        goal.children = list(children)
-
-    def expand_foreach(self, foreach_id: str, children: list[NodeRef]) -> None:
-        """Give a foreach node its instances (one per answer); it then acts as concurrent."""
-        node = self.node(foreach_id)
-        if node.kind is not NodeKind.FOREACH:
-            raise TstError(f"{foreach_id} is a {node.kind.value} node, not a foreach")
+        node = self.node(node_id)
+        modes = EXPANDS_AS.get(node.kind)
+        if modes is None:
+            raise TstError(f"{node_id} is a {node.kind.value} node: only goal and foreach expand")
         if node.expanded_as is not None:
-            raise TstError(f"foreach {foreach_id} is already expanded")
-        node.expanded_as = NodeKind.CONCURRENT
+            raise TstError(f"{node.kind.value} {node_id} is already expanded")
+        if mode not in modes:
+            names = " or ".join(m.value for m in modes)
+            raise TstError(f"a {node.kind.value} expands as {names}, not {mode.value}")
+        node.expanded_as = mode
         node.children = list(children)

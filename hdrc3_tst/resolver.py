@@ -129,7 +129,7 @@ class ResolvedTst:
             if instance.status is not InstanceStatus.OK:
                 return Instance(instance.status, "", tuple(added), instance.reason)
             roots.append(NodeRef(UNASSIGNED, instance.root))
-        self.tree.expand_foreach(foreach_id, roots)
+        self.tree.expand(foreach_id, NodeKind.CONCURRENT, roots)
         return Instance(InstanceStatus.OK, foreach_id, tuple(added))
 
     def materialize(self, node_id: str) -> Instance:

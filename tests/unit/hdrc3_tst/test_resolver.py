@@ -151,13 +151,13 @@ def test_a_goal_node_expands_into_a_sequence() -> None:
     from hdrc3_tst.model import Node
 
     tst.tree.add(Node("g/1", NodeKind.ACTION, {}, NodeRef("uav0", "g"), action="fly-to"))
-    tst.tree.expand_goal("g", NodeKind.SEQUENCE, [NodeRef("uav0", "g/1"), NodeRef("uav1", "x")])
+    tst.tree.expand("g", NodeKind.SEQUENCE, [NodeRef("uav0", "g/1"), NodeRef("uav1", "x")])
     assert goal.acts_as is NodeKind.SEQUENCE
     assert [n.node_id for _, n in tst.tree.walk("g")] == ["g", "g/1"]  # uav1's node lives elsewhere
     with pytest.raises(TstError, match="already expanded"):
-        tst.tree.expand_goal("g", NodeKind.SEQUENCE, [])
-    with pytest.raises(TstError, match="not a goal"):
-        tst.tree.expand_goal("m", NodeKind.SEQUENCE, [])
+        tst.tree.expand("g", NodeKind.SEQUENCE, [])
+    with pytest.raises(TstError, match="only goal and foreach expand"):
+        tst.tree.expand("m", NodeKind.SEQUENCE, [])
 
 
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.tst")), ids=lambda p: p.name)
