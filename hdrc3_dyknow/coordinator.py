@@ -118,7 +118,7 @@ def _terms(tree: Formula | Term | None, objects: frozenset[str]) -> Iterator[Fea
         yield from _terms(tree.operand, objects)
 
 
-def _needed(node: Node, objects: frozenset[str]) -> tuple[bool | None, set[FeatureTerm]]:
+def needed_fluents(node: Node, objects: frozenset[str]) -> tuple[bool | None, set[FeatureTerm]]:
     """Return the static truth (if any) and the fluents progression reads for ``node``.
 
     Mirrors the engine's left-to-right short-circuit of and/or, so the branch of
@@ -138,20 +138,20 @@ def _needed(node: Node, objects: frozenset[str]) -> tuple[bool | None, set[Featu
             return None, set(_terms(node.source, objects))
     if kind == Kind.NOT:
         assert node.first is not None
-        truth, needed = _needed(node.first, objects)
+        truth, needed = needed_fluents(node.first, objects)
         return (None if truth is None else not truth), needed
     if kind == Kind.AND or kind == Kind.OR:
         absorbing = kind == Kind.OR
         all_neutral = True
         for operand in node.operands:
-            truth, more = _needed(operand, objects)
+            truth, more = needed_fluents(operand, objects)
             needed |= more
             if truth is absorbing:
                 return absorbing, needed
             all_neutral = all_neutral and truth is not None
         return (not absorbing if all_neutral else None), needed
     for child in node.children():
-        needed |= _needed(child, objects)[1]
+        needed |= needed_fluents(child, objects)[1]
     return None, needed
 
 
@@ -249,7 +249,7 @@ class StreamReasoningCoordinator:
         except GroundingError as exc:
             return MonitorResult(MonitorStatus.UNKNOWN_SYMBOL, str(exc))
         streams: dict[str, str] = {}
-        for term in sorted(_needed(node, scope.objects())[1], key=str):
+        for term in sorted(needed_fluents(node, scope.objects())[1], key=str):
             match = self.matcher.match(term)
             if not match.ok:
                 return MonitorResult(MonitorStatus.UNKNOWN_SYMBOL, match.reason)
