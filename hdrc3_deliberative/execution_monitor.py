@@ -192,6 +192,11 @@ class ExecutionMonitor:
         """Ids of the active formulas, sorted."""
         return sorted(self._active)
 
+    def check(self) -> StartResult:
+        """Validate every formula without activating any (what :meth:`start` would refuse)."""
+        problem = self._validate()
+        return problem if isinstance(problem, StartResult) else StartResult(StartStatus.STARTED)
+
     def start(self, now_ms: int) -> StartResult:
         """Check every formula and activate the global ones; states begin at ``now_ms``.
 
@@ -200,6 +205,18 @@ class ExecutionMonitor:
         """
         if self._started:
             return StartResult(StartStatus.ALREADY_STARTED, "the monitor is already running")
+        plans = self._validate()
+        if isinstance(plans, StartResult):
+            return plans
+        self._started = True
+        self.synthesizer.start(now_ms)
+        for decl, plan in plans:
+            self._activate(decl, plan, decl.name, now_ms)
+        return StartResult(
+            StartStatus.STARTED, f"{len(plans)} global formulas active", tuple(self.active)
+        )
+
+    def _validate(self) -> list[tuple[MonitorDecl, _Plan]] | StartResult:
         plans: list[tuple[MonitorDecl, _Plan]] = []
         for decl in self.spec.monitors:
             problem = self._unknown_feature(decl)
@@ -210,13 +227,7 @@ class ExecutionMonitor:
                 if isinstance(plan, str):
                     return self._refuse(decl, plan)
                 plans.append((decl, plan))
-        self._started = True
-        self.synthesizer.start(now_ms)
-        for decl, plan in plans:
-            self._activate(decl, plan, decl.name, now_ms)
-        return StartResult(
-            StartStatus.STARTED, f"{len(plans)} global formulas active", tuple(self.active)
-        )
+        return plans
 
     def on_flag(self, flag: FlagUpdate) -> list[MonitorEvent]:
         """Record an execution flag; a start activates the operator's formulas."""
@@ -341,8 +352,21 @@ class ExecutionMonitor:
             match = self.matcher.match(term)
             if not match.ok:
                 return match.reason
-            streams[key] = match.labels
+            streams[key] = self._fused(match.labels)
         return _Plan(scope, streams, flags)
+
+    def _fused(self, labels: tuple[str, ...]) -> tuple[str, ...]:
+        """The matched streams of the best-matching feature (all of them, e.g. one per
+        ``sameAs`` name of the object): a more specific feature (``GroundSpeed`` for ``speed``)
+        is used only when no stream has the feature itself."""
+        ontology, semantics = self.matcher.ontology, self.matcher.semantics
+
+        def feature(label: str) -> str | None:
+            annotation = semantics.annotation(label)
+            return None if annotation is None else ontology.feature(annotation.feature)
+
+        best = feature(labels[0])
+        return tuple(label for label in labels if feature(label) == best)
 
     def _activate(
         self,

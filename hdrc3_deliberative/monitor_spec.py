@@ -36,6 +36,8 @@ from hdrc3_dyknow.formula import Formula
 from hdrc3_dyknow.formula_parser import FormulaParser, FormulaSyntaxError
 
 GRAMMAR_PATH = Path(__file__).with_name("monitor_spec.lark")
+DEFAULT_SPEC = Path(__file__).with_name("default.monitors")
+"""The packaged specification (robust speed limit, Example 9.3)."""
 
 
 class MonitorSpecError(ConfigError):
@@ -139,10 +141,11 @@ class MonitorSpecParser:
             tree = self._lark.parse(text)
         except UnexpectedInput as exc:
             line, column = exc.line, exc.column
-            if line < 1:  # lark reports end of input as -1
-                lines = text.split("\n")
-                line, column = len(lines), len(lines[-1]) + 1
-            found = getattr(exc, "token", None) or getattr(exc, "char", "")
+            token = getattr(exc, "token", None)
+            found = token if token is not None else getattr(exc, "char", "")
+            if line < 1 or getattr(token, "type", "") == "$END":
+                lines = text.rstrip().split("\n")
+                line, column, found = len(lines), len(lines[-1]) + 1, ""
             raise MonitorSpecError(
                 f"unexpected {str(found)!r}" if found else "unexpected end of specification",
                 source,

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 from hdrc3_dyknow.interpretation import FluentValue
 from hdrc3_dyknow.knowledge_process import KnowledgeProcessHost
-from hdrc3_dyknow.policy import MissingHandling, estimate
+from hdrc3_dyknow.policy import MAX_FILL, MissingHandling, estimate
 from hdrc3_dyknow.sample import Sample
 from hdrc3_dyknow.stream import Stream
 
@@ -174,12 +174,13 @@ class StateSynthesizer:
                 source.samples[-1].valid_time if source.samples else self._next - 1
                 for source in self._sources.values()
             ),
-            default=now_ms,
+            default=now_ms - self.max_delay,
         )
         until = max(now_ms - self.max_delay, min(reached, now_ms))
-        if until - self._next > self.stale + self.period:
-            # After a long pause (or a jump of the clock) restart near now instead of replaying.
-            self._next = -(-(until - self.stale) // self.period) * self.period
+        if (until - self._next) // self.period > MAX_FILL:
+            # After a very long pause (or a jump of the clock) restart near now: one wild
+            # timestamp must not make the monitor replay millions of states.
+            self._next = -(-(until - MAX_FILL * self.period) // self.period) * self.period
         states: list[SynthesizedState] = []
         changes: list[StaleChange] = []
         while self._next <= until:
