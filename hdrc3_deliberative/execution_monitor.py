@@ -356,17 +356,22 @@ class ExecutionMonitor:
         return _Plan(scope, streams, flags)
 
     def _fused(self, labels: tuple[str, ...]) -> tuple[str, ...]:
-        """The matched streams of the best-matching feature (all of them, e.g. one per
-        ``sameAs`` name of the object): a more specific feature (``GroundSpeed`` for ``speed``)
-        is used only when no stream has the feature itself."""
+        """The matched streams whose feature is the best match's or an equivalent class (one
+        per ``sameAs`` name or per agent's ontology); a more specific feature (``GroundSpeed``
+        for ``speed``) is used only when no stream has the feature itself."""
         ontology, semantics = self.matcher.ontology, self.matcher.semantics
 
-        def feature(label: str) -> str | None:
+        def feature(label: str) -> str:
             annotation = semantics.annotation(label)
-            return None if annotation is None else ontology.feature(annotation.feature)
+            found = None if annotation is None else ontology.feature(annotation.feature)
+            return found or ""
 
         best = feature(labels[0])
-        return tuple(label for label in labels if feature(label) == best)
+        return tuple(
+            label
+            for label in labels
+            if ontology.subsumes(best, feature(label)) and ontology.subsumes(feature(label), best)
+        )
 
     def _activate(
         self,

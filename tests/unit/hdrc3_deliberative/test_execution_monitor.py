@@ -4,6 +4,7 @@ activation and retirement of operator-specific formulas, refusals and stale data
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 
 import pytest
 
@@ -327,3 +328,37 @@ def test_late_samples_within_max_delay_are_used() -> None:
         rig.advance(now)
     (violated,) = _events_of(rig, EventKind.VIOLATED)
     assert violated.time_ms == 2000
+
+
+# --- semantic matching across agents, fusion -----------------------------------------------------
+OTHER_UAS = """
+@prefix owl: <http://www.w3.org/2002/07/owl#> .
+@prefix dk: <https://hdrc3.example.org/dyknow#> .
+@prefix u2: <https://uas2.example.org/ontology#> .
+u2:Height a owl:Class ; owl:equivalentClass dk:Altitude .
+u2:Aircraft a owl:Class ; owl:equivalentClass dk:AV .
+u2:me a owl:NamedIndividual, u2:Aircraft ; owl:sameAs dk:uav0 .
+"""
+
+
+def test_streams_of_another_ontology_are_matched_and_fused(tmp_path: Path) -> None:
+    """A second altitude source annotated in another UAS's vocabulary fills the own stream's
+    dropout: the monitor reads the freshest of both; the own stream's alarm is raised, but the
+    fluent never goes missing and the formula keeps being progressed."""
+    (tmp_path / "u2.ttl").write_text(OTHER_UAS)
+    rig = MonitorRig(STATES + "monitor high: always altitude(uav0) > 5;", extra_streams="")
+    rig.streams.ontology.merge(tmp_path / "u2.ttl")
+    rig.streams.load("stream u2/height contains Height(me);", "<u2 streams>")
+    assert rig.start().status is StartStatus.STARTED
+    for now in range(0, 4001, 20):
+        if now % 40 == 0 and not 1000 < now < 3000:
+            rig.state(now, altitude=10.0)
+        if now % 100 == 0:
+            rig.sample("u2/height", now, 9.0)
+        rig.advance(now)
+    (stale,) = rig.of(EventKind.STALE_DATA)
+    assert stale.monitor_id == "uav0/di/altitude" and violations(rig) == []
+    assert rig.monitor.synthesizer.states == 41  # 0..4000 ms
+    rig.sample("u2/height", 4100, 2.0)
+    rig.advance(4400)
+    assert violations(rig) == [("high", 4100)]
