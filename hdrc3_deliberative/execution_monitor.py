@@ -180,6 +180,7 @@ class ExecutionMonitor:
     synthesizer: StateSynthesizer = field(init=False)
     _active: dict[str, _Active] = field(default_factory=dict, init=False)
     _started: bool = field(default=False, init=False)
+    _pending: list[MonitorEvent] = field(default_factory=list, init=False)
 
     def __post_init__(self) -> None:
         settings = self.spec.settings
@@ -200,7 +201,7 @@ class ExecutionMonitor:
     def start(self, now_ms: int) -> StartResult:
         """Check every formula and activate the global ones; states begin at ``now_ms``.
 
-        Nothing is activated if any global formula reads an unknown fluent or any formula
+        Their ACTIVATED events come with the next :meth:`advance`. Nothing is activated if any global formula reads an unknown fluent or any formula
         names an unknown feature or sort.
         """
         if self._started:
@@ -211,7 +212,7 @@ class ExecutionMonitor:
         self._started = True
         self.synthesizer.start(now_ms)
         for decl, plan in plans:
-            self._activate(decl, plan, decl.name, now_ms)
+            self._pending.append(self._activate(decl, plan, decl.name, now_ms))
         return StartResult(
             StartStatus.STARTED, f"{len(plans)} global formulas active", tuple(self.active)
         )
@@ -284,7 +285,8 @@ class ExecutionMonitor:
         if not self._started:
             return []
         states, changes = self.synthesizer.advance(now_ms)
-        events = [self._stale_event(change) for change in changes]
+        events, self._pending = self._pending, []
+        events.extend(self._stale_event(change) for change in changes)
         for state in states:
             events.extend(self._progress(state))
         return events
