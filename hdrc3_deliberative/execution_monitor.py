@@ -31,7 +31,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 
 from hdrc3_base.errors import DataError
-from hdrc3_dyknow.coordinator import needed_fluents
+from hdrc3_dyknow.coordinator import nested_candidates, nested_fluents, needed_fluents
 from hdrc3_dyknow.formula import (
     Always,
     And,
@@ -355,6 +355,16 @@ class ExecutionMonitor:
             if not match.ok:
                 return match.reason
             streams[key] = self._fused(match.labels)
+        for nested in sorted(nested_fluents(node), key=str):
+            # Which fluent it reads depends on the state: carry every one that has a stream.
+            readable = 0
+            for term in nested_candidates(nested, scope.objects()):
+                match = self.matcher.match(term)
+                if match.ok:
+                    streams[atom_key(term.feature, term.args)] = self._fused(match.labels)
+                    readable += 1
+            if not readable:
+                return f"no stream contains {nested} for any object as its nested argument"
         return _Plan(scope, streams, flags)
 
     def _fused(self, labels: tuple[str, ...]) -> tuple[str, ...]:
@@ -504,7 +514,7 @@ def _subformulas(formula: Formula) -> Iterator[Formula]:
 def _fluents(formula: Formula) -> Iterator[FluentTerm]:
     for sub in _subformulas(formula):
         if isinstance(sub, Atom):
-            yield sub.fluent
+            yield from _term_fluents(sub.fluent)
         elif isinstance(sub, Comparison):
             yield from _term_fluents(sub.left)
             yield from _term_fluents(sub.right)
@@ -513,6 +523,9 @@ def _fluents(formula: Formula) -> Iterator[FluentTerm]:
 def _term_fluents(term: Term) -> Iterator[FluentTerm]:
     if isinstance(term, FluentTerm):
         yield term
+        for arg in term.args:
+            if isinstance(arg, FluentTerm):
+                yield from _term_fluents(arg)
     elif isinstance(term, Negative):
         yield from _term_fluents(term.operand)
     elif isinstance(term, Arithmetic):

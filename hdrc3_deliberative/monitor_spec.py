@@ -204,7 +204,8 @@ class MonitorSpecParser:
         formula_token = rest[-1]
         assert isinstance(formula_token, Token) and isinstance(name, Token)
         options = {str(item.data): item.children for item in rest[:-1] if isinstance(item, Tree)}
-        action, parameters = "", ()
+        action = ""
+        parameters: tuple[str, ...] = ()
         if isinstance(operator, Tree):
             head, *params = operator.children
             action = str(head)

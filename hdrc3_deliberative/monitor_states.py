@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from hdrc3_dyknow.interpretation import FluentValue
 from hdrc3_dyknow.knowledge_process import KnowledgeProcessHost
 from hdrc3_dyknow.policy import MAX_FILL, MissingHandling, estimate
-from hdrc3_dyknow.sample import Sample
+from hdrc3_dyknow.sample import Sample, Value
 from hdrc3_dyknow.stream import Stream
 
 FLAG_PREFIX = "executing-"
@@ -226,9 +226,8 @@ class StateSynthesizer:
             changes.append(StaleChange(label, stale, time, last_time))
         if latest is None or stale:
             return None
-        if latest.valid_time > time - self.period:
-            value = latest.value
-        else:
+        value: Value | None = latest.value
+        if latest.valid_time <= time - self.period:
             value = estimate(previous, latest, time, source.missing)
         if value is None or isinstance(value, tuple):
             return None

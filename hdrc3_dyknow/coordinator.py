@@ -11,7 +11,8 @@ caller to drain. Expected failures (syntax, unknown symbols) are returned as res
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Iterator
+import itertools
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from enum import StrEnum
 
@@ -105,17 +106,62 @@ def _sorts(formula: Formula) -> Iterator[str]:
 
 
 def _terms(tree: Formula | Term | None, objects: frozenset[str]) -> Iterator[FeatureTerm]:
-    """Ground fluents read by a ground atom or comparison (object constants excluded)."""
+    """Ground fluents read by a ground atom or comparison (object constants excluded).
+
+    A fluent with nested arguments (``fuel(av, location(av))``) yields its nested fluents only:
+    which fluent it reads itself depends on their values (see :func:`nested_candidates`).
+    """
     if isinstance(tree, Atom):
         yield from _terms(tree.fluent, objects)
     elif isinstance(tree, FluentTerm):
-        if tree.args or tree.name not in objects:
-            yield FeatureTerm(tree.name, tree.args)
+        if tree.nested:
+            for arg in tree.args:
+                if isinstance(arg, FluentTerm):
+                    yield from _terms(arg, objects)
+        elif tree.args or tree.name not in objects:
+            yield FeatureTerm(tree.name, tuple(str(arg) for arg in tree.args))
     elif isinstance(tree, Comparison | Arithmetic):
         yield from _terms(tree.left, objects)
         yield from _terms(tree.right, objects)
     elif isinstance(tree, Negative):
         yield from _terms(tree.operand, objects)
+
+
+def nested_fluents(node: Node) -> set[FluentTerm]:
+    """Ground fluent terms with nested arguments anywhere in ``node``."""
+    found: set[FluentTerm] = set()
+    stack = [node]
+    seen: set[int] = set()
+    while stack:
+        current = stack.pop()
+        if id(current) in seen:
+            continue
+        seen.add(id(current))
+        stack.extend(current.children())
+        if current.kind in (Kind.ATOM, Kind.COMPARE):
+            found |= _nested_in(current.source)
+    return found
+
+
+def _nested_in(tree: Formula | Term | None) -> set[FluentTerm]:
+    if isinstance(tree, Atom):
+        return _nested_in(tree.fluent)
+    if isinstance(tree, FluentTerm):
+        inner = {t for arg in tree.args if isinstance(arg, FluentTerm) for t in _nested_in(arg)}
+        return inner | ({tree} if tree.nested else set())
+    if isinstance(tree, Comparison | Arithmetic):
+        return _nested_in(tree.left) | _nested_in(tree.right)
+    if isinstance(tree, Negative):
+        return _nested_in(tree.operand)
+    return set()
+
+
+def nested_candidates(term: FluentTerm, objects: Iterable[str]) -> list[FeatureTerm]:
+    """Every ground fluent ``term`` may read: each nested argument replaced by each object."""
+    choices = [
+        sorted(objects) if isinstance(arg, FluentTerm) else [arg] for arg in term.args
+    ]
+    return [FeatureTerm(term.name, tuple(args)) for args in itertools.product(*choices)]
 
 
 def needed_fluents(node: Node, objects: frozenset[str]) -> tuple[bool | None, set[FeatureTerm]]:

@@ -362,3 +362,53 @@ def test_streams_of_another_ontology_are_matched_and_fused(tmp_path: Path) -> No
     rig.sample("u2/height", 4100, 2.0)
     rig.advance(4400)
     assert violations(rig) == [("high", 4100)]
+
+
+# --- nested fluent terms (Definition 9.2) --------------------------------------------------------
+NESTED_FEATURES = """
+@prefix dk: <https://hdrc3.example.org/dyknow#> .
+@prefix owl: <http://www.w3.org/2002/07/owl#> .
+@prefix rdfs: <http://www.w3.org/2000/01/rdf-schema#> .
+dk:Place a owl:Class ; rdfs:subClassOf dk:Property ; rdfs:label "place" .
+dk:WindAt a owl:Class ; rdfs:subClassOf dk:Property ; rdfs:label "wind" .
+"""
+NESTED_STREAMS = """
+object depot1, depot2 : Location;
+stream nav/at contains place(uav0) with missing last_value;
+stream wind/d1 contains wind(depot1) with missing last_value;
+stream wind/d2 contains wind(depot2) with missing last_value;
+"""
+
+
+@pytest.mark.parametrize(
+    ("formula", "violated_at"),
+    [
+        # the wind where the AV is: depot1 calm, depot2 windy; the AV moves at 1 s
+        ("always wind(place(uav0)) < 10", 1000),
+        ("always wind(place(uav0)) < 20", None),
+        ("always (place(uav0) == depot1 implies wind(place(uav0)) < 10)", None),
+    ],
+)
+def test_nested_fluent_terms_read_the_fluent_their_argument_names(
+    tmp_path: Path, formula: str, violated_at: int | None
+) -> None:
+    (tmp_path / "wind.ttl").write_text(NESTED_FEATURES)
+    rig = MonitorRig(STATES + f"monitor m: {formula};", extra_streams="")
+    rig.streams.ontology.merge(tmp_path / "wind.ttl")
+    rig.streams.load(NESTED_STREAMS, "<nested>")
+    assert rig.start().status is StartStatus.STARTED
+    for now in range(0, 2001, 50):
+        if now % 100 == 0:
+            rig.sample("nav/at", now, "depot1" if now < 1000 else "depot2")
+            rig.sample("wind/d1", now, 5.0)
+            rig.sample("wind/d2", now, 15.0)
+        rig.advance(now)
+    expected = [] if violated_at is None else [("m", violated_at)]
+    assert violations(rig) == expected
+
+
+def test_a_nested_term_with_no_stream_for_any_value_is_refused() -> None:
+    rig = MonitorRig(STATES + "monitor m: always carrying(uav0, altitude(uav0));", "")
+    result = rig.start()
+    assert result.status is StartStatus.UNKNOWN_SYMBOL
+    assert "no stream contains carrying(uav0, altitude(uav0)) for any object" in result.reason
