@@ -57,7 +57,9 @@ def formulas(count: int) -> str:
             )
         else:  # altitude envelope with a weak robustness window
             low = 20.0 + i * 0.01
-            body = f"always eventually[0,1500] (altitude(uav0) > {low:.2f} and altitude(uav0) < 200)"
+            body = (
+                f"always eventually[0,1500] (altitude(uav0) > {low:.2f} and altitude(uav0) < 200)"
+            )
         lines.append(f"monitor f{i}: {body};")
     return STATES + "\n".join(lines) + "\n"
 

@@ -11,7 +11,7 @@ execution flags (:mod:`monitor_states`) and progresses its active formulas throu
   retired after the first state at or after the step's end unless declared ``persistent``
   (Example 9.4 waits for the put-down after the pick-up has ended).
 
-Fluents are matched to streams *by meaning* (:class:`~hdrc3_dyknow.semantic_matching.SemanticMatcher`);
+Fluents are matched to streams *by meaning* (semantic matching, §8.5);
 ``executing-<op>(...)`` fluents are execution flags. A formula over a fluent that is neither
 known nor streamed is refused with the fluent named: :meth:`ExecutionMonitor.start` refuses to
 start at all for a global formula or an operator formula naming an unknown feature, and an
@@ -31,7 +31,15 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 
 from hdrc3_base.errors import DataError
-from hdrc3_dyknow.coordinator import nested_candidates, nested_fluents, needed_fluents
+from hdrc3_deliberative.monitor_spec import MonitorDecl, MonitorSpec
+from hdrc3_deliberative.monitor_states import (
+    FLAG_PREFIX,
+    StaleChange,
+    StateSynthesizer,
+    Step,
+    SynthesizedState,
+)
+from hdrc3_dyknow.coordinator import needed_fluents, nested_candidates, nested_fluents
 from hdrc3_dyknow.formula import (
     Always,
     And,
@@ -55,14 +63,6 @@ from hdrc3_dyknow.knowledge_process import KnowledgeProcessHost
 from hdrc3_dyknow.progression import ProgressionEngine, Verdict
 from hdrc3_dyknow.residual import NodeTable
 from hdrc3_dyknow.semantic_matching import MatchStatus, SemanticMatcher
-from hdrc3_deliberative.monitor_spec import MonitorDecl, MonitorSpec
-from hdrc3_deliberative.monitor_states import (
-    FLAG_PREFIX,
-    StaleChange,
-    StateSynthesizer,
-    Step,
-    SynthesizedState,
-)
 
 
 class EventKind(enum.Enum):
@@ -201,8 +201,8 @@ class ExecutionMonitor:
     def start(self, now_ms: int) -> StartResult:
         """Check every formula and activate the global ones; states begin at ``now_ms``.
 
-        Their ACTIVATED events come with the next :meth:`advance`. Nothing is activated if any global formula reads an unknown fluent or any formula
-        names an unknown feature or sort.
+        Their ACTIVATED events come with the next :meth:`advance`. Nothing is activated if any
+        global formula reads an unknown fluent or any formula names an unknown feature or sort.
         """
         if self._started:
             return StartResult(StartStatus.ALREADY_STARTED, "the monitor is already running")
@@ -368,9 +368,11 @@ class ExecutionMonitor:
         return _Plan(scope, streams, flags)
 
     def _fused(self, labels: tuple[str, ...]) -> tuple[str, ...]:
-        """The matched streams whose feature is the best match's or an equivalent class (one
-        per ``sameAs`` name or per agent's ontology); a more specific feature (``GroundSpeed``
-        for ``speed``) is used only when no stream has the feature itself."""
+        """The matched streams of the best-matching feature or an equivalent class.
+
+        One per ``sameAs`` name or per agent's ontology; a more specific feature
+        (``GroundSpeed`` for ``speed``) is used only when no stream has the feature itself.
+        """
         ontology, semantics = self.matcher.ontology, self.matcher.semantics
 
         def feature(label: str) -> str:
@@ -450,7 +452,9 @@ class ExecutionMonitor:
 
     def _stale_event(self, change: StaleChange) -> MonitorEvent:
         fluents = [
-            key for a in self._active.values() for key in sorted(a.keys)
+            key
+            for a in self._active.values()
+            for key in sorted(a.keys)
             if change.label in self.synthesizer.labels_of(key)
         ]
         last = "never" if change.last_sample_ms is None else f"at {change.last_sample_ms} ms"

@@ -99,9 +99,7 @@ class ExecutionMonitorNode(Node):
         self.bad_messages = 0
         self._started = False
         self._verdicts = self.create_publisher(MonitorVerdict, "monitor_verdicts", _EVENT_QOS)
-        self._violations = self.create_publisher(
-            MonitorViolation, "monitor_violations", _EVENT_QOS
-        )
+        self._violations = self.create_publisher(MonitorViolation, "monitor_violations", _EVENT_QOS)
         for topic in self.streams.catalog.topics():
             self.create_subscription(HelicopterState, topic, partial(self._on_state, topic), 50)
         self.create_subscription(ExecutionFlag, "execution_flags", self._on_flag, 50)

@@ -3,10 +3,10 @@
 The execution monitor needs one state per sampling point that assigns a value to every fluent
 its active formulas read. :class:`StateSynthesizer` builds them from two sources:
 
-* **DyKnow streams** (subscriptions on a :class:`~hdrc3_dyknow.knowledge_process.KnowledgeProcessHost`),
-  one or more per fluent as found by semantic matching. Each stream keeps its declared policy;
-  at a state's time ``t`` a fluent's value is the freshest sample at or before ``t`` over its
-  matched streams (several matched streams are fused by freshness, not only the first). A sample
+* **DyKnow streams** (subscriptions on a knowledge process host), one or more per fluent as
+  found by semantic matching. Each stream keeps its declared policy; at a state's time ``t`` a
+  fluent's value is the freshest sample at or before ``t`` over its matched streams (several
+  matched streams are fused by freshness, not only the first). A sample
   older than one period is a *missing* value and the stream's policy decides (§8.2): hold the
   last value, extrapolate linearly from the two latest samples (§9.3.2: "extrapolating
   historical values"), or drop it. A stream with no sample for longer than ``stale_ms`` is
@@ -155,9 +155,7 @@ class StateSynthesizer:
         step = self._steps.get(node_id)
         if step is None:
             return None
-        ended = Step(
-            step.node_id, step.action, step.agent, step.arguments, step.start_ms, stop_ms
-        )
+        ended = Step(step.node_id, step.action, step.agent, step.arguments, step.start_ms, stop_ms)
         self._steps[node_id] = ended
         return ended
 
@@ -193,8 +191,10 @@ class StateSynthesizer:
     def _state(self, time: int, now: int, changes: list[StaleChange]) -> SynthesizedState:
         values: dict[str, FluentValue] = {}
         missing: set[str] = set()
-        estimates = {label: self._value(label, source, time, changes) for label, source in
-                     self._sources.items()}
+        estimates = {
+            label: self._value(label, source, time, changes)
+            for label, source in self._sources.items()
+        }
         for key, labels in self._fluents.items():
             best: tuple[int, FluentValue] | None = None
             for label in labels:
@@ -234,8 +234,11 @@ class StateSynthesizer:
         return latest.valid_time, value
 
     def _prune(self) -> None:
-        """Keep two samples at or before the next state's time per stream, and finished steps
-        only while a state can still fall into them."""
+        """Drop what no later state can use.
+
+        Two samples at or before the next state's time per stream; finished steps once no
+        state can fall into them.
+        """
         assert self._next is not None
         for source in self._sources.values():
             samples = source.samples

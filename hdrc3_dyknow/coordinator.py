@@ -10,8 +10,8 @@ caller to drain. Expected failures (syntax, unknown symbols) are returned as res
 
 from __future__ import annotations
 
-from collections import deque
 import itertools
+from collections import deque
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from enum import StrEnum
@@ -158,9 +158,7 @@ def _nested_in(tree: Formula | Term | None) -> set[FluentTerm]:
 
 def nested_candidates(term: FluentTerm, objects: Iterable[str]) -> list[FeatureTerm]:
     """Every ground fluent ``term`` may read: each nested argument replaced by each object."""
-    choices = [
-        sorted(objects) if isinstance(arg, FluentTerm) else [arg] for arg in term.args
-    ]
+    choices = [sorted(objects) if isinstance(arg, FluentTerm) else [arg] for arg in term.args]
     return [FeatureTerm(term.name, tuple(args)) for args in itertools.product(*choices)]
 
 

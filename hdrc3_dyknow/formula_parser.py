@@ -334,7 +334,9 @@ class _TreeBuilder(Transformer[Token, object]):
         name, *args = children
         return FluentTerm(
             str(name),
-            tuple(arg if isinstance(arg, FluentTerm) else str(arg) for arg in args if arg is not None),
+            tuple(
+                arg if isinstance(arg, FluentTerm) else str(arg) for arg in args if arg is not None
+            ),
         )
 
     def nested(self, meta: Meta, children: list[Token | FluentTerm | None]) -> FluentTerm:

@@ -148,8 +148,10 @@ class Scope:
 
 
 def resolve_key(ground: FluentTerm, values: Values, time_ms: float) -> str:
-    """Atom key of a ground fluent term; a nested argument is replaced by its value (an object)
-    in ``values``, e.g. ``fuel-usage(uav0, location(uav0))`` -> ``fuel-usage(uav0,depot1)``.
+    """Atom key of a ground fluent term, nested arguments replaced by their values.
+
+    A nested argument's value in ``values`` is an object, e.g.
+    ``fuel-usage(uav0, location(uav0))`` -> ``fuel-usage(uav0,depot1)``.
 
     Raises:
         UnknownFluentError: A nested argument's fluent is not in ``values``.

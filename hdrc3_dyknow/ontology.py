@@ -210,7 +210,9 @@ class Ontology:
         return sorted(c for c in self._classes() if OBJECT_ROOT in self.superclasses(c))
 
     def _classes(self) -> set[str]:
-        return {n for n in map(self._local, self._graph.subjects(RDF.type, OWL.Class)) if n is not None}
+        return {
+            n for n in map(self._local, self._graph.subjects(RDF.type, OWL.Class)) if n is not None
+        }
 
     def add_object(self, name: str, sort: str) -> None:
         """Declare object ``name`` to be of ``sort`` (an OWL individual).

@@ -213,8 +213,10 @@ class NodeTable:
         return node
 
     def comparison(self, compare: CompareFunction, source: Comparison | Atom) -> Node:
-        """Compiled ground comparison (or a boolean fluent with nested arguments, whose key
-        depends on the state); interned (always) by its printed ground form."""
+        """Compiled ground comparison, interned (always) by its printed ground form.
+
+        Also a boolean fluent with nested arguments, whose key depends on the state.
+        """
         key = (_COMPARE, str(source))
         nodes = self._kept if self._nodes is None else self._nodes
         node = nodes.get(key) or self._kept.get(key)

@@ -34,7 +34,8 @@ monitor slow brake recovery hover:
     forall av in AV: always (speed(av) > {LIMIT} implies
         eventually[0,{BOUND_MS}] always[0,500] speed(av) <= {LIMIT});
 monitor fast:
-    forall av in AV: always (speed(av) > 25 implies eventually[0,1000] always[0,500] speed(av) <= 25);
+    forall av in AV: always (speed(av) > 25 implies
+        eventually[0,1000] always[0,500] speed(av) <= 25);
 monitor climbed for climb(av): EXEC until altitude(av) >= 7.0;
 """
 CALL_TIMEOUT_S = 10.0
@@ -123,9 +124,9 @@ def test_a_speed_violation_is_detected_within_its_bound_on_the_real_chain(
             )
             assert code == SimResult.OK, reason
             wait(
-                lambda: bool(pfc)
-                and pfc[-1].auto_flag
-                and pfc[-1].mode == pfc[-1].MODE_GROUND_IDLE,
+                lambda: (
+                    bool(pfc) and pfc[-1].auto_flag and pfc[-1].mode == pfc[-1].MODE_GROUND_IDLE
+                ),
                 60.0,
                 "the PFC in autonomous ground idle",
             )

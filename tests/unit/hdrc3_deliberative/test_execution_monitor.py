@@ -231,9 +231,7 @@ STRONG = (
         ),
     ],
 )
-def test_robust_speed_limits(
-    name: str, speed: Profile, expected: list[tuple[str, int]]
-) -> None:
+def test_robust_speed_limits(name: str, speed: Profile, expected: list[tuple[str, int]]) -> None:
     rig = MonitorRig(STATES + NAIVE + WEAK + STRONG)
     rig.start()
     fly(rig, 6000, speed)

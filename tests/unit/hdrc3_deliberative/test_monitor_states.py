@@ -12,9 +12,9 @@ from hdrc3_dyknow.sample import Sample
 PERIOD, MAX_DELAY, STALE = 100, 200, 500
 
 
-def rig(missing: MissingHandling = MissingHandling.LAST_VALUE) -> tuple[
-    KnowledgeProcessHost, StateSynthesizer
-]:
+def rig(
+    missing: MissingHandling = MissingHandling.LAST_VALUE,
+) -> tuple[KnowledgeProcessHost, StateSynthesizer]:
     host = KnowledgeProcessHost()
     host.declare("alt", Policy(missing=missing))
     host.declare("alt2", Policy(missing=missing))
@@ -134,16 +134,14 @@ def test_matched_streams_are_fused_by_freshness() -> None:
         ((), False),
     ],
 )
-def test_execution_flags_take_a_subset_of_the_arguments(
-    args: tuple[str, ...], holds: bool
-) -> None:
+def test_execution_flags_take_a_subset_of_the_arguments(args: tuple[str, ...], holds: bool) -> None:
     step = Step("n1", "pickup-box", "uav0", (("box", "box1"), ("depot", "d1")), 0)
     assert step.flags("pickup-box", args) is holds
     assert not step.flags("putdown-box", args)
 
 
 def test_flags_hold_exactly_while_the_step_runs() -> None:
-    host, synth = rig()
+    _, synth = rig()
     synth.release(["altitude(uav0)"])
     synth.need_flags({"executing-climb(uav0)": ("climb", ("uav0",))})
     synth.step_started(Step("n1", "climb", "uav0", (), 250))
