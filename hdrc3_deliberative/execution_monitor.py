@@ -218,6 +218,13 @@ class ExecutionMonitor:
         )
 
     def _validate(self) -> list[tuple[MonitorDecl, _Plan]] | StartResult:
+        if self.spec.generate:
+            first = self.spec.generate[0]
+            return StartResult(
+                StartStatus.UNKNOWN_SYMBOL,
+                f"{self.spec.source}:{first.line}:{first.column}: 'generate' needs the planning"
+                " domain (monitor_generation.expand; the node's domain_file parameter)",
+            )
         plans: list[tuple[MonitorDecl, _Plan]] = []
         for decl in self.spec.monitors:
             problem = self._unknown_feature(decl)

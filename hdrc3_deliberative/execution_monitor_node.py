@@ -3,7 +3,8 @@
 Reads the agent's Data Interface (``helicopter_state``, ``HelicopterState``) into DyKnow streams
 (:mod:`monitor_streams`, plus any ``stream_spec`` file), its execution flags
 (``execution_flags``, ``ExecutionFlag``), and progresses the formulas of the ``monitor_spec``
-file (:mod:`monitor_spec`) with :class:`~hdrc3_deliberative.execution_monitor.ExecutionMonitor`.
+file (:mod:`monitor_spec`; formulas flagged with ``generate`` are generated from the planning
+domain of the ``domain_file`` parameter, :mod:`monitor_generation`) with :class:`~hdrc3_deliberative.execution_monitor.ExecutionMonitor`.
 
 Publishes, in the agent's namespace:
 
@@ -41,6 +42,7 @@ from hdrc3_deliberative.execution_monitor import (
     MonitorEvent,
     StartStatus,
 )
+from hdrc3_deliberative.monitor_generation import expand, read_domain_file
 from hdrc3_deliberative.monitor_spec import DEFAULT_SPEC, MonitorSpecParser
 from hdrc3_deliberative.monitor_streams import MonitorStreams
 from hdrc3_dyknow.sample import ms_from_ns
@@ -85,7 +87,10 @@ class ExecutionMonitorNode(Node):
         if not tick_s > 0:
             raise ConfigError(f"tick_period_s must be > 0, got {tick_s}")
 
+        domain_file = str(self.declare_parameter("domain_file", "").value)
         spec = MonitorSpecParser().parse_file(Path(spec_file))
+        if domain_file:  # formulas generated for the flagged conditions (§9.3)
+            spec = expand(spec, read_domain_file(Path(domain_file)))
         self.streams = MonitorStreams.for_agent(
             self.agent, Path(ontology_file) if ontology_file else None
         )

@@ -24,6 +24,7 @@ is reported at its position in the file.
 
 from __future__ import annotations
 
+import enum
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -49,6 +50,26 @@ class MonitorSpecError(ConfigError):
         self.line = line
         self.column = column
         super().__init__(f"{source}:{line}:{column}: {reason}")
+
+
+class Generated(enum.Enum):
+    """Conditions of an operator whose monitor formulas can be generated (§9.3)."""
+
+    PRE = "pre"
+    PREVAIL = "prevail"
+    EFFECTS = "effects"
+    DURATION = "duration"
+
+
+@dataclass(frozen=True, slots=True)
+class GenerateDecl:
+    """``generate for OP: kinds [within N ms];`` -- flags for :mod:`monitor_generation`."""
+
+    operator: str
+    kinds: frozenset[Generated]
+    slack_ms: int = 1000
+    line: int = 1
+    column: int = 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -111,6 +132,8 @@ class MonitorSpec:
     settings: StateSettings = field(default_factory=StateSettings)
     monitors: tuple[MonitorDecl, ...] = ()
     source: str = "<monitor spec>"
+    generate: tuple[GenerateDecl, ...] = ()
+    """Flags for formulas to generate from the planning domain (``monitor_generation.expand``)."""
 
     def for_operator(self, operator: str) -> tuple[MonitorDecl, ...]:
         """Declarations activated by steps of ``operator``."""
@@ -154,10 +177,13 @@ class MonitorSpecParser:
             ) from None
         settings = StateSettings()
         monitors: list[MonitorDecl] = []
+        generate: list[GenerateDecl] = []
         for statement in tree.children:
             assert isinstance(statement, Tree)
             if statement.data == "states":
                 settings = self._settings(statement, settings, source)
+            elif statement.data == "generate":
+                generate.append(self._generate(statement))
             else:
                 decl = self._monitor(statement, source)
                 if any(other.name == decl.name for other in monitors):
@@ -165,7 +191,7 @@ class MonitorSpecParser:
                         f"monitor {decl.name!r} is declared twice", source, decl.line, decl.column
                     )
                 monitors.append(decl)
-        return MonitorSpec(settings, tuple(monitors), source)
+        return MonitorSpec(settings, tuple(monitors), source, tuple(generate))
 
     def parse_file(self, path: Path) -> MonitorSpec:
         """Read and parse a specification file.
@@ -198,6 +224,21 @@ class MonitorSpecParser:
                 tree.meta.column,
             )
         return StateSettings(values["period"], values["max_delay"], values["stale"])
+
+    @staticmethod
+    def _generate(tree: Tree[Token]) -> GenerateDecl:
+        operator, *rest = tree.children
+        kinds = frozenset(
+            Generated(str(item.children[0])) for item in rest if isinstance(item, Tree)
+        )
+        within = rest[-1]
+        return GenerateDecl(
+            str(operator),
+            kinds,
+            int(str(within)) if isinstance(within, Token) else 1000,
+            tree.meta.line,
+            tree.meta.column,
+        )
 
     def _monitor(self, tree: Tree[Token], source: str) -> MonitorDecl:
         name, operator, *rest = tree.children

@@ -8,6 +8,7 @@ import pytest
 
 from hdrc3_deliberative.monitor_spec import (
     DEFAULT_SPEC,
+    Generated,
     MonitorSpecError,
     MonitorSpecParser,
     StateSettings,
@@ -85,3 +86,25 @@ def test_errors_carry_line_and_column(text: str, line: int, column: int, reason:
 def test_unreadable_file(tmp_path: Path) -> None:
     with pytest.raises(MonitorSpecError, match="cannot read"):
         PARSER.parse_file(tmp_path / "missing.monitors")
+
+
+def test_generate_requests() -> None:
+    spec = PARSER.parse(
+        "monitor a: true;\ngenerate for pick-up-box: effects, pre within 2500 ms;\n"
+        "generate for drop-box: duration;"
+    )
+    first, second = spec.generate
+    assert (first.operator, first.kinds, first.slack_ms, first.line) == (
+        "pick-up-box",
+        frozenset({Generated.EFFECTS, Generated.PRE}),
+        2500,
+        2,
+    )
+    assert (second.operator, second.kinds, second.slack_ms) == (
+        "drop-box",
+        frozenset({Generated.DURATION}),
+        1000,
+    )
+    with pytest.raises(MonitorSpecError, match="unexpected") as info:
+        PARSER.parse("generate for x: pre, effect;")
+    assert (info.value.line, info.value.column) == (1, 22)
