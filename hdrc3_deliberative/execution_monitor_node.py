@@ -1,10 +1,12 @@
 """ROS 2 adapter: the ``execution_monitor`` node of one agent (chapter 9.3).
 
-Reads the agent's Data Interface (``helicopter_state``, ``HelicopterState``) into DyKnow streams
-(:mod:`monitor_streams`, plus any ``stream_spec`` file), its execution flags
-(``execution_flags``, ``ExecutionFlag``), and progresses the formulas of the ``monitor_spec``
-file (:mod:`monitor_spec`; formulas flagged with ``generate`` are generated from the planning
-domain of the ``domain_file`` parameter, :mod:`monitor_generation`) with :class:`~hdrc3_deliberative.execution_monitor.ExecutionMonitor`.
+Reads the agent's Data Interface (``helicopter_state``, ``HelicopterState``) and its power unit
+(``sensors/power``, ``PowerStatus``: voltage times current is the ``power`` fluent of Example
+9.1) into DyKnow streams (:mod:`monitor_streams`, plus any ``stream_spec`` file), its execution
+flags (``execution_flags``, ``ExecutionFlag``), and progresses the formulas of the
+``monitor_spec`` file (:mod:`monitor_spec`; formulas flagged with ``generate`` are generated
+from the planning domain of the ``domain_file`` parameter, :mod:`monitor_generation`) with an
+:class:`~hdrc3_deliberative.execution_monitor.ExecutionMonitor`.
 
 Publishes, in the agent's namespace:
 
@@ -46,7 +48,13 @@ from hdrc3_deliberative.monitor_generation import expand, read_domain_file
 from hdrc3_deliberative.monitor_spec import DEFAULT_SPEC, MonitorSpecParser
 from hdrc3_deliberative.monitor_streams import MonitorStreams
 from hdrc3_dyknow.sample import ms_from_ns
-from hdrc3_interfaces.msg import ExecutionFlag, HelicopterState, MonitorVerdict, MonitorViolation
+from hdrc3_interfaces.msg import (
+    ExecutionFlag,
+    HelicopterState,
+    MonitorVerdict,
+    MonitorViolation,
+    PowerStatus,
+)
 
 NODE_NAME = "execution_monitor"
 _EVENT_QOS = QoSProfile(
@@ -108,6 +116,7 @@ class ExecutionMonitorNode(Node):
         for topic in self.streams.catalog.topics():
             self.create_subscription(HelicopterState, topic, partial(self._on_state, topic), 50)
         self.create_subscription(ExecutionFlag, "execution_flags", self._on_flag, 50)
+        self.create_subscription(PowerStatus, "sensors/power", self._on_power, 10)
         # Checked now so a bad formula stops the node at once; activated at the first tick.
         check = self.monitor.check()
         if check.status is not StartStatus.STARTED:
@@ -126,6 +135,13 @@ class ExecutionMonitorNode(Node):
         except Hdrc3Error as exc:  # one bad message must not stop the node
             self.bad_messages += 1
             self.get_logger().warning(f"dropped message on {topic}: {exc}", throttle_duration_sec=5)
+
+    def _on_power(self, msg: PowerStatus) -> None:
+        stamp = ms_from_ns(msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec)
+        if not self.streams.publish_power(
+            self.agent, stamp, self._now_ms(), msg.voltage, msg.current
+        ):
+            self.bad_messages += 1
 
     def _on_flag(self, msg: ExecutionFlag) -> None:
         names, values = list(msg.argument_names), list(msg.argument_values)

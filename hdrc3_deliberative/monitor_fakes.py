@@ -27,9 +27,9 @@ PAYLOAD_STREAMS = """
 object box1, box2 : Box;
 stream payload/carrying1 contains Carrying(uav0, box1) with missing last_value;
 stream payload/carrying2 contains Carrying(uav0, box2) with missing last_value;
-stream power/uav0 contains Power(uav0) with missing extrapolate;
 """
-"""Streams without a source: the rig publishes their samples itself."""
+"""Streams without a source: the rig publishes their samples itself (power: the Data Interface
+specification's ``uav0/power``, fed as the node feeds it from ``PowerStatus``)."""
 
 
 @dataclass
@@ -63,6 +63,10 @@ class MonitorRig:
     def sample(self, label: str, time_ms: int, value: Value) -> None:
         """A sample of a sourceless stream (payload, power)."""
         self.streams.host.publish(label, Sample(time_ms, time_ms, value))
+
+    def power(self, time_ms: int, voltage: float, current: float) -> None:
+        """A power unit report (``PowerStatus``) valid and received at ``time_ms``."""
+        self.streams.publish_power(AGENT, time_ms, time_ms, voltage, current)
 
     def flag(self, time_ms: int, node_id: str, action: str, executing: bool, **args: str) -> None:
         """An execution flag of this rig's agent."""

@@ -29,6 +29,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from hdrc3_deliberative.errors import PlanningInputError
+from hdrc3_deliberative.model import Atom as PlanAtom
 from hdrc3_deliberative.model import (
     AtomEffect,
     BinOp,
@@ -43,9 +44,7 @@ from hdrc3_deliberative.model import (
     NumExpr,
     Operator,
 )
-from hdrc3_deliberative.model import Atom as PlanAtom
 from hdrc3_deliberative.monitor_spec import (
-    GenerateDecl,
     Generated,
     MonitorDecl,
     MonitorSpec,

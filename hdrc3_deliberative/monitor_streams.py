@@ -9,11 +9,13 @@ catalogue and matcher built from that and any further specifications.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from hdrc3_dyknow.knowledge_process import KnowledgeProcessHost
 from hdrc3_dyknow.ontology import Ontology
+from hdrc3_dyknow.sample import Sample
 from hdrc3_dyknow.semantic_matching import SemanticMatcher, StreamSemantics
 from hdrc3_dyknow.semantic_spec import parse_spec
 from hdrc3_dyknow.sources import StreamCatalog
@@ -35,6 +37,11 @@ DATA_INTERFACE_STREAMS: tuple[tuple[str, str, str], ...] = (
 """(HelicopterState field, ontology feature, missing-value handling) of the default streams."""
 
 
+def power_label(agent: str) -> str:
+    """Label of the stream of ``agent``'s electrical power (W)."""
+    return f"{agent}/power"
+
+
 def data_interface_spec(agent: str, sort: str = "RMAX", topic: str = DATA_INTERFACE_TOPIC) -> str:
     """Stream specification of ``agent``'s Data Interface fields (labels ``<agent>/di/<field>``).
 
@@ -42,6 +49,8 @@ def data_interface_spec(agent: str, sort: str = "RMAX", topic: str = DATA_INTERF
     latest samples or held, per field (§9.3.2).
     """
     lines = [f"object {agent} : {sort};"]
+    # fed by the power unit's PowerStatus (MonitorStreams.publish_power), not a topic field
+    lines.append(f"stream {power_label(agent)} contains Power({agent}) with missing extrapolate;")
     for name, feature, missing in DATA_INTERFACE_STREAMS:
         lines.append(
             f'stream {agent}/di/{name} contains {feature}({agent}) from topic "{topic}"'
@@ -70,6 +79,16 @@ class MonitorStreams:
         streams = cls(Ontology.load(ontology_file))
         streams.load(data_interface_spec(agent), f"<data interface of {agent}>")
         return streams
+
+    def publish_power(
+        self, agent: str, valid_ms: int, available_ms: int, voltage: float, current: float
+    ) -> bool:
+        """Publish ``voltage * current`` (W) on the agent's power stream; False if not finite."""
+        power = float(voltage) * float(current)
+        if not math.isfinite(power):
+            return False
+        self.host.publish(power_label(agent), Sample(valid_ms or available_ms, available_ms, power))
+        return True
 
     def load(self, text: str, source: str) -> list[str]:
         """Load a stream specification; returns the labels declared.

@@ -58,7 +58,7 @@ def test_example_9_1_power(name: str, profile: Profile, violated_at: int | None)
     assert rig.start().status is StartStatus.STARTED
     for now in range(0, 6001, 50):
         if now % 100 == 0:
-            rig.sample("power/uav0", now, profile(now))
+            rig.power(now, voltage=10.0, current=profile(now) / 10.0)
         rig.advance(now)
     expected = [] if violated_at is None else [("power", violated_at)]
     assert violations(rig) == expected, name
