@@ -21,7 +21,7 @@ from typing import Any
 
 import pytest
 
-pytestmark = [pytest.mark.ros, pytest.mark.flight]
+pytestmark = pytest.mark.ros
 
 AGENT = "uav0"
 LIMIT = 0.5
@@ -49,6 +49,7 @@ def speed(state: Any) -> float:
     return math.sqrt(state.velocity_north**2 + state.velocity_east**2 + state.velocity_up**2)
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(600)
 def test_a_speed_violation_is_detected_within_its_bound_on_the_real_chain(
     hdrc3_cli: Callable[..., Any], ros_domain: int, tmp_path: Path
