@@ -315,7 +315,13 @@ class ExecutionMonitor:
 
     # --- formulas ------------------------------------------------------------------------
     def _unknown_feature(self, decl: MonitorDecl) -> str:
-        """Name a fluent of ``decl`` that is no ontology feature (checked before binding)."""
+        """Name a fluent of ``decl`` that is no ontology feature, or an unknown sort (checked
+        before binding).
+        """
+        for sort in sorted(set(_sorts(decl.formula))):
+            found = self.matcher.match_sort(sort)
+            if found.status is not MatchStatus.MATCHED:
+                return found.reason
         variables = set(decl.parameters) | set(_variables(decl.formula))
         objects = set(self.matcher.ontology.objects())
         for term in _fluents(decl.formula):

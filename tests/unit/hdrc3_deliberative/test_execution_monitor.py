@@ -410,3 +410,21 @@ def test_a_nested_term_with_no_stream_for_any_value_is_refused() -> None:
     result = rig.start()
     assert result.status is StartStatus.UNKNOWN_SYMBOL
     assert "no stream contains carrying(uav0, altitude(uav0)) for any object" in result.reason
+
+
+def test_an_operator_formula_over_an_unknown_sort_refuses_to_start() -> None:
+    rig = MonitorRig(STATES + "monitor g for climb(av): forall b in Boat: altitude(av) > 3;")
+    result = rig.start()
+    assert result.status is StartStatus.UNKNOWN_SYMBOL and "unknown sort 'Boat'" in result.reason
+
+
+def test_global_activations_are_reported_with_the_first_advance() -> None:
+    rig = MonitorRig(STATES + NAIVE)
+    rig.start(500)
+    (activated,) = rig.advance(500)
+    assert (activated.kind, activated.monitor_id, activated.time_ms) == (
+        EventKind.ACTIVATED,
+        "naive",
+        500,
+    )
+    assert activated.formula == "always speed(uav0) <= 10"
