@@ -315,9 +315,7 @@ class ExecutionMonitor:
 
     # --- formulas ------------------------------------------------------------------------
     def _unknown_feature(self, decl: MonitorDecl) -> str:
-        """Name a fluent of ``decl`` that is no ontology feature, or an unknown sort (checked
-        before binding).
-        """
+        """Name an unknown sort or a fluent that is no ontology feature (before binding)."""
         for sort in sorted(set(_sorts(decl.formula))):
             found = self.matcher.match_sort(sort)
             if found.status is not MatchStatus.MATCHED:

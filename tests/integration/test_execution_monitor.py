@@ -4,13 +4,12 @@
 monitor specification of two robust speed limits (§9.3.2): one at 0.5 m/s that the take-off's
 climb breaks by design, one at 25 m/s that a take-off never reaches. The system runs at real
 time (``--speed 1``): the monitor is not in lockstep with the simulator, so at full speed on a
-loaded machine its samples could arrive later in sim time than any realistic bound. The test flies a take-off
-and a climb through the FCL services and reads the monitor's recorded outputs: the violation of
-the first formula arrives within its bound (1 s) plus the state period and the maximum delay of
-state synthesis after the Data Interface first showed the excess, in sim time; the second
-formula is still active and never violated; the violation is in the launch's MCAP recording. A
-bad specification stops the node with the position
-of the error.
+loaded machine its samples could arrive later in sim time than any realistic bound. The test
+flies a take-off and a climb through the FCL services and reads the monitor's outputs: the
+violation of the first formula is stamped within its bound (1 s) plus one state period after the
+Data Interface's excess began, and arrives within the maximum delay of state synthesis more, in
+sim time; the second formula is still active and never violated; the violation is in the
+launch's MCAP recording. A bad specification stops the node with the position of the error.
 """
 
 from __future__ import annotations
