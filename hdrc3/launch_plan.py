@@ -21,6 +21,7 @@ from hdrc3_base.errors import ConfigError
 MAX_DOMAIN_ID = 101  # highest id whose DDS ports are valid on Linux with default port mapping
 RECORDER = "recorder"
 LIVE_VIEW = "live_view"
+EXECUTION_MONITOR = "execution_monitor"
 
 
 class Scope(enum.Enum):
@@ -137,6 +138,13 @@ CATALOG: tuple[NodeKind, ...] = (
         default=False,
     ),
     NodeKind(
+        EXECUTION_MONITOR,
+        "hdrc3-execution-monitor",
+        Scope.AGENT,
+        "execution monitor: monitor formulas over DyKnow streams and execution flags (chapter 9.3)",
+        default=False,
+    ),
+    NodeKind(
         LIVE_VIEW,
         "hdrc3-live-view",
         Scope.GLOBAL,
@@ -167,6 +175,8 @@ class LaunchOptions:
     """The simulation's seed (sensor noise and outages, wind): the same seed, the same world."""
     live_port: int | None = None
     """WebSocket port of the live view (None: its default), when ``live_view`` is started."""
+    monitor_spec: Path | None = None
+    """Monitor specification of the ``execution_monitor`` nodes (None: the packaged default)."""
 
 
 def parse_nodes(
@@ -247,6 +257,16 @@ def check_live_port(port: int | None, host: str = "127.0.0.1") -> int | None:
     return port
 
 
+def check_monitor_spec(path: str | None) -> Path | None:
+    """Check that a monitor specification file exists; return its absolute path."""
+    if path is None:
+        return None
+    spec = Path(path)
+    if not spec.is_file():
+        raise ConfigError(f"monitor specification {spec} is not a file")
+    return spec.resolve()
+
+
 def check_record_path(path: str | None) -> Path | None:
     """Check that a recording can be created at ``path``."""
     if path is None:
@@ -290,6 +310,8 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             args += ["-p", f"seed:={options.seed}"]
         if kind.name == LIVE_VIEW and options.live_port is not None:
             args += ["-p", f"port:={options.live_port}"]
+        if kind.name == EXECUTION_MONITOR and options.monitor_spec is not None:
+            args += ["-p", f"monitor_spec:={options.monitor_spec}"]
         if kind.scope is Scope.GLOBAL:
             if kind.checkpoint and options.run_dir is not None:
                 args += ["-p", f"checkpoint:={options.run_dir / kind.name}.checkpoint"]

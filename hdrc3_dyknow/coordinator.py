@@ -10,8 +10,9 @@ caller to drain. Expected failures (syntax, unknown symbols) are returned as res
 
 from __future__ import annotations
 
+import itertools
 from collections import deque
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from enum import StrEnum
 
@@ -105,12 +106,20 @@ def _sorts(formula: Formula) -> Iterator[str]:
 
 
 def _terms(tree: Formula | Term | None, objects: frozenset[str]) -> Iterator[FeatureTerm]:
-    """Ground fluents read by a ground atom or comparison (object constants excluded)."""
+    """Ground fluents read by a ground atom or comparison (object constants excluded).
+
+    A fluent with nested arguments (``fuel(av, location(av))``) yields its nested fluents only:
+    which fluent it reads itself depends on their values (see :func:`nested_candidates`).
+    """
     if isinstance(tree, Atom):
         yield from _terms(tree.fluent, objects)
     elif isinstance(tree, FluentTerm):
-        if tree.args or tree.name not in objects:
-            yield FeatureTerm(tree.name, tree.args)
+        if tree.nested:
+            for arg in tree.args:
+                if isinstance(arg, FluentTerm):
+                    yield from _terms(arg, objects)
+        elif tree.args or tree.name not in objects:
+            yield FeatureTerm(tree.name, tuple(str(arg) for arg in tree.args))
     elif isinstance(tree, Comparison | Arithmetic):
         yield from _terms(tree.left, objects)
         yield from _terms(tree.right, objects)
@@ -118,7 +127,42 @@ def _terms(tree: Formula | Term | None, objects: frozenset[str]) -> Iterator[Fea
         yield from _terms(tree.operand, objects)
 
 
-def _needed(node: Node, objects: frozenset[str]) -> tuple[bool | None, set[FeatureTerm]]:
+def nested_fluents(node: Node) -> set[FluentTerm]:
+    """Ground fluent terms with nested arguments anywhere in ``node``."""
+    found: set[FluentTerm] = set()
+    stack = [node]
+    seen: set[int] = set()
+    while stack:
+        current = stack.pop()
+        if id(current) in seen:
+            continue
+        seen.add(id(current))
+        stack.extend(current.children())
+        if current.kind in (Kind.ATOM, Kind.COMPARE):
+            found |= _nested_in(current.source)
+    return found
+
+
+def _nested_in(tree: Formula | Term | None) -> set[FluentTerm]:
+    if isinstance(tree, Atom):
+        return _nested_in(tree.fluent)
+    if isinstance(tree, FluentTerm):
+        inner = {t for arg in tree.args if isinstance(arg, FluentTerm) for t in _nested_in(arg)}
+        return inner | ({tree} if tree.nested else set())
+    if isinstance(tree, Comparison | Arithmetic):
+        return _nested_in(tree.left) | _nested_in(tree.right)
+    if isinstance(tree, Negative):
+        return _nested_in(tree.operand)
+    return set()
+
+
+def nested_candidates(term: FluentTerm, objects: Iterable[str]) -> list[FeatureTerm]:
+    """Every ground fluent ``term`` may read: each nested argument replaced by each object."""
+    choices = [sorted(objects) if isinstance(arg, FluentTerm) else [arg] for arg in term.args]
+    return [FeatureTerm(term.name, tuple(args)) for args in itertools.product(*choices)]
+
+
+def needed_fluents(node: Node, objects: frozenset[str]) -> tuple[bool | None, set[FeatureTerm]]:
     """Return the static truth (if any) and the fluents progression reads for ``node``.
 
     Mirrors the engine's left-to-right short-circuit of and/or, so the branch of
@@ -138,20 +182,20 @@ def _needed(node: Node, objects: frozenset[str]) -> tuple[bool | None, set[Featu
             return None, set(_terms(node.source, objects))
     if kind == Kind.NOT:
         assert node.first is not None
-        truth, needed = _needed(node.first, objects)
+        truth, needed = needed_fluents(node.first, objects)
         return (None if truth is None else not truth), needed
     if kind == Kind.AND or kind == Kind.OR:
         absorbing = kind == Kind.OR
         all_neutral = True
         for operand in node.operands:
-            truth, more = _needed(operand, objects)
+            truth, more = needed_fluents(operand, objects)
             needed |= more
             if truth is absorbing:
                 return absorbing, needed
             all_neutral = all_neutral and truth is not None
         return (not absorbing if all_neutral else None), needed
     for child in node.children():
-        needed |= _needed(child, objects)[1]
+        needed |= needed_fluents(child, objects)[1]
     return None, needed
 
 
@@ -249,7 +293,7 @@ class StreamReasoningCoordinator:
         except GroundingError as exc:
             return MonitorResult(MonitorStatus.UNKNOWN_SYMBOL, str(exc))
         streams: dict[str, str] = {}
-        for term in sorted(_needed(node, scope.objects())[1], key=str):
+        for term in sorted(needed_fluents(node, scope.objects())[1], key=str):
             match = self.matcher.match(term)
             if not match.ok:
                 return MonitorResult(MonitorStatus.UNKNOWN_SYMBOL, match.reason)

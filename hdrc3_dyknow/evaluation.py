@@ -134,10 +134,14 @@ class _Evaluator:
     def _atom(self, fluent: FluentTerm, i: int, env: Mapping[str, str]) -> bool:
         if not fluent.args and (fluent.name in env or fluent.name in self._scope.bindings):
             raise GroundingError(f"variable {fluent.name!r} used as a boolean fluent")
-        value = self._lookup(self._scope.fluent_key(fluent, env), i)
+        value = self._lookup(self._key(fluent, i, env), i)
         if isinstance(value, str):
             raise FluentTypeError(f"boolean fluent {fluent} has the object value {value!r}")
         return bool(value)
+
+    def _key(self, fluent: FluentTerm, i: int, env: Mapping[str, str]) -> str:
+        state = self._trace[i]
+        return self._scope.fluent_key(fluent, env, state.values, state.time_ms)
 
     def _lookup(self, key: str, i: int) -> FluentValue:
         state = self._trace[i]
@@ -153,7 +157,7 @@ class _Evaluator:
             constant = self._scope.object_constant(term, env, self._objects)
             if constant is not None:
                 return constant
-            return self._lookup(self._scope.fluent_key(term, env), i)
+            return self._lookup(self._key(term, i, env), i)
         if isinstance(term, Negative):
             value = self._value(term.operand, i, env)
             if isinstance(value, str):

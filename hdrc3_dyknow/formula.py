@@ -85,15 +85,23 @@ class FluentTerm:
 
     Attributes:
         name: Fluent name; may contain ``-`` (``executing-climb``).
-        args: Argument identifiers: variables or object names.
+        args: Arguments: variables or object names, or *nested* fluent terms whose value in
+            the current state is the object (``fuel-usage(av, location(av))``, Def. 9.2).
 
     """
 
     name: str
-    args: tuple[str, ...] = ()
+    args: tuple[str | FluentTerm, ...] = ()
+
+    @property
+    def nested(self) -> bool:
+        """Whether an argument is itself a fluent term (its key depends on the state)."""
+        return any(isinstance(arg, FluentTerm) for arg in self.args)
 
     def __str__(self) -> str:
-        return self.name if not self.args else f"{self.name}({', '.join(self.args)})"
+        if not self.args:
+            return self.name
+        return f"{self.name}({', '.join(str(arg) for arg in self.args)})"
 
 
 @dataclass(frozen=True, slots=True)

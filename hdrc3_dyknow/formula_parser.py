@@ -330,6 +330,14 @@ class _TreeBuilder(Transformer[Token, object]):
     def false(self, meta: Meta, children: list[object]) -> Formula:
         return Constant(False)
 
-    def fluent(self, meta: Meta, children: list[Token | None]) -> FluentTerm:
+    def fluent(self, meta: Meta, children: list[Token | FluentTerm | None]) -> FluentTerm:
         name, *args = children
-        return FluentTerm(str(name), tuple(str(arg) for arg in args if arg is not None))
+        return FluentTerm(
+            str(name),
+            tuple(
+                arg if isinstance(arg, FluentTerm) else str(arg) for arg in args if arg is not None
+            ),
+        )
+
+    def nested(self, meta: Meta, children: list[Token | FluentTerm | None]) -> FluentTerm:
+        return self.fluent(meta, children)

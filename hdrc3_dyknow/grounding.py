@@ -110,13 +110,30 @@ class Scope:
             name, args = parse_atom_key(self.exec_flag)
             return FluentTerm(name, args)
         return FluentTerm(
-            fluent.name, tuple(env.get(arg, self.bindings.get(arg, arg)) for arg in fluent.args)
+            fluent.name,
+            tuple(
+                self.ground_fluent(arg, env)
+                if isinstance(arg, FluentTerm)
+                else env.get(arg, self.bindings.get(arg, arg))
+                for arg in fluent.args
+            ),
         )
 
-    def fluent_key(self, fluent: FluentTerm, env: Mapping[str, str]) -> str:
-        """Ground atom key of ``fluent`` in ``env``."""
-        ground = self.ground_fluent(fluent, env)
-        return atom_key(ground.name, ground.args)
+    def fluent_key(
+        self,
+        fluent: FluentTerm,
+        env: Mapping[str, str],
+        values: Values | None = None,
+        time_ms: float = math.nan,
+    ) -> str:
+        """Ground atom key of ``fluent`` in ``env``; nested arguments are read from ``values``.
+
+        Raises:
+            UnknownFluentError: A nested argument's fluent is not in ``values``.
+            FluentTypeError: A nested argument's value is not an object name.
+
+        """
+        return resolve_key(self.ground_fluent(fluent, env), values or {}, time_ms)
 
     def object_constant(
         self, fluent: FluentTerm, env: Mapping[str, str], objects: frozenset[str]
@@ -128,6 +145,35 @@ class Scope:
         if bound is not None:
             return bound
         return fluent.name if fluent.name in objects else None
+
+
+def resolve_key(ground: FluentTerm, values: Values, time_ms: float) -> str:
+    """Atom key of a ground fluent term, nested arguments replaced by their values.
+
+    A nested argument's value in ``values`` is an object, e.g.
+    ``fuel-usage(uav0, location(uav0))`` -> ``fuel-usage(uav0,depot1)``.
+
+    Raises:
+        UnknownFluentError: A nested argument's fluent is not in ``values``.
+        FluentTypeError: A nested argument's value is not an object name.
+
+    """
+    args: list[str] = []
+    for arg in ground.args:
+        if isinstance(arg, str):
+            args.append(arg)
+            continue
+        key = resolve_key(arg, values, time_ms)
+        try:
+            value = values[key]
+        except KeyError:
+            raise UnknownFluentError(key, time_ms) from None
+        if not isinstance(value, str):
+            raise FluentTypeError(
+                f"argument {arg} of {ground.name} has the value {value!r}, not an object name"
+            )
+        args.append(value)
+    return atom_key(ground.name, tuple(args))
 
 
 def compile_formula(table: NodeTable, formula: Formula, scope: Scope) -> Node:
@@ -230,7 +276,22 @@ class _Compiler:
         if not fluent.args and (fluent.name in env or fluent.name in self._scope.bindings):
             raise GroundingError(f"variable {fluent.name!r} used as a boolean fluent")
         ground = self._scope.ground_fluent(fluent, env)
-        return self._table.atom(atom_key(ground.name, ground.args), Atom(ground))
+        if ground.nested:
+            # The key depends on the state: a compiled test rather than an interned atom.
+            text = str(ground)
+
+            def holds(values: Values, time_ms: float) -> bool:
+                key = resolve_key(ground, values, time_ms)
+                try:
+                    value = values[key]
+                except KeyError:
+                    raise UnknownFluentError(key, time_ms) from None
+                if isinstance(value, str):
+                    raise FluentTypeError(f"boolean fluent {text} has the object value {value!r}")
+                return bool(value)
+
+            return self._table.comparison(holds, Atom(ground))
+        return self._table.atom(resolve_key(ground, {}, math.nan), Atom(ground))
 
     def _comparison(self, comparison: Comparison, env: dict[str, str]) -> Node:
         left, left_tree = self._term(comparison.left, env)
@@ -282,7 +343,17 @@ class _Compiler:
         if constant is not None:
             return (lambda values, time_ms: constant), FluentTerm(constant)
         ground = self._scope.ground_fluent(term, env)
-        key = atom_key(ground.name, ground.args)
+        if ground.nested:
+
+            def lookup_nested(values: Values, time_ms: float) -> FluentValue:
+                key = resolve_key(ground, values, time_ms)
+                try:
+                    return values[key]
+                except KeyError:
+                    raise UnknownFluentError(key, time_ms) from None
+
+            return lookup_nested, ground
+        key = resolve_key(ground, {}, math.nan)
 
         def lookup(values: Values, time_ms: float) -> FluentValue:
             try:

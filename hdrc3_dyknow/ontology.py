@@ -34,6 +34,53 @@ class Ontology:
         self._aliases: dict[str, str] = {}
         self._index()
 
+    def merge(self, path: Path) -> None:
+        """Add another ontology (e.g. another UAS's, in its own namespace) to this one.
+
+        Its classes and individuals are named ``prefix:Local`` by the file's prefixes and also
+        answer to their bare local names unless the hdrc3 vocabulary uses them;
+        ``owl:equivalentClass`` and ``owl:sameAs`` statements relate them to ours.
+
+        Raises:
+            OntologyError: If the file cannot be read or parsed.
+
+        """
+        try:
+            self._graph.parse(str(path))
+        except (OSError, ValueError, SyntaxError) as exc:
+            raise OntologyError(f"cannot load ontology {path}: {exc}") from exc
+        self._index()
+
+    def _local(self, node: object) -> str | None:
+        """Name of a node: local in the hdrc3 namespace, ``prefix:local`` in others."""
+        if not isinstance(node, rdflib.URIRef):
+            return None
+        text = str(node)
+        if text.startswith(str(NAMESPACE)):
+            return text[len(str(NAMESPACE)) :]
+        try:
+            prefix, _, local = self._graph.namespace_manager.compute_qname(node, generate=False)
+        except (KeyError, ValueError):
+            return None
+        return f"{prefix}:{local}" if prefix and local else None
+
+    def _uri(self, name: str) -> rdflib.URIRef:
+        if ":" in name:
+            prefix, local = name.split(":", 1)
+            for bound, namespace in self._graph.namespaces():
+                if bound == prefix:
+                    return rdflib.URIRef(str(namespace) + local)
+        return NAMESPACE[name]
+
+    def canonical_object(self, name: str) -> str:
+        """The declared name of object ``name`` (``heli`` -> ``u2:heli``), else ``name``."""
+        canonical = self._aliases.get(name)
+        if canonical is not None and (self._uri(canonical), RDF.type, OWL.NamedIndividual) in (
+            self._graph
+        ):
+            return canonical
+        return name
+
     @classmethod
     def load(cls, path: Path | None = None) -> Ontology:
         """Load an ontology file (Turtle, RDF/XML, ...) or the packaged hdrc3 ontology.
@@ -62,14 +109,16 @@ class Ontology:
     def _index(self) -> None:
         self._aliases.clear()
         labels: dict[str, str] = {}
-        for node in set(self._graph.subjects(RDF.type, OWL.Class)) | set(
+        nodes = set(self._graph.subjects(RDF.type, OWL.Class)) | set(
             self._graph.subjects(RDF.type, OWL.NamedIndividual)
-        ):
-            name = _local(node)
-            if name is None:
-                continue
+        )
+        named = [(name, node) for node in nodes if (name := self._local(node)) is not None]
+        # Our vocabulary first: its names and labels win over a foreign ontology's local names.
+        for name, node in sorted(named, key=lambda item: (":" in item[0], item[0])):
             self._aliases[name] = name
             labels.setdefault(name.lower(), name)
+            if ":" in name:  # a foreign name also answers to its local part
+                labels.setdefault(name.split(":", 1)[1].lower(), name)
             for label in self._graph.objects(node, RDFS.label):
                 labels.setdefault(str(label).lower(), name)
         for alias, name in labels.items():
@@ -82,12 +131,12 @@ class Ontology:
         seen = {name}
         todo = [name]
         while todo:
-            node = NAMESPACE[todo.pop()]
+            node = self._uri(todo.pop())
             neighbours = set(self._graph.objects(node, OWL.equivalentClass)) | set(
                 self._graph.subjects(OWL.equivalentClass, node)
             )
             for other in neighbours:
-                local = _local(other)
+                local = self._local(other)
                 if local is not None and local not in seen:
                     seen.add(local)
                     todo.append(local)
@@ -102,8 +151,8 @@ class Ontology:
                 if cls in seen:
                     continue
                 seen.add(cls)
-                for parent in self._graph.objects(NAMESPACE[cls], RDFS.subClassOf):
-                    local = _local(parent)
+                for parent in self._graph.objects(self._uri(cls), RDFS.subClassOf):
+                    local = self._local(parent)
                     if local is not None:
                         todo.append(local)
         return seen
@@ -114,7 +163,7 @@ class Ontology:
 
     def _class_under(self, name: str, root: str) -> str | None:
         canonical = self._canonical(name)
-        if canonical is None or (NAMESPACE[canonical], RDF.type, OWL.Class) not in self._graph:
+        if canonical is None or (self._uri(canonical), RDF.type, OWL.Class) not in self._graph:
             return None
         return canonical if root in self.superclasses(canonical) else None
 
@@ -129,7 +178,7 @@ class Ontology:
     def arity(self, feature: str) -> int | None:
         """Number of object arguments of a feature (inherited), None if unspecified."""
         for cls in self._ordered_ancestors(feature):
-            value = self._graph.value(NAMESPACE[cls], NAMESPACE.arity)
+            value = self._graph.value(self._uri(cls), NAMESPACE.arity)
             if value is not None:
                 return int(str(value))
         return None
@@ -145,8 +194,8 @@ class Ontology:
                     if eq in order:
                         continue
                     order.append(eq)
-                    for parent in self._graph.objects(NAMESPACE[eq], RDFS.subClassOf):
-                        local = _local(parent)
+                    for parent in self._graph.objects(self._uri(eq), RDFS.subClassOf):
+                        local = self._local(parent)
                         if local is not None:
                             nxt.append(local)
             frontier = nxt
@@ -161,7 +210,9 @@ class Ontology:
         return sorted(c for c in self._classes() if OBJECT_ROOT in self.superclasses(c))
 
     def _classes(self) -> set[str]:
-        return {n for n in map(_local, self._graph.subjects(RDF.type, OWL.Class)) if n is not None}
+        return {
+            n for n in map(self._local, self._graph.subjects(RDF.type, OWL.Class)) if n is not None
+        }
 
     def add_object(self, name: str, sort: str) -> None:
         """Declare object ``name`` to be of ``sort`` (an OWL individual).
@@ -173,11 +224,11 @@ class Ontology:
         canonical = self.sort(sort)
         if canonical is None:
             raise OntologyError(f"unknown sort {sort!r}; known sorts: {', '.join(self.sorts())}")
-        if (NAMESPACE[name], RDF.type, OWL.Class) in self._graph:
+        if (self._uri(name), RDF.type, OWL.Class) in self._graph:
             raise OntologyError(f"object name {name!r} is already a class of the ontology")
-        node = NAMESPACE[name]
+        node = self._uri(name)
         self._graph.add((node, RDF.type, OWL.NamedIndividual))
-        self._graph.add((node, RDF.type, NAMESPACE[canonical]))
+        self._graph.add((node, RDF.type, self._uri(canonical)))
         self._aliases[name] = name
 
     def same_as(self, name: str) -> set[str]:
@@ -185,31 +236,34 @@ class Ontology:
         seen = {name}
         todo = [name]
         while todo:
-            node = NAMESPACE[todo.pop()]
+            node = self._uri(todo.pop())
             for other in set(self._graph.objects(node, OWL.sameAs)) | set(
                 self._graph.subjects(OWL.sameAs, node)
             ):
-                local = _local(other)
+                local = self._local(other)
                 if local is not None and local not in seen:
                     seen.add(local)
                     todo.append(local)
         return seen
 
     def is_object(self, name: str) -> bool:
-        """Whether ``name`` is a declared object (individual)."""
-        return (NAMESPACE[name], RDF.type, OWL.NamedIndividual) in self._graph
+        """Whether ``name`` is a declared object (individual), by name or alias."""
+        for candidate in (name, self._aliases.get(name)):
+            if candidate and (self._uri(candidate), RDF.type, OWL.NamedIndividual) in self._graph:
+                return True
+        return False
 
     def objects(self) -> list[str]:
         """All declared objects, sorted."""
         nodes = self._graph.subjects(RDF.type, OWL.NamedIndividual)
-        return sorted(n for n in map(_local, nodes) if n is not None)
+        return sorted(n for n in map(self._local, nodes) if n is not None)
 
     def sorts_of(self, name: str) -> set[str]:
         """All sorts the object belongs to (its types and their superclasses)."""
         found: set[str] = set()
         for other in self.same_as(name):
-            for cls in self._graph.objects(NAMESPACE[other], RDF.type):
-                local = _local(cls)
+            for cls in self._graph.objects(self._uri(other), RDF.type):
+                local = self._local(cls)
                 if local is not None:
                     found |= self.superclasses(local)
         return found & set(self.sorts())
@@ -220,9 +274,3 @@ class Ontology:
         if canonical is None:
             return []
         return [obj for obj in self.objects() if canonical in self.sorts_of(obj)]
-
-
-def _local(node: object) -> str | None:
-    """Local name of a node in the hdrc3 namespace (None for other nodes)."""
-    text = str(node)
-    return text[len(str(NAMESPACE)) :] if text.startswith(str(NAMESPACE)) else None

@@ -31,6 +31,7 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from hdrc3_dyknow.formula import (
     Always,
     And,
+    Atom,
     Comparison,
     Constant,
     Eventually,
@@ -211,8 +212,11 @@ class NodeTable:
             node.source = source
         return node
 
-    def comparison(self, compare: CompareFunction, source: Comparison) -> Node:
-        """Compiled ground comparison; interned (always) by its printed ground form."""
+    def comparison(self, compare: CompareFunction, source: Comparison | Atom) -> Node:
+        """Compiled ground comparison, interned (always) by its printed ground form.
+
+        Also a boolean fluent with nested arguments, whose key depends on the state.
+        """
         key = (_COMPARE, str(source))
         nodes = self._kept if self._nodes is None else self._nodes
         node = nodes.get(key) or self._kept.get(key)

@@ -123,7 +123,8 @@ class SemanticMatcher:
             if len(annotation.args) != len(term.args):
                 continue
             if all(
-                have in self.ontology.same_as(want)
+                self.ontology.canonical_object(have)
+                in self.ontology.same_as(self.ontology.canonical_object(want))
                 for want, have in zip(term.args, annotation.args, strict=True)
             ):
                 ranked.append((0 if annotated == feature else 1, label))

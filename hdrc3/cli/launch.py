@@ -18,6 +18,7 @@ from hdrc3.launch_plan import (
     build_plan,
     check_domain_id,
     check_live_port,
+    check_monitor_spec,
     check_record_path,
     check_seed,
     check_world,
@@ -56,6 +57,11 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         "--live-port", type=int, help="port of the live view on 127.0.0.1 (default 8765)"
     )
     parser.add_argument(
+        "--monitor-spec",
+        metavar="FILE",
+        help="monitor formulas of the execution_monitor nodes (default: the packaged ones)",
+    )
+    parser.add_argument(
         "--cameras",
         action="store_true",
         help="also start world_render (colour and thermal images on /<agent>/camera/...) and "
@@ -87,6 +93,7 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
         live_port=check_live_port(
             args.live_port if args.live_port is not None else DEFAULT_PORT if args.live else None
         ),
+        monitor_spec=check_monitor_spec(args.monitor_spec),
     )
 
 

@@ -239,3 +239,31 @@ def test_cameras_add_the_renderer_with_world_parameters_and_seed() -> None:
     assert spec.argv[0].endswith("hdrc3-world-render")
     assert "agents:=['uav0','uav1']" in spec.argv and "seed:=3" in spec.argv
     assert "world:=revinge" in spec.argv
+
+
+@pytest.mark.parametrize("given", [False, True])
+def test_each_agents_execution_monitor_gets_the_monitor_spec(tmp_path: Path, given: bool) -> None:
+    spec = tmp_path / "limits.monitors"
+    spec.write_text("monitor a: always true;")
+    options = LaunchOptions(
+        agents=("uav0", "uav1"),
+        nodes=parse_nodes("platform_server,execution_monitor"),
+        world="revinge",
+        speed=1.0,
+        record=None,
+        domain_id=None,
+        monitor_spec=launch_plan.check_monitor_spec(str(spec) if given else None),
+    )
+    argv = {spec.name: spec.argv for spec in build_plan(options, launch_plan.CATALOG)}
+    for agent in ("uav0", "uav1"):
+        monitor = argv[f"{agent}/execution_monitor"]
+        assert monitor[0].endswith("hdrc3-execution-monitor")
+        assert (f"monitor_spec:={spec.resolve()}" in monitor) is given
+        assert f"__ns:=/{agent}" in monitor
+        assert not any(a.startswith("monitor_spec") for a in argv[f"{agent}/platform_server"])
+    assert "execution_monitor" not in parse_nodes(None)
+
+
+def test_a_missing_monitor_spec_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(ConfigError, match="is not a file"):
+        launch_plan.check_monitor_spec(str(tmp_path / "none.monitors"))

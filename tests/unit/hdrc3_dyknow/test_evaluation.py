@@ -31,7 +31,7 @@ from hdrc3_dyknow.formula import (
 from hdrc3_dyknow.formula_parser import FormulaParser
 from hdrc3_dyknow.grounding import Scope
 from hdrc3_dyknow.interpretation import State, StateOrderError, UnknownFluentError
-from hdrc3_dyknow.progression import ProgressionEngine, Verdict
+from hdrc3_dyknow.progression import ProgressionEngine, Progressor, Verdict
 from hdrc3_dyknow.residual import NodeTable
 
 PARSER = FormulaParser()
@@ -66,6 +66,24 @@ def test_evaluate_operator_table(
     text: str, times: list[float], p: list[bool], expected: bool
 ) -> None:
     assert evaluate(PARSER.parse(text), trace_of(times, p=p)) is expected
+
+
+def test_nested_fluent_terms_agree_between_evaluation_and_progression() -> None:
+    """``wind(at(av))`` reads the wind of whatever location ``at(av)`` names in each state."""
+    formula = PARSER.parse("always (wind(at(av)) < 10 or gusty(at(av)))")
+    trace = [
+        State(0, {"at(av)": "d1", "wind(d1)": 5.0, "wind(d2)": 15.0, "gusty(d1)": False,
+                  "gusty(d2)": True}),
+        State(100, {"at(av)": "d2", "wind(d1)": 5.0, "wind(d2)": 15.0, "gusty(d1)": False,
+                    "gusty(d2)": True}),
+        State(200, {"at(av)": "d2", "wind(d1)": 5.0, "wind(d2)": 15.0, "gusty(d1)": False,
+                    "gusty(d2)": False}),
+    ]  # fmt: skip
+    for end, expected in ((2, True), (3, False)):
+        assert evaluate(formula, trace[:end]) is expected
+        progressor = Progressor(formula)
+        verdicts = [progressor.update(state) for state in trace[:end]]
+        assert (verdicts[-1] is not Verdict.FALSE) is expected
 
 
 def test_evaluate_rejects_bad_traces() -> None:

@@ -106,6 +106,15 @@ p, q, r = (Atom(FluentTerm(name)) for name in "pqr")
         ),
         ("p # a comment\n and q", And((p, q))),
         ("always-on", Atom(FluentTerm("always-on"))),
+        (  # nested fluent terms (Definition 9.2)
+            "fuel-usage(av, x(av), y(z(av)))",
+            Atom(
+                FluentTerm(
+                    "fuel-usage",
+                    ("av", FluentTerm("x", ("av",)), FluentTerm("y", (FluentTerm("z", ("av",)),))),
+                )
+            ),
+        ),
     ],
 )
 def test_parse_table(text: str, expected: object) -> None:
@@ -120,6 +129,7 @@ def test_parse_table(text: str, expected: object) -> None:
         "EXEC until[0,5000] (carrying(av, box) until executing-putdown(av, box))",
         "always (power(av) > m implies power(av) < f * m until[0,300] always[0,500] power(av) <= m)",  # noqa: E501
         "(p until q) until[1,2] r",
+        "always fuel-usage(av, location(av), dest(av)) < 3 and windy(location(av))",
     ],
 )
 def test_printing_round_trips(text: str) -> None:

@@ -84,3 +84,36 @@ def test_semantics_manager_remove() -> None:
     semantics.remove("a")
     semantics.remove("a")
     assert semantics.items() == [] and semantics.annotation("a") is None
+
+
+FOREIGN = """
+@prefix owl: <http://www.w3.org/2002/07/owl#> .
+@prefix dk: <https://hdrc3.example.org/dyknow#> .
+@prefix u2: <https://uas2.example.org/ontology#> .
+u2:Aircraft a owl:Class ; owl:equivalentClass dk:AV .
+u2:Velocity a owl:Class ; owl:equivalentClass dk:Speed .
+u2:Speed a owl:Class ; owl:equivalentClass dk:Speed .
+u2:heli a owl:NamedIndividual, u2:Aircraft ; owl:sameAs dk:uav1 .
+"""
+
+
+def test_another_uas_ontology_is_matched_through_equivalence_and_same_as(tmp_path) -> None:
+    """Another UAS annotates its streams in its own namespace (section 8.5, last paragraph)."""
+    path = tmp_path / "uas2.ttl"
+    path.write_text(FOREIGN)
+    ontology = Ontology.load()
+    ontology.add_object("uav1", "UAV")
+    ontology.merge(path)
+    semantics = StreamSemantics()
+    semantics.annotate("uas2/vel", FeatureTerm("Velocity", ("heli",)))
+    semantics.annotate("uas2/vel_qualified", FeatureTerm("u2:Velocity", ("u2:heli",)))
+    semantics.annotate("own/speed", FeatureTerm("speed", ("uav1",)))
+    matcher = SemanticMatcher(ontology, semantics)
+    found = matcher.match(FeatureTerm("speed", ("uav1",)))
+    assert found.labels == ("own/speed", "uas2/vel", "uas2/vel_qualified")
+    # our vocabulary keeps its names: "Speed" is dk:Speed, the foreign one is u2:Speed
+    assert ontology.feature("Speed") == "Speed"
+    assert ontology.feature("velocity") == "u2:Velocity"
+    assert ontology.is_object("heli") and ontology.canonical_object("heli") == "u2:heli"
+    assert "u2:heli" in ontology.same_as("uav1")
+    assert "u2:heli" in ontology.members("AV")
