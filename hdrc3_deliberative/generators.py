@@ -18,6 +18,8 @@ ZENOTRAVEL_DOMAIN = DOMAINS_DIR / "zenotravel" / "domain.pddl"
 ZENOTRAVEL_CONTROL = DOMAINS_DIR / "zenotravel" / "control.tal"
 BLOCKS_DOMAIN = DOMAINS_DIR / "blocks" / "domain.pddl"
 BLOCKS_CONTROL = DOMAINS_DIR / "blocks" / "control.tal"
+DEPOTS_DOMAIN = DOMAINS_DIR / "depots" / "domain.pddl"
+DEPOTS_CONTROL = DOMAINS_DIR / "depots" / "control.tal"
 ZENO_FUEL_LEVELS = 7  # f0 .. f6 as in the IPC-2002 STRIPS problems
 
 
@@ -219,6 +221,77 @@ def blocks_problem(blocks: int, seed: int, name: str = "") -> str:
     ]
     pname = name or f"blocks-{blocks}-{seed}"
     return _pddl_problem(pname, "blocks", [" ".join(names)], init, goals)
+
+
+@dataclass(frozen=True)
+class DepotsSize:
+    """Parameters of the IPC-2002 Depots generator (``-e -i -t -p -h -c``)."""
+
+    depots: int
+    distributors: int
+    trucks: int
+    pallets: int
+    hoists: int
+    crates: int
+
+
+def depots_problem(size: DepotsSize, seed: int, name: str = "") -> str:
+    """A STRIPS Depots problem as the IPC-2002 generator lays it out.
+
+    Places are the depots then the distributors; place ``i`` gets pallet ``i`` and hoist
+    ``i``, further pallets and hoists go to random places, trucks start at random places.
+    Crates are stacked on random pallets; the goal stacks a random subset of the crates (each
+    with probability 2/3) into towers on random pallets.
+    """
+    places_n = size.depots + size.distributors
+    if size.depots < 1 or size.trucks < 1 or size.crates < 1:
+        raise ValueError("need at least one depot, one truck and one crate")
+    if size.pallets < places_n or size.hoists < places_n:
+        raise ValueError("need at least one pallet and one hoist per place")
+    rng = random.Random(seed)
+    depots = [f"depot{i}" for i in range(size.depots)]
+    distributors = [f"distributor{i}" for i in range(size.distributors)]
+    places = depots + distributors
+    pallets = [f"pallet{i}" for i in range(size.pallets)]
+    hoists = [f"hoist{i}" for i in range(size.hoists)]
+    trucks = [f"truck{i}" for i in range(size.trucks)]
+    crates = [f"crate{i}" for i in range(size.crates)]
+    pallet_at = {p: places[i] if i < places_n else rng.choice(places) for i, p in enumerate(pallets)}
+    top = {p: p for p in pallets}
+    init = []
+    for pallet in pallets:
+        init.append(f"(at {pallet} {pallet_at[pallet]})")
+    init += [f"(at {t} {rng.choice(places)})" for t in trucks]
+    for i, hoist in enumerate(hoists):
+        place = places[i] if i < places_n else rng.choice(places)
+        init += [f"(at {hoist} {place})", f"(available {hoist})"]
+    for crate in crates:
+        pallet = rng.choice(pallets)
+        init += [f"(at {crate} {pallet_at[pallet]})", f"(on {crate} {top[pallet]})"]
+        top[pallet] = crate
+    init += [f"(clear {surface})" for surface in top.values()]
+    goal_top = {p: p for p in pallets}
+    goals = []
+    for crate in rng.sample(crates, len(crates)):
+        if rng.random() < 2 / 3:
+            pallet = rng.choice(pallets)
+            goals.append(f"(on {crate} {goal_top[pallet]})")
+            goal_top[pallet] = crate
+    if not goals:
+        goals.append(f"(on {crates[0]} {rng.choice(pallets)})")
+    objects = [
+        " ".join(depots) + " - depot",
+        " ".join(distributors) + " - distributor" if distributors else "",
+        " ".join(trucks) + " - truck",
+        " ".join(pallets) + " - pallet",
+        " ".join(crates) + " - crate",
+        " ".join(hoists) + " - hoist",
+    ]
+    pname = name or (
+        f"depots-{size.depots}-{size.distributors}-{size.trucks}-{size.pallets}-"
+        f"{size.hoists}-{size.crates}-{seed}"
+    )
+    return _pddl_problem(pname, "depots", objects, init, goals)
 
 
 def distance(a: tuple[float, float, float], b: tuple[float, float, float]) -> float:
