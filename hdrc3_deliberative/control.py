@@ -314,7 +314,6 @@ class ControlCompiler:
         """
         names = tuple(v.name for v in variables)
         inner_bound = bound | frozenset(names)
-        body = self.comp(body_formula, inner_bound)
         if universal:
             source = body_formula.left if isinstance(body_formula, FImplies) else None
         else:
@@ -329,6 +328,20 @@ class ControlCompiler:
                 ),
                 None,
             )
+        head = variables
+        if guard is not None:
+            in_guard = {t.name for t in guard.atom.args}
+            head = tuple(v for v in variables if v.name in in_guard)
+        rest = tuple(v for v in variables if v not in head)
+        if rest:
+            # the guard binds only some variables: quantify those first and the others
+            # inside, each group with its own guard (Q x, y . F == Q x . Q y . F)
+            names = tuple(v.name for v in head)
+            inner_bound = bound | frozenset(names)
+            body = self._quantified(rest, body_formula, inner_bound, universal)
+            variables = head
+        else:
+            body = self.comp(body_formula, inner_bound)
         if guard is not None and len(names) == 1:
             spec_names = [t.name for t in guard.atom.args]
             if spec_names.count(names[0]) == 1:
