@@ -256,7 +256,9 @@ def depots_problem(size: DepotsSize, seed: int, name: str = "") -> str:
     hoists = [f"hoist{i}" for i in range(size.hoists)]
     trucks = [f"truck{i}" for i in range(size.trucks)]
     crates = [f"crate{i}" for i in range(size.crates)]
-    pallet_at = {p: places[i] if i < places_n else rng.choice(places) for i, p in enumerate(pallets)}
+    pallet_at = {
+        p: places[i] if i < places_n else rng.choice(places) for i, p in enumerate(pallets)
+    }
     top = {p: p for p in pallets}
     init = []
     for pallet in pallets:

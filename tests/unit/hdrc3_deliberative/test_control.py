@@ -1,15 +1,20 @@
 from __future__ import annotations
 
 import random
+from pathlib import Path
 
 import pytest
 
 from hdrc3_deliberative.control import ControlCompiler
 from hdrc3_deliberative.errors import PlanningInputError
 from hdrc3_deliberative.generators import (
+    DEPOTS_CONTROL,
+    DEPOTS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
+    DepotsSize,
     LogisticsSize,
+    depots_problem,
     logistics_problem,
 )
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
@@ -151,6 +156,34 @@ def test_exists_forall_equality_and_goal_modality() -> None:
     assert program.step_violation(paint_c1, s, s | paint_c1.add) == "r"
 
 
+NESTED = (
+    "rule r: forall c: cell . [t] not painted(c) and [t+1] painted(c) ->\n"
+    "  exists d: cell, e: cell . adj(c, d) and adj(d, e) and painted(e)"
+)
+
+
+@pytest.mark.parametrize(
+    ("painted", "target", "allowed"),
+    [
+        ((), "c1", False),  # nothing painted two steps away
+        (("c3",), "c1", True),  # c1 -> c2 -> c3
+        (("hot",), "c1", True),  # c1 -> c2 -> hot
+        (("c1",), "c3", True),  # c3 -> c2 -> c1
+        (("c2",), "hot", True),  # hot -> c3 -> c2
+        (("c3",), "hot", False),  # hot's only neighbour is c3, whose only neighbour is c2
+    ],
+)
+def test_quantifier_whose_guard_binds_some_variables(
+    painted: tuple[str, ...], target: str, allowed: bool
+) -> None:
+    """``exists d, e`` with guard ``adj(c, d)`` binds d first, then e under ``adj(d, e)``."""
+    task, program = setup(NESTED)
+    paint = op(task, f"(paint r1 {target})")
+    s = state(task, f"at(r1, {target})", *(f"painted({c})" for c in painted))
+    expected = None if allowed else "r"
+    assert program.step_violation(paint, s, s | paint.add) == expected
+
+
 @pytest.mark.parametrize(
     ("rules", "message"),
     [
@@ -173,13 +206,19 @@ def test_control_error_position() -> None:
     assert str(err.value).startswith("c.tal:3:7:")
 
 
-def test_incremental_constraints_agree_with_full_evaluation() -> None:
+@pytest.mark.parametrize(
+    ("domain", "control", "problem"),
+    [
+        (LOGISTICS_DOMAIN, LOGISTICS_CONTROL, logistics_problem(LogisticsSize(4, 2, 1), seed=5)),
+        (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(1, 2, 2, 4, 3, 6), seed=3)),
+    ],
+)
+def test_incremental_constraints_agree_with_full_evaluation(
+    domain: Path, control: Path, problem: str
+) -> None:
     """Triggered (incremental) checks equal the whole rule evaluated on each transition."""
     tp = TaskPlanner()
-    problem = logistics_problem(LogisticsSize(4, 2, 1), seed=5)
-    d, p, spec = tp.read(
-        PlanRequest(LOGISTICS_DOMAIN.read_text(), problem, LOGISTICS_CONTROL.read_text())
-    )
+    d, p, spec = tp.read(PlanRequest(domain.read_text(), problem, control.read_text()))
     task = tp.ground(d, p)
     program = ControlCompiler(task, spec).compile()
     assert all(rule.trigger is not None for rule in program.rules)

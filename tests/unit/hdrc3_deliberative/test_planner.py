@@ -6,6 +6,8 @@ import pytest
 
 from hdrc3_deliberative.generators import (
     BLOCKS_CONTROL,
+    DEPOTS_CONTROL,
+    DEPOTS_DOMAIN,
     BLOCKS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
@@ -17,7 +19,9 @@ from hdrc3_deliberative.generators import (
     LogisticsSize,
     UavSize,
     ZenoSize,
+    DepotsSize,
     blocks_problem,
+    depots_problem,
     logistics_problem,
     uav_problem,
     zenotravel_problem,
@@ -186,6 +190,8 @@ def test_domain_problem_mismatch_is_named(planner: TaskPlanner) -> None:
         (BLOCKS_DOMAIN, BLOCKS_CONTROL, blocks_problem(10, 2), 40),
         (ZENOTRAVEL_DOMAIN, ZENOTRAVEL_CONTROL, zenotravel_problem(ZenoSize(5, 2, 5), 1), 40),
         (ZENOTRAVEL_DOMAIN, ZENOTRAVEL_CONTROL, zenotravel_problem(ZenoSize(6, 2, 6), 2), 40),
+        (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(1, 2, 2, 3, 3, 6), 1), 40),
+        (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(2, 2, 3, 5, 5, 10), 2), 60),
     ],
 )
 def test_shipped_domains_solve_with_their_control_rules(
