@@ -423,9 +423,7 @@ class Grounder:
         """Conditions with an atom getter for literals (cached per condition tuple)."""
         found = self._compiled_conds.get(id(conds))
         if found is None:
-            found = [
-                (c, _atom_getter(c.atom) if isinstance(c, Literal) else None) for c in conds
-            ]
+            found = [(c, _atom_getter(c.atom) if isinstance(c, Literal) else None) for c in conds]
             self._compiled_conds[id(conds)] = found
         return found
 

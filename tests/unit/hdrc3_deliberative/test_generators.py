@@ -3,9 +3,9 @@ from __future__ import annotations
 import pytest
 
 from hdrc3_deliberative.generators import (
+    DepotsSize,
     LogisticsSize,
     UavSize,
-    DepotsSize,
     ZenoSize,
     blocks_problem,
     depots_problem,

@@ -6,9 +6,9 @@ import pytest
 
 from hdrc3_deliberative.generators import (
     BLOCKS_CONTROL,
+    BLOCKS_DOMAIN,
     DEPOTS_CONTROL,
     DEPOTS_DOMAIN,
-    BLOCKS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
     UAV_CONTROL,
@@ -16,10 +16,10 @@ from hdrc3_deliberative.generators import (
     UAV_SCENARIO,
     ZENOTRAVEL_CONTROL,
     ZENOTRAVEL_DOMAIN,
+    DepotsSize,
     LogisticsSize,
     UavSize,
     ZenoSize,
-    DepotsSize,
     blocks_problem,
     depots_problem,
     logistics_problem,
