@@ -31,18 +31,26 @@ from pathlib import Path
 from hdrc3_deliberative.generators import (
     BLOCKS_CONTROL,
     BLOCKS_DOMAIN,
+    DEPOTS_CONTROL,
+    DEPOTS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
+    SATELLITE_CONTROL,
+    SATELLITE_DOMAIN,
     UAV_CONTROL,
     UAV_DOMAIN,
     UAV_SCENARIO,
     ZENOTRAVEL_CONTROL,
     ZENOTRAVEL_DOMAIN,
+    DepotsSize,
     LogisticsSize,
+    SatelliteSize,
     UavSize,
     ZenoSize,
     blocks_problem,
+    depots_problem,
     logistics_problem,
+    satellite_problem,
     uav_problem,
     zenotravel_problem,
 )
@@ -159,7 +167,7 @@ class DomainRun:
     instances: list[tuple[str, str]]
 
 
-def domain_runs(quick: bool, seeds: int) -> list[DomainRun]:
+def domain_runs(quick: bool, seeds: int, only: list[str] | None = None) -> list[DomainRun]:
     """Instances of growing size per domain; the last size is the largest we run."""
     seed_list = range(1, (1 if quick else seeds) + 1)
     blocks = [10, 20] if quick else [10, 20, 30, 50]
@@ -167,7 +175,39 @@ def domain_runs(quick: bool, seeds: int) -> list[DomainRun]:
     if not quick:
         zeno += [ZenoSize(20, 5, 25), ZenoSize(30, 8, 40)]
     logistics = SIZES[:3] if quick else SIZES[:6]
-    return [
+    depots = [DepotsSize(1, 2, 2, 3, 3, 6), DepotsSize(3, 3, 4, 8, 8, 15)]
+    if not quick:
+        depots += [DepotsSize(5, 5, 5, 15, 15, 30), DepotsSize(10, 10, 5, 30, 20, 60)]
+    satellite = [SatelliteSize(1, 1, 3, 3, 3), SatelliteSize(3, 2, 3, 10, 10)]
+    if not quick:
+        satellite += [SatelliteSize(5, 3, 5, 20, 30), SatelliteSize(10, 3, 5, 50, 100)]
+    runs = [
+        DomainRun(
+            "depots",
+            DEPOTS_DOMAIN,
+            DEPOTS_CONTROL,
+            [
+                (
+                    f"{d.depots}/{d.distributors}/{d.trucks}/{d.pallets}/{d.hoists}/{d.crates}",
+                    depots_problem(d, s),
+                )
+                for d in depots
+                for s in seed_list
+            ],
+        ),
+        DomainRun(
+            "satellite",
+            SATELLITE_DOMAIN,
+            SATELLITE_CONTROL,
+            [
+                (
+                    f"{z.satellites}/{z.instruments}/{z.modes}/{z.targets}/{z.observations}",
+                    satellite_problem(z, s),
+                )
+                for z in satellite
+                for s in seed_list
+            ],
+        ),
         DomainRun(
             "blocks",
             BLOCKS_DOMAIN,
@@ -195,13 +235,14 @@ def domain_runs(quick: bool, seeds: int) -> list[DomainRun]:
             ],
         ),
     ]
+    return [r for r in runs if only is None or r.name in only]
 
 
 def domains_section(planner: TaskPlanner, runs: list[DomainRun], fd_limit: float) -> bool:
     """Per-domain table: TALplanner with control rules beside Fast Downward lama-first."""
     print("\nPer-domain: TALplanner + control rules (validated by unified-planning) vs lama-first")
     header = (
-        f"{'domain':>10} {'instance':>14} | {'status':>7} {'wall':>6} {'cpu':>5} {'len':>4} "
+        f"{'domain':>10} {'instance':>18} | {'status':>7} {'wall':>6} {'cpu':>5} {'len':>4} "
         f"{'valid':>5} | {'FD t':>7} {'FD len':>6}"
     )
     print(header)
@@ -233,7 +274,7 @@ def domains_section(planner: TaskPlanner, runs: list[DomainRun], fd_limit: float
                 fd_lengths.append(fd["length"])
                 fd_text, fd_len = f"{fd['seconds']:.2f}", f"{fd['length']:.0f}"
             print(
-                f"{run.name:>10} {label:>14} | {result.status.value[:7]:>7} {wall:>6.2f} "
+                f"{run.name:>10} {label:>18} | {result.status.value[:7]:>7} {wall:>6.2f} "
                 f"{result.stats.cpu_seconds:>5.2f} {len(result.plan):>4} {valid!s:>5} | "
                 f"{fd_text:>7} {fd_len:>6}",
                 flush=True,
@@ -277,6 +318,7 @@ def main() -> int:
     parser.add_argument("--domains-only", action="store_true", help="only the per-domain table")
     parser.add_argument("--no-domains", action="store_true", help="skip the per-domain table")
     parser.add_argument("--fd-limit", type=float, default=60.0, help="Fast Downward limit (s)")
+    parser.add_argument("--only", nargs="*", default=None, help="per-domain table: these domains")
     parser.add_argument("--worker", nargs=3, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
@@ -285,7 +327,11 @@ def main() -> int:
     planner = TaskPlanner()
     if args.domains_only:
         return (
-            0 if domains_section(planner, domain_runs(args.quick, args.seeds), args.fd_limit) else 1
+            0
+            if domains_section(
+                planner, domain_runs(args.quick, args.seeds, args.only), args.fd_limit
+            )
+            else 1
         )
     sizes = SIZES[:4] if args.quick else SIZES
     domain = LOGISTICS_DOMAIN.read_text()

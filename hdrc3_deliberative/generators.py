@@ -20,6 +20,9 @@ BLOCKS_DOMAIN = DOMAINS_DIR / "blocks" / "domain.pddl"
 BLOCKS_CONTROL = DOMAINS_DIR / "blocks" / "control.tal"
 DEPOTS_DOMAIN = DOMAINS_DIR / "depots" / "domain.pddl"
 DEPOTS_CONTROL = DOMAINS_DIR / "depots" / "control.tal"
+SATELLITE_DOMAIN = DOMAINS_DIR / "satellite" / "domain.pddl"
+SATELLITE_CONTROL = DOMAINS_DIR / "satellite" / "control.tal"
+SATELLITE_MODES = ("image", "spectrograph", "thermograph", "infrared")
 ZENO_FUEL_LEVELS = 7  # f0 .. f6 as in the IPC-2002 STRIPS problems
 
 
@@ -294,6 +297,69 @@ def depots_problem(size: DepotsSize, seed: int, name: str = "") -> str:
         f"{size.hoists}-{size.crates}-{seed}"
     )
     return _pddl_problem(pname, "depots", objects, init, goals)
+
+
+@dataclass(frozen=True)
+class SatelliteSize:
+    """Parameters of the IPC-2002 Satellite generator.
+
+    Satellites, maximum instruments per satellite, modes, targets and observations.
+    """
+
+    satellites: int
+    instruments: int
+    modes: int
+    targets: int
+    observations: int
+
+
+def satellite_problem(size: SatelliteSize, seed: int, name: str = "") -> str:
+    """A STRIPS Satellite problem as the IPC-2002 generator lays it out.
+
+    Calibration directions (``Star0``, ``GroundStation1``, ...) come first, then the targets
+    (``Planet``/``Phenomenon``/``Star``); each satellite carries 1..``instruments``
+    instruments, each supporting 1-3 modes and calibrated on a random calibration
+    direction; satellites point at random directions with power available. Goals: distinct
+    (target, mode) images of modes some instrument supports, and a final pointing direction
+    for every second satellite.
+    """
+    if min(size.satellites, size.instruments, size.modes, size.targets) < 1:
+        raise ValueError("need at least one satellite, instrument, mode and target")
+    rng = random.Random(seed)
+    n_calib = max(2, size.satellites)
+    calib = [f"{('Star', 'GroundStation')[i % 2]}{i}" for i in range(n_calib)]
+    kinds = ("Planet", "Phenomenon", "Star")
+    targets = [f"{kinds[i % 3]}{n_calib + i}" for i in range(size.targets)]
+    modes = [f"{SATELLITE_MODES[i % 4]}{i}" for i in range(size.modes)]
+    satellites = [f"satellite{i}" for i in range(size.satellites)]
+    init: list[str] = []
+    instruments: list[str] = []
+    supported: set[str] = set()
+    for sat in satellites:
+        for _ in range(rng.randint(1, size.instruments)):
+            inst = f"instrument{len(instruments)}"
+            instruments.append(inst)
+            for mode in rng.sample(modes, rng.randint(1, min(3, len(modes)))):
+                init.append(f"(supports {inst} {mode})")
+                supported.add(mode)
+            init.append(f"(calibration_target {inst} {rng.choice(calib)})")
+            init.append(f"(on_board {inst} {sat})")
+        init += [f"(power_avail {sat})", f"(pointing {sat} {rng.choice(calib + targets)})"]
+    pairs = [(t, m) for t in targets for m in sorted(supported)]
+    chosen = rng.sample(pairs, min(size.observations, len(pairs)))
+    goals = [f"(have_image {t} {m})" for t, m in chosen]
+    goals = [f"(pointing {sat} {rng.choice(targets)})" for sat in satellites[1::2]] + goals
+    objects = [
+        " ".join(satellites) + " - satellite",
+        " ".join(instruments) + " - instrument",
+        " ".join(modes) + " - mode",
+        " ".join(calib + targets) + " - direction",
+    ]
+    pname = name or (
+        f"satellite-{size.satellites}-{size.instruments}-{size.modes}-{size.targets}-"
+        f"{size.observations}-{seed}"
+    )
+    return _pddl_problem(pname, "satellite", objects, init, goals)
 
 
 def distance(a: tuple[float, float, float], b: tuple[float, float, float]) -> float:

@@ -18,13 +18,21 @@ from hdrc3_deliberative.generators import (
     ZENOTRAVEL_DOMAIN,
     DepotsSize,
     LogisticsSize,
+    SatelliteSize,
     UavSize,
     ZenoSize,
     blocks_problem,
     depots_problem,
     logistics_problem,
+    satellite_problem,
     uav_problem,
     zenotravel_problem,
+)
+from hdrc3_deliberative.generators import (
+    SATELLITE_CONTROL as SAT_CONTROL,
+)
+from hdrc3_deliberative.generators import (
+    SATELLITE_DOMAIN as SAT_DOMAIN,
 )
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner, is_pddl
 from hdrc3_deliberative.result import PlanStatus
@@ -192,6 +200,8 @@ def test_domain_problem_mismatch_is_named(planner: TaskPlanner) -> None:
         (ZENOTRAVEL_DOMAIN, ZENOTRAVEL_CONTROL, zenotravel_problem(ZenoSize(6, 2, 6), 2), 40),
         (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(1, 2, 2, 3, 3, 6), 1), 40),
         (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(2, 2, 3, 5, 5, 10), 2), 60),
+        (SAT_DOMAIN, SAT_CONTROL, satellite_problem(SatelliteSize(1, 1, 3, 3, 3), 1), 20),
+        (SAT_DOMAIN, SAT_CONTROL, satellite_problem(SatelliteSize(3, 2, 3, 8, 8), 2), 40),
     ],
 )
 def test_shipped_domains_solve_with_their_control_rules(
