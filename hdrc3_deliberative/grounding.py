@@ -40,6 +40,8 @@ from hdrc3_deliberative.motion_plan_info import MotionPlanInfo, StraightLineMoti
 from hdrc3_deliberative.names import FLIGHT_FUNCTIONS, NameChecker, TypeTable
 from hdrc3_deliberative.task import GroundAtom, GroundOp, NumericEffect, NumFn, NumTest, Task
 
+Getter = Callable[[dict[str, str]], GroundAtom]
+_NONE: tuple[int, int, list[NumTest], int] = (0, 0, [], 0)  # no conditions
 _COMPARE: dict[str, Callable[[float, float], bool]] = {
     "<": lambda a, b: a < b,
     "<=": lambda a, b: a <= b + 1e-9,
@@ -97,8 +99,10 @@ class Grounder:
         self._n_atoms = 0
         self._getters: dict[int, Callable[[dict[str, str]], GroundAtom]] = {}
         self._compiled_effs: dict[
-            int, list[tuple[AtomEffect | NumEffect, Callable[[dict[str, str]], GroundAtom] | None]]
+            int,
+            tuple[list[tuple[Callable[[dict[str, str]], GroundAtom], bool, bool]], list[NumEffect]],
         ] = {}
+        self._pre_plans: dict[int, tuple[list[tuple[Getter, bool]], tuple[Comparison, ...]]] = {}
         self._compiled_conds: dict[
             int, list[tuple[Condition, Callable[[dict[str, str]], GroundAtom] | None]]
         ] = {}
@@ -417,6 +421,45 @@ class Grounder:
                 reads |= self._num_reads(cond.right, env, num_index)
         return pos, neg, tests, reads | pos | neg
 
+    def _pre_masks(
+        self,
+        op: Operator,
+        env: dict[str, str],
+        atom_bit: dict[GroundAtom, int],
+        num_index: dict[GroundAtom, int],
+    ) -> tuple[int, int, list[NumTest], int] | None:
+        """``_conds`` of the precondition of an instance that reachability produced.
+
+        Static literals and object (in)equalities were checked when the instance was found
+        (``match`` and ``_static_ok``), so only fluent literals and comparisons remain.
+        """
+        plan = self._pre_plans.get(id(op))
+        if plan is None:
+            lits = [
+                (_atom_getter(c.atom), c.positive)
+                for c in op.pre
+                if isinstance(c, Literal) and c.atom.pred not in self.static_preds
+            ]
+            comparisons = tuple(c for c in op.pre if isinstance(c, Comparison))
+            plan = (lits, comparisons)
+            self._pre_plans[id(op)] = plan
+        pos = neg = 0
+        for getter, positive in plan[0]:
+            bit = atom_bit.get(getter(env))
+            if bit is None:
+                if positive:
+                    return None
+            elif positive:
+                pos |= 1 << bit
+            else:
+                neg |= 1 << bit
+        if not plan[1]:
+            return pos, neg, [], pos | neg
+        rest = self._conds(plan[1], env, atom_bit, num_index)
+        if rest is None:
+            return None
+        return pos, neg, rest[2], rest[3] | pos | neg
+
     def _compiled(
         self, conds: tuple[Condition, ...]
     ) -> list[tuple[Condition, Callable[[dict[str, str]], GroundAtom] | None]]:
@@ -429,14 +472,22 @@ class Grounder:
 
     def _compiled_effects(
         self, op: Operator
-    ) -> list[tuple[AtomEffect | NumEffect, Callable[[dict[str, str]], GroundAtom] | None]]:
-        """An operator's effects with an atom getter for literal effects (cached)."""
+    ) -> tuple[list[tuple[Callable[[dict[str, str]], GroundAtom], bool, bool]], list[NumEffect]]:
+        """(atom getter, positive, at start) per literal effect, and the numeric effects."""
         found = self._compiled_effs.get(id(op))
         if found is None:
-            found = [
-                (e, _atom_getter(e.literal.atom) if isinstance(e, AtomEffect) else None)
-                for e in op.effects
-            ]
+            found = (
+                [
+                    (
+                        _atom_getter(e.literal.atom),
+                        e.literal.positive,
+                        e.time is EffectTime.START,
+                    )
+                    for e in op.effects
+                    if isinstance(e, AtomEffect)
+                ],
+                [e for e in op.effects if isinstance(e, NumEffect)],
+            )
             self._compiled_effs[id(op)] = found
         return found
 
@@ -448,8 +499,8 @@ class Grounder:
         atom_bit: dict[GroundAtom, int],
         num_index: dict[GroundAtom, int],
     ) -> GroundOp | None:
-        pre = self._conds(op.pre, env, atom_bit, num_index)
-        prevail = self._conds(op.prevail, env, atom_bit, num_index)
+        pre = self._pre_masks(op, env, atom_bit, num_index)
+        prevail = self._conds(op.prevail, env, atom_bit, num_index) if op.prevail else _NONE
         duration = self._num(op.duration, env, num_index)
         if pre is None or prevail is None or duration is None or callable(duration):
             return None
@@ -462,37 +513,32 @@ class Grounder:
         del_atoms: list[GroundAtom] = []
         num_effects: list[NumericEffect] = []
         reads = pre[3]
-        for eff, getter in self._compiled_effects(op):
-            if getter is not None:
-                assert isinstance(eff, AtomEffect)
-                atom = getter(env)
-                bit = atom_bit.get(atom)
-                if bit is None:
-                    continue  # deleting an atom that can never be true
-                at_start = eff.time is EffectTime.START
-                if eff.literal.positive:
-                    add_bits[bit] = at_start
-                    del_bits.pop(bit, None)
-                    add_atoms.append(atom)
-                else:
-                    del_bits[bit] = at_start
-                    del_atoms.append(atom)
+        atom_effects, numeric = self._compiled_effects(op)
+        for getter, positive, at_start in atom_effects:
+            atom = getter(env)
+            bit = atom_bit.get(atom)
+            if bit is None:
+                continue  # deleting an atom that can never be true
+            if positive:
+                add_bits[bit] = at_start
+                del_bits.pop(bit, None)
+                add_atoms.append(atom)
             else:
-                assert isinstance(eff, NumEffect)
-                target = self._ga(eff.target, env)
-                if target not in num_index:
-                    raise _fail(
-                        f"no initial value for numeric feature {target[0]}({', '.join(target[1])})",
-                        eff.target.pos,
-                    )
-                value = self._num(eff.value, env, num_index)
-                if value is None:
-                    return None
-                reads |= self._num_reads(eff.value, env, num_index)
-                num_effects.append(
-                    NumericEffect(num_index[target], eff.op, _as_fn(value), eff.time)
+                del_bits[bit] = at_start
+                del_atoms.append(atom)
+        for eff in numeric:
+            target = self._ga(eff.target, env)
+            if target not in num_index:
+                raise _fail(
+                    f"no initial value for numeric feature {target[0]}({', '.join(target[1])})",
+                    eff.target.pos,
                 )
-                writes |= 1 << (self._n_atoms + num_index[target])
+            value = self._num(eff.value, env, num_index)
+            if value is None:
+                return None
+            reads |= self._num_reads(eff.value, env, num_index)
+            num_effects.append(NumericEffect(num_index[target], eff.op, _as_fn(value), eff.time))
+            writes |= 1 << (self._n_atoms + num_index[target])
         for bit in add_bits:
             del_bits.pop(bit, None)  # an atom both added and deleted ends up true
         add = _mask(add_bits)

@@ -149,11 +149,11 @@ class TalPlanner:
         self._index: dict[int, list[GroundOp]] = {}
         self._unindexed: list[GroundOp] = []
         counts: dict[int, int] = {}
-        for op in task.ops:
-            for bit in _bits(op.pre_pos):
+        pre_bits = [_bits(op.pre_pos) for op in task.ops]
+        for bits in pre_bits:
+            for bit in bits:
                 counts[bit] = counts.get(bit, 0) + 1
-        for op in task.ops:
-            bits = _bits(op.pre_pos)
+        for op, bits in zip(task.ops, pre_bits, strict=True):
             if not bits:
                 self._unindexed.append(op)
                 continue
