@@ -340,6 +340,7 @@ class Grounder:
             resource_indices=resource_indices,
             by_pred=by_pred,
             inert_nums=inert,
+            static_values=dict(self.static_values),
         )
 
     def _read_functions(self) -> frozenset[str]:

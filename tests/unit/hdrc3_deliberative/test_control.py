@@ -236,3 +236,98 @@ def test_incremental_constraints_agree_with_full_evaluation(
         chosen = rng.choice(applicable)
         bits = (bits & ~chosen.delete) | chosen.add
     assert checked > 500
+
+
+NUMERIC_DOMAIN = """domain bots
+type cell
+type robot
+predicate at(r: robot, c: cell)
+predicate adj(a: cell, b: cell)
+function battery(r: robot)
+function cost(c: cell)
+operator move(r: robot, a: cell, b: cell)
+  agent r
+  pre at(r, a) and adj(a, b)
+  effect [t'] not at(r, a), at(r, b), battery(r) -= cost(b)
+end
+"""
+NUMERIC_PROBLEM = """problem p for bots
+object c1, c2, c3: cell
+object r1: robot
+init at(r1, c1), adj(c1, c2), adj(c2, c3), adj(c2, c1), adj(c3, c2)
+init battery(r1) = 5, cost(c1) = 1, cost(c2) = 2, cost(c3) = 4
+goal at(r1, c3)
+"""
+ENTER = "rule r: forall r: robot, c: cell . [t] not at(r, c) and [t+1] at(r, c) -> "
+
+
+def numeric_setup(rules: str) -> tuple[Task, ControlProgram]:
+    tp = TaskPlanner()
+    request = PlanRequest(NUMERIC_DOMAIN, NUMERIC_PROBLEM, rules, control_source="c.tal")
+    d, p, spec = tp.read(request)
+    task = tp.ground(d, p)
+    return task, ControlCompiler(task, spec).compile()
+
+
+@pytest.mark.parametrize(
+    ("rules", "battery", "label", "violated", "violated_when_charged"),
+    [
+        # untriggered rule on a function: checked for operators that change it, at t and t+1
+        ("rule r: forall r: robot . battery(r) >= 1", 5.0, "(move r1 c1 c2)", False, False),
+        ("rule r: forall r: robot . battery(r) >= 1", 2.0, "(move r1 c1 c2)", True, False),
+        ("rule r: forall r: robot . [t+1] battery(r) > 3", 5.0, "(move r1 c1 c2)", True, False),
+        # triggered rule, static function and arithmetic in the consequent
+        (ENTER + "battery(r) >= cost(c) + 1", 3.0, "(move r1 c1 c2)", False, False),
+        (ENTER + "battery(r) >= cost(c) + 1", 2.0, "(move r1 c1 c2)", True, False),
+        (ENTER + "[t+1] battery(r) = 1", 3.0, "(move r1 c1 c2)", False, True),
+        (ENTER + "battery(r) * 2 < cost(c) / 0", 3.0, "(move r1 c1 c2)", False, False),  # x/0: inf
+    ],
+)
+def test_numeric_comparisons_in_rules(
+    rules: str, battery: float, label: str, violated: bool, violated_when_charged: bool
+) -> None:
+    """Verdicts at (battery, battery - 2), then at (100, 98) on the same boolean states."""
+    task, program = numeric_setup(rules)
+    move = op(task, label)
+    bits = state(task, "at(r1, c1)")
+    before = (battery,)
+    after = tuple(before[0] - 2.0 for _ in before)  # cost(c2) = 2
+    verdict = program.step_violation(move, bits, (bits & ~move.delete) | move.add, before, after)
+    assert (verdict == "r") is violated
+    # the same boolean states with other numbers: numeric verdicts are not memoised
+    other = program.step_violation(move, bits, (bits & ~move.delete) | move.add, (100.0,), (98.0,))
+    assert (other == "r") is violated_when_charged
+
+
+@pytest.mark.parametrize(
+    ("rules", "status", "length"),
+    [
+        ("", PlanStatus.SOLVED, 2),
+        # c1 -> c2 -> c3 costs 2 + 4 = 6 > 5: the rule proves there is no plan
+        ("rule r: forall r: robot . battery(r) >= 0", PlanStatus.UNSOLVABLE_PROVEN, 0),
+        ("final f: forall r: robot . battery(r) + 2 > 0", PlanStatus.SOLVED, 2),  # ends at -1
+        (
+            "rule b: forall r: robot . battery(r) + 10 >= 0\n"
+            "final f: forall r: robot . battery(r) > 0",
+            PlanStatus.UNSOLVABLE_PROVEN,
+            0,
+        ),
+    ],
+)
+def test_numeric_rules_decide_planning(rules: str, status: PlanStatus, length: int) -> None:
+    result = TaskPlanner().plan(PlanRequest(NUMERIC_DOMAIN, NUMERIC_PROBLEM, rules), timeout=20)
+    assert result.status is status, result.reason
+    assert len(result.plan) == length
+
+
+@pytest.mark.parametrize(
+    ("rules", "message"),
+    [
+        ("rule r: forall r: robot . charge(r) > 1", "1:27: undefined function 'charge'"),
+        ("rule r: forall r: robot . battery(r, r) > 1", "takes 1 arguments, got 2"),
+        ("rule r: forall r: robot . battery(q) > 1", "undefined object or variable 'q'"),
+    ],
+)
+def test_numeric_comparison_errors(rules: str, message: str) -> None:
+    with pytest.raises(PlanningInputError, match=message):
+        numeric_setup(rules)
