@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
+import signal
 import statistics
 import subprocess
 import sys
@@ -107,20 +109,25 @@ def run_planner(
     with tempfile.NamedTemporaryFile("w", suffix=".pddl", delete=False) as f:
         f.write(problem_text)
         path = f.name
+    # own session: on timeout the whole group goes (the worker's planner binary included;
+    # killing only the worker left Fast Downward's search running as an orphan)
+    proc = subprocess.Popen(
+        [sys.executable, __file__, "--worker", planner_name, str(domain), path],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
     try:
-        proc = subprocess.run(
-            [sys.executable, __file__, "--worker", planner_name, str(domain), path],
-            capture_output=True,
-            text=True,
-            timeout=limit,
-            check=False,
-        )
+        stdout, _ = proc.communicate(timeout=limit)
     except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
         return f">{limit:.0f}s"
     finally:
         Path(path).unlink()
     try:
-        data: dict[str, float] = json.loads(proc.stdout.strip().splitlines()[-1])
+        data: dict[str, float] = json.loads(stdout.strip().splitlines()[-1])
     except (IndexError, json.JSONDecodeError):
         return "error"
     return data
@@ -238,7 +245,9 @@ def domain_runs(quick: bool, seeds: int, only: list[str] | None = None) -> list[
     return [r for r in runs if only is None or r.name in only]
 
 
-def domains_section(planner: TaskPlanner, runs: list[DomainRun], fd_limit: float) -> bool:
+def domains_section(
+    planner: TaskPlanner, runs: list[DomainRun], fd_limit: float, timeout: float = 60.0
+) -> bool:
     """Per-domain table: TALplanner with control rules beside Fast Downward lama-first."""
     print("\nPer-domain: TALplanner + control rules (validated by unified-planning) vs lama-first")
     header = (
@@ -255,7 +264,7 @@ def domains_section(planner: TaskPlanner, runs: list[DomainRun], fd_limit: float
         walls, cpus, lengths, fd_times, fd_lengths = [], [], [], [], []
         solved = fd_solved = 0
         for label, problem in run.instances:
-            result = planner.plan(PlanRequest(domain, problem, control), timeout=60.0)
+            result = planner.plan(PlanRequest(domain, problem, control), timeout=timeout)
             wall = result.stats.grounding_seconds + result.stats.search_seconds
             valid = False
             if result.solved:
@@ -318,6 +327,7 @@ def main() -> int:
     parser.add_argument("--domains-only", action="store_true", help="only the per-domain table")
     parser.add_argument("--no-domains", action="store_true", help="skip the per-domain table")
     parser.add_argument("--fd-limit", type=float, default=60.0, help="Fast Downward limit (s)")
+    parser.add_argument("--timeout", type=float, default=60.0, help="TALplanner limit (s)")
     parser.add_argument("--only", nargs="*", default=None, help="per-domain table: these domains")
     parser.add_argument("--worker", nargs=3, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -329,7 +339,10 @@ def main() -> int:
         return (
             0
             if domains_section(
-                planner, domain_runs(args.quick, args.seeds, args.only), args.fd_limit
+                planner,
+                domain_runs(args.quick, args.seeds, args.only),
+                args.fd_limit,
+                args.timeout,
             )
             else 1
         )
@@ -394,7 +407,9 @@ def main() -> int:
     )
     all_ok &= uav_section(planner)
     if not args.no_domains:
-        all_ok &= domains_section(planner, domain_runs(args.quick, args.seeds), args.fd_limit)
+        all_ok &= domains_section(
+            planner, domain_runs(args.quick, args.seeds, args.only), args.fd_limit, args.timeout
+        )
     if args.png is not None:
         import matplotlib
 
