@@ -296,7 +296,7 @@ def depots_problem(size: DepotsSize, seed: int, name: str = "") -> str:
         f"depots-{size.depots}-{size.distributors}-{size.trucks}-{size.pallets}-"
         f"{size.hoists}-{size.crates}-{seed}"
     )
-    return _pddl_problem(pname, "depots", objects, init, goals)
+    return _pddl_problem(pname, "depot", objects, init, goals)
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 ; Depots, STRIPS version (IPC-2002), written for hdrc3 from the competition's description:
 ; trucks carry crates between depots and distributors; hoists at each place lift crates off
 ; pallets or crates, drop them onto surfaces, and load/unload trucks (of unbounded capacity).
-(define (domain depots)
+(define (domain depot)
   (:requirements :typing)
   (:types place locatable - object
           depot distributor - place
