@@ -26,7 +26,6 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -71,6 +70,7 @@ SIZES = [
 ]
 NO_CONTROL_MAX_PACKAGES = 10
 PYPERPLAN_LIMIT_S = 20.0
+WALL_FACTOR = 15  # wall-clock guard on a child: this many times its CPU limit
 
 
 PLANNERS: dict[str, tuple[str, dict[str, str]]] = {
@@ -79,9 +79,17 @@ PLANNERS: dict[str, tuple[str, dict[str, str]]] = {
 }
 
 
-def planner_worker(planner_name: str, domain_path: str, problem_path: str) -> None:
-    """Child process: solve with a unified-planning engine, print JSON (time, plan length)."""
+def planner_worker(planner_name: str, domain_path: str, problem_path: str, cpu_limit: str) -> None:
+    """Child process: solve with a unified-planning engine, print JSON (time, plan length).
+
+    ``seconds`` is CPU time (this process and the planner processes it starts), each
+    process limited to ``cpu_limit`` CPU seconds: on a loaded machine wall time would
+    measure the load.
+    """
     import warnings
+
+    limit = int(float(cpu_limit))
+    resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
 
     from unified_planning.io import PDDLReader
     from unified_planning.shortcuts import OneshotPlanner, get_environment
@@ -94,12 +102,19 @@ def planner_worker(planner_name: str, domain_path: str, problem_path: str) -> No
         widened.write_text(widen_either(text))
         problem = PDDLReader().parse_problem(str(widened), problem_path)
     engine, params = PLANNERS[planner_name]
-    start = time.perf_counter()
+    start = _cpu_seconds()
     with OneshotPlanner(name=engine, params=params) as planner:
         result = planner.solve(problem)
-    elapsed = time.perf_counter() - start
+    elapsed = _cpu_seconds() - start
     length = len(result.plan.actions) if result.plan is not None else -1
     print(json.dumps({"status": result.status.name, "seconds": elapsed, "length": length}))
+
+
+def _cpu_seconds() -> float:
+    """CPU seconds of this process and of its finished children."""
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
 def run_planner(
@@ -109,27 +124,29 @@ def run_planner(
     with tempfile.NamedTemporaryFile("w", suffix=".pddl", delete=False) as f:
         f.write(problem_text)
         path = f.name
-    # own session: on timeout the whole group goes (the worker's planner binary included;
-    # killing only the worker left Fast Downward's search running as an orphan)
+    # own session: on timeout the whole group goes. unified-planning starts Fast Downward in a
+    # session of its own, which the CPU limit the worker sets (inherited) bounds instead.
     proc = subprocess.Popen(
-        [sys.executable, __file__, "--worker", planner_name, str(domain), path],
+        [sys.executable, __file__, "--worker", planner_name, str(domain), path, str(limit)],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
     )
     try:
-        stdout, _ = proc.communicate(timeout=limit)
+        stdout, _ = proc.communicate(timeout=limit * WALL_FACTOR)
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.communicate()
-        return f">{limit:.0f}s"
+        return f">{limit * WALL_FACTOR:.0f}w"
     finally:
         Path(path).unlink()
     try:
         data: dict[str, float] = json.loads(stdout.strip().splitlines()[-1])
     except (IndexError, json.JSONDecodeError):
         return "error"
+    if data["length"] < 0 and data["seconds"] >= limit - 1:
+        return f">{limit:.0f}s"  # the CPU limit stopped the planner
     return data
 
 
@@ -306,7 +323,8 @@ def domains_section(
     print(
         f"columns: wall = parse+ground+search seconds, cpu = process CPU seconds of the "
         f"planning call; len = actions; FD = Fast Downward lama-first through unified-planning "
-        f"(child process, limit {fd_limit:.0f} s, seconds include its translator)."
+        f"(child process, CPU limit {fd_limit:.0f} s per process, CPU seconds including its "
+        f"translator; >Nw: stopped by the wall-clock guard)."
     )
     return all_ok
 
@@ -326,10 +344,10 @@ def main() -> int:
     parser.add_argument("--png", type=Path, default=None, help="write nodes-vs-length plot here")
     parser.add_argument("--domains-only", action="store_true", help="only the per-domain table")
     parser.add_argument("--no-domains", action="store_true", help="skip the per-domain table")
-    parser.add_argument("--fd-limit", type=float, default=60.0, help="Fast Downward limit (s)")
+    parser.add_argument("--fd-limit", type=float, default=60.0, help="Fast Downward CPU limit (s)")
     parser.add_argument("--timeout", type=float, default=60.0, help="TALplanner limit (s)")
     parser.add_argument("--only", nargs="*", default=None, help="per-domain table: these domains")
-    parser.add_argument("--worker", nargs=3, default=None, help=argparse.SUPPRESS)
+    parser.add_argument("--worker", nargs=4, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
         planner_worker(*args.worker)
