@@ -19,30 +19,39 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
+import signal
 import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from hdrc3_deliberative.generators import (
     BLOCKS_CONTROL,
     BLOCKS_DOMAIN,
+    DEPOTS_CONTROL,
+    DEPOTS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
+    SATELLITE_CONTROL,
+    SATELLITE_DOMAIN,
     UAV_CONTROL,
     UAV_DOMAIN,
     UAV_SCENARIO,
     ZENOTRAVEL_CONTROL,
     ZENOTRAVEL_DOMAIN,
+    DepotsSize,
     LogisticsSize,
+    SatelliteSize,
     UavSize,
     ZenoSize,
     blocks_problem,
+    depots_problem,
     logistics_problem,
+    satellite_problem,
     uav_problem,
     zenotravel_problem,
 )
@@ -61,6 +70,7 @@ SIZES = [
 ]
 NO_CONTROL_MAX_PACKAGES = 10
 PYPERPLAN_LIMIT_S = 20.0
+WALL_FACTOR = 15  # wall-clock guard on a child: this many times its CPU limit
 
 
 PLANNERS: dict[str, tuple[str, dict[str, str]]] = {
@@ -69,9 +79,17 @@ PLANNERS: dict[str, tuple[str, dict[str, str]]] = {
 }
 
 
-def planner_worker(planner_name: str, domain_path: str, problem_path: str) -> None:
-    """Child process: solve with a unified-planning engine, print JSON (time, plan length)."""
+def planner_worker(planner_name: str, domain_path: str, problem_path: str, cpu_limit: str) -> None:
+    """Child process: solve with a unified-planning engine, print JSON (time, plan length).
+
+    ``seconds`` is CPU time (this process and the planner processes it starts), each
+    process limited to ``cpu_limit`` CPU seconds: on a loaded machine wall time would
+    measure the load.
+    """
     import warnings
+
+    limit = int(float(cpu_limit))
+    resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
 
     from unified_planning.io import PDDLReader
     from unified_planning.shortcuts import OneshotPlanner, get_environment
@@ -84,12 +102,19 @@ def planner_worker(planner_name: str, domain_path: str, problem_path: str) -> No
         widened.write_text(widen_either(text))
         problem = PDDLReader().parse_problem(str(widened), problem_path)
     engine, params = PLANNERS[planner_name]
-    start = time.perf_counter()
+    start = _cpu_seconds()
     with OneshotPlanner(name=engine, params=params) as planner:
         result = planner.solve(problem)
-    elapsed = time.perf_counter() - start
+    elapsed = _cpu_seconds() - start
     length = len(result.plan.actions) if result.plan is not None else -1
     print(json.dumps({"status": result.status.name, "seconds": elapsed, "length": length}))
+
+
+def _cpu_seconds() -> float:
+    """CPU seconds of this process and of its finished children."""
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
 def run_planner(
@@ -99,22 +124,29 @@ def run_planner(
     with tempfile.NamedTemporaryFile("w", suffix=".pddl", delete=False) as f:
         f.write(problem_text)
         path = f.name
+    # own session: on timeout the whole group goes. unified-planning starts Fast Downward in a
+    # session of its own, which the CPU limit the worker sets (inherited) bounds instead.
+    proc = subprocess.Popen(
+        [sys.executable, __file__, "--worker", planner_name, str(domain), path, str(limit)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
     try:
-        proc = subprocess.run(
-            [sys.executable, __file__, "--worker", planner_name, str(domain), path],
-            capture_output=True,
-            text=True,
-            timeout=limit,
-            check=False,
-        )
+        stdout, _ = proc.communicate(timeout=limit * WALL_FACTOR)
     except subprocess.TimeoutExpired:
-        return f">{limit:.0f}s"
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        return f">{limit * WALL_FACTOR:.0f}w"
     finally:
         Path(path).unlink()
     try:
-        data: dict[str, float] = json.loads(proc.stdout.strip().splitlines()[-1])
+        data: dict[str, float] = json.loads(stdout.strip().splitlines()[-1])
     except (IndexError, json.JSONDecodeError):
         return "error"
+    if data["length"] < 0 and data["seconds"] >= limit - 1:
+        return f">{limit:.0f}s"  # the CPU limit stopped the planner
     return data
 
 
@@ -159,7 +191,7 @@ class DomainRun:
     instances: list[tuple[str, str]]
 
 
-def domain_runs(quick: bool, seeds: int) -> list[DomainRun]:
+def domain_runs(quick: bool, seeds: int, only: list[str] | None = None) -> list[DomainRun]:
     """Instances of growing size per domain; the last size is the largest we run."""
     seed_list = range(1, (1 if quick else seeds) + 1)
     blocks = [10, 20] if quick else [10, 20, 30, 50]
@@ -167,7 +199,39 @@ def domain_runs(quick: bool, seeds: int) -> list[DomainRun]:
     if not quick:
         zeno += [ZenoSize(20, 5, 25), ZenoSize(30, 8, 40)]
     logistics = SIZES[:3] if quick else SIZES[:6]
-    return [
+    depots = [DepotsSize(1, 2, 2, 3, 3, 6), DepotsSize(3, 3, 4, 8, 8, 15)]
+    if not quick:
+        depots += [DepotsSize(5, 5, 5, 15, 15, 30), DepotsSize(10, 10, 5, 30, 20, 60)]
+    satellite = [SatelliteSize(1, 1, 3, 3, 3), SatelliteSize(3, 2, 3, 10, 10)]
+    if not quick:
+        satellite += [SatelliteSize(5, 3, 5, 20, 30), SatelliteSize(10, 3, 5, 50, 100)]
+    runs = [
+        DomainRun(
+            "depots",
+            DEPOTS_DOMAIN,
+            DEPOTS_CONTROL,
+            [
+                (
+                    f"{d.depots}/{d.distributors}/{d.trucks}/{d.pallets}/{d.hoists}/{d.crates}",
+                    depots_problem(d, s),
+                )
+                for d in depots
+                for s in seed_list
+            ],
+        ),
+        DomainRun(
+            "satellite",
+            SATELLITE_DOMAIN,
+            SATELLITE_CONTROL,
+            [
+                (
+                    f"{z.satellites}/{z.instruments}/{z.modes}/{z.targets}/{z.observations}",
+                    satellite_problem(z, s),
+                )
+                for z in satellite
+                for s in seed_list
+            ],
+        ),
         DomainRun(
             "blocks",
             BLOCKS_DOMAIN,
@@ -195,13 +259,16 @@ def domain_runs(quick: bool, seeds: int) -> list[DomainRun]:
             ],
         ),
     ]
+    return [r for r in runs if only is None or r.name in only]
 
 
-def domains_section(planner: TaskPlanner, runs: list[DomainRun], fd_limit: float) -> bool:
+def domains_section(
+    planner: TaskPlanner, runs: list[DomainRun], fd_limit: float, timeout: float = 60.0
+) -> bool:
     """Per-domain table: TALplanner with control rules beside Fast Downward lama-first."""
     print("\nPer-domain: TALplanner + control rules (validated by unified-planning) vs lama-first")
     header = (
-        f"{'domain':>10} {'instance':>14} | {'status':>7} {'wall':>6} {'cpu':>5} {'len':>4} "
+        f"{'domain':>10} {'instance':>18} | {'status':>7} {'wall':>6} {'cpu':>5} {'len':>4} "
         f"{'valid':>5} | {'FD t':>7} {'FD len':>6}"
     )
     print(header)
@@ -214,7 +281,7 @@ def domains_section(planner: TaskPlanner, runs: list[DomainRun], fd_limit: float
         walls, cpus, lengths, fd_times, fd_lengths = [], [], [], [], []
         solved = fd_solved = 0
         for label, problem in run.instances:
-            result = planner.plan(PlanRequest(domain, problem, control), timeout=60.0)
+            result = planner.plan(PlanRequest(domain, problem, control), timeout=timeout)
             wall = result.stats.grounding_seconds + result.stats.search_seconds
             valid = False
             if result.solved:
@@ -233,7 +300,7 @@ def domains_section(planner: TaskPlanner, runs: list[DomainRun], fd_limit: float
                 fd_lengths.append(fd["length"])
                 fd_text, fd_len = f"{fd['seconds']:.2f}", f"{fd['length']:.0f}"
             print(
-                f"{run.name:>10} {label:>14} | {result.status.value[:7]:>7} {wall:>6.2f} "
+                f"{run.name:>10} {label:>18} | {result.status.value[:7]:>7} {wall:>6.2f} "
                 f"{result.stats.cpu_seconds:>5.2f} {len(result.plan):>4} {valid!s:>5} | "
                 f"{fd_text:>7} {fd_len:>6}",
                 flush=True,
@@ -256,7 +323,8 @@ def domains_section(planner: TaskPlanner, runs: list[DomainRun], fd_limit: float
     print(
         f"columns: wall = parse+ground+search seconds, cpu = process CPU seconds of the "
         f"planning call; len = actions; FD = Fast Downward lama-first through unified-planning "
-        f"(child process, limit {fd_limit:.0f} s, seconds include its translator)."
+        f"(child process, CPU limit {fd_limit:.0f} s per process, CPU seconds including its "
+        f"translator; >Nw: stopped by the wall-clock guard)."
     )
     return all_ok
 
@@ -276,8 +344,10 @@ def main() -> int:
     parser.add_argument("--png", type=Path, default=None, help="write nodes-vs-length plot here")
     parser.add_argument("--domains-only", action="store_true", help="only the per-domain table")
     parser.add_argument("--no-domains", action="store_true", help="skip the per-domain table")
-    parser.add_argument("--fd-limit", type=float, default=60.0, help="Fast Downward limit (s)")
-    parser.add_argument("--worker", nargs=3, default=None, help=argparse.SUPPRESS)
+    parser.add_argument("--fd-limit", type=float, default=60.0, help="Fast Downward CPU limit (s)")
+    parser.add_argument("--timeout", type=float, default=60.0, help="TALplanner limit (s)")
+    parser.add_argument("--only", nargs="*", default=None, help="per-domain table: these domains")
+    parser.add_argument("--worker", nargs=4, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
         planner_worker(*args.worker)
@@ -285,7 +355,14 @@ def main() -> int:
     planner = TaskPlanner()
     if args.domains_only:
         return (
-            0 if domains_section(planner, domain_runs(args.quick, args.seeds), args.fd_limit) else 1
+            0
+            if domains_section(
+                planner,
+                domain_runs(args.quick, args.seeds, args.only),
+                args.fd_limit,
+                args.timeout,
+            )
+            else 1
         )
     sizes = SIZES[:4] if args.quick else SIZES
     domain = LOGISTICS_DOMAIN.read_text()
@@ -348,7 +425,9 @@ def main() -> int:
     )
     all_ok &= uav_section(planner)
     if not args.no_domains:
-        all_ok &= domains_section(planner, domain_runs(args.quick, args.seeds), args.fd_limit)
+        all_ok &= domains_section(
+            planner, domain_runs(args.quick, args.seeds, args.only), args.fd_limit, args.timeout
+        )
     if args.png is not None:
         import matplotlib
 

@@ -22,10 +22,12 @@ from hdrc3_deliberative.errors import PlanningInputError
 from hdrc3_deliberative.model import (
     ROOT_TYPE,
     Atom,
+    BinOp,
     ControlRule,
     ControlSpec,
     FAnd,
     FAtom,
+    FCompare,
     FConst,
     FEq,
     FGoal,
@@ -34,21 +36,54 @@ from hdrc3_deliberative.model import (
     FOr,
     Formula,
     FQuant,
+    Num,
+    NumExpr,
     Param,
     Pos,
     RuleKind,
     TimeRef,
 )
-from hdrc3_deliberative.pruning import CompiledRule, ControlProgram, Env, Eval, Trigger
+from hdrc3_deliberative.pruning import (
+    CompiledRule,
+    ControlProgram,
+    Env,
+    Eval,
+    NumberState,
+    Trigger,
+)
 from hdrc3_deliberative.task import Task
 
 Args = tuple[str, ...]
+NumEval = Callable[[Env, tuple[float, ...]], float | None]
+_COMPARE: dict[str, Callable[[float, float], bool]] = {
+    "<": lambda a, b: a < b,
+    "<=": lambda a, b: a <= b + 1e-9,
+    ">": lambda a, b: a > b,
+    ">=": lambda a, b: a >= b - 1e-9,
+    "=": lambda a, b: abs(a - b) <= 1e-9,
+    "!=": lambda a, b: abs(a - b) > 1e-9,
+}
+_ARITH: dict[str, Callable[[float, float], float]] = {
+    "+": lambda a, b: a + b,
+    "-": lambda a, b: a - b,
+    "*": lambda a, b: a * b,
+    "/": lambda a, b: a / b if b else float("inf"),
+}
 
 
 def _conjuncts(formula: Formula) -> list[Formula]:
     if isinstance(formula, FAnd):
         return [c for arg in formula.args for c in _conjuncts(arg)]
     return [formula]
+
+
+def _functions(expr: NumExpr) -> set[str]:
+    """Names of the functions a numeric expression reads."""
+    if isinstance(expr, BinOp):
+        return _functions(expr.left) | _functions(expr.right)
+    if isinstance(expr, Num):
+        return set()
+    return {expr.atom.pred}
 
 
 def _next_literal(formula: Formula) -> tuple[Atom, bool] | None:
@@ -126,6 +161,7 @@ class ControlCompiler:
         self._true_cache: dict[str, Callable[[int, tuple[int, str] | None], list[Args]]] = {}
         # masks of the fluent atoms each evaluation reads (for ControlProgram's memo)
         self._reads: list[int] = []
+        self.numbers = NumberState()
 
     # --- validation -----------------------------------------------------------------------
 
@@ -194,7 +230,7 @@ class ControlCompiler:
                     tuple((p.name, p.type) for p in outer),
                 )
             )
-        return ControlProgram(self.task, tuple(compiled), self._reads)
+        return ControlProgram(self.task, tuple(compiled), self._reads, self.numbers)
 
     def _fluent_preds(self, formula: Formula) -> set[str]:
         if isinstance(formula, FAtom):
@@ -207,6 +243,8 @@ class ControlCompiler:
             return self._fluent_preds(formula.left) | self._fluent_preds(formula.right)
         if isinstance(formula, FQuant):
             return self._fluent_preds(formula.body)
+        if isinstance(formula, FCompare):
+            return _functions(formula.left) | _functions(formula.right)
         return set()
 
     def _args(self, atom: Atom, bound: frozenset[str]) -> Callable[[Env], Args]:
@@ -262,7 +300,68 @@ class ControlCompiler:
             left_fn = self.comp(formula.left, bound)
             right_fn = self.comp(formula.right, bound)
             return lambda env, s0, s1: not left_fn(env, s0, s1) or right_fn(env, s0, s1)
+        if isinstance(formula, FCompare):
+            return self._compare(formula, bound)
         return self._quant(formula, bound)
+
+    def _compare(self, formula: FCompare, bound: frozenset[str]) -> Eval:
+        """A numeric comparison read in the numeric state of its time (NumState)."""
+        test = _COMPARE.get(formula.op)
+        if test is None:
+            raise self._fail(f"unknown comparison '{formula.op}'", formula.pos)
+        left = self._num(formula.left, bound)
+        right = self._num(formula.right, bound)
+        numbers = self.numbers
+        slot = 1 if formula.time is TimeRef.NEXT else 0
+
+        def compare(env: Env, s0: int, s1: int) -> bool:
+            numbers.read = True
+            values = numbers.states[slot]
+            a, b = left(env, values), right(env, values)
+            return a is not None and b is not None and test(a, b)
+
+        return compare
+
+    def _num(self, expr: NumExpr, bound: frozenset[str]) -> NumEval:
+        """Compile a numeric expression; None means undefined (the comparison is false)."""
+        if isinstance(expr, Num):
+            constant = expr.value
+            return lambda env, values: constant
+        if isinstance(expr, BinOp):
+            left, right = self._num(expr.left, bound), self._num(expr.right, bound)
+            op = _ARITH[expr.op]
+
+            def arith(env: Env, values: tuple[float, ...]) -> float | None:
+                a, b = left(env, values), right(env, values)
+                return None if a is None or b is None else op(a, b)
+
+            return arith
+        atom = expr.atom
+        functions = self.task.domain.functions
+        if atom.pred not in functions:
+            raise self._fail(f"undefined function '{atom.pred}' in control formula", atom.pos)
+        if len(functions[atom.pred]) != len(atom.args):
+            raise self._fail(
+                f"function '{atom.pred}' takes {len(functions[atom.pred])} arguments, "
+                f"got {len(atom.args)}",
+                atom.pos,
+            )
+        for term in atom.args:
+            if term.name not in bound and term.name not in self._objects:
+                raise self._fail(f"undefined object or variable '{term.name}'", atom.pos)
+        spec = tuple((t.name in bound, t.name) for t in atom.args)
+        pred = atom.pred
+        index = self.task.num_index
+        static = self.task.static_values
+
+        def value(env: Env, values: tuple[float, ...]) -> float | None:
+            key = (pred, tuple(env[n] if is_var else n for is_var, n in spec))
+            i = index.get(key)
+            if i is not None:
+                return values[i]
+            return static.get(key)
+
+        return value
 
     def _atom(self, formula: FAtom, bound: frozenset[str]) -> Eval:
         atom = formula.atom
@@ -314,7 +413,6 @@ class ControlCompiler:
         """
         names = tuple(v.name for v in variables)
         inner_bound = bound | frozenset(names)
-        body = self.comp(body_formula, inner_bound)
         if universal:
             source = body_formula.left if isinstance(body_formula, FImplies) else None
         else:
@@ -329,6 +427,20 @@ class ControlCompiler:
                 ),
                 None,
             )
+        head = variables
+        if guard is not None:
+            in_guard = {t.name for t in guard.atom.args}
+            head = tuple(v for v in variables if v.name in in_guard)
+        rest = tuple(v for v in variables if v not in head)
+        if rest:
+            # the guard binds only some variables: quantify those first and the others
+            # inside, each group with its own guard (Q x, y . F == Q x . Q y . F)
+            names = tuple(v.name for v in head)
+            inner_bound = bound | frozenset(names)
+            body = self._quantified(rest, body_formula, inner_bound, universal)
+            variables = head
+        else:
+            body = self.comp(body_formula, inner_bound)
         if guard is not None and len(names) == 1:
             spec_names = [t.name for t in guard.atom.args]
             if spec_names.count(names[0]) == 1:

@@ -18,6 +18,11 @@ ZENOTRAVEL_DOMAIN = DOMAINS_DIR / "zenotravel" / "domain.pddl"
 ZENOTRAVEL_CONTROL = DOMAINS_DIR / "zenotravel" / "control.tal"
 BLOCKS_DOMAIN = DOMAINS_DIR / "blocks" / "domain.pddl"
 BLOCKS_CONTROL = DOMAINS_DIR / "blocks" / "control.tal"
+DEPOTS_DOMAIN = DOMAINS_DIR / "depots" / "domain.pddl"
+DEPOTS_CONTROL = DOMAINS_DIR / "depots" / "control.tal"
+SATELLITE_DOMAIN = DOMAINS_DIR / "satellite" / "domain.pddl"
+SATELLITE_CONTROL = DOMAINS_DIR / "satellite" / "control.tal"
+SATELLITE_MODES = ("image", "spectrograph", "thermograph", "infrared")
 ZENO_FUEL_LEVELS = 7  # f0 .. f6 as in the IPC-2002 STRIPS problems
 
 
@@ -219,6 +224,142 @@ def blocks_problem(blocks: int, seed: int, name: str = "") -> str:
     ]
     pname = name or f"blocks-{blocks}-{seed}"
     return _pddl_problem(pname, "blocks", [" ".join(names)], init, goals)
+
+
+@dataclass(frozen=True)
+class DepotsSize:
+    """Parameters of the IPC-2002 Depots generator (``-e -i -t -p -h -c``)."""
+
+    depots: int
+    distributors: int
+    trucks: int
+    pallets: int
+    hoists: int
+    crates: int
+
+
+def depots_problem(size: DepotsSize, seed: int, name: str = "") -> str:
+    """A STRIPS Depots problem as the IPC-2002 generator lays it out.
+
+    Places are the depots then the distributors; place ``i`` gets pallet ``i`` and hoist
+    ``i``, further pallets and hoists go to random places, trucks start at random places.
+    Crates are stacked on random pallets; the goal stacks a random subset of the crates (each
+    with probability 2/3) into towers on random pallets.
+    """
+    places_n = size.depots + size.distributors
+    if size.depots < 1 or size.trucks < 1 or size.crates < 1:
+        raise ValueError("need at least one depot, one truck and one crate")
+    if size.pallets < places_n or size.hoists < places_n:
+        raise ValueError("need at least one pallet and one hoist per place")
+    rng = random.Random(seed)
+    depots = [f"depot{i}" for i in range(size.depots)]
+    distributors = [f"distributor{i}" for i in range(size.distributors)]
+    places = depots + distributors
+    pallets = [f"pallet{i}" for i in range(size.pallets)]
+    hoists = [f"hoist{i}" for i in range(size.hoists)]
+    trucks = [f"truck{i}" for i in range(size.trucks)]
+    crates = [f"crate{i}" for i in range(size.crates)]
+    pallet_at = {
+        p: places[i] if i < places_n else rng.choice(places) for i, p in enumerate(pallets)
+    }
+    top = {p: p for p in pallets}
+    init = []
+    for pallet in pallets:
+        init.append(f"(at {pallet} {pallet_at[pallet]})")
+    init += [f"(at {t} {rng.choice(places)})" for t in trucks]
+    for i, hoist in enumerate(hoists):
+        place = places[i] if i < places_n else rng.choice(places)
+        init += [f"(at {hoist} {place})", f"(available {hoist})"]
+    for crate in crates:
+        pallet = rng.choice(pallets)
+        init += [f"(at {crate} {pallet_at[pallet]})", f"(on {crate} {top[pallet]})"]
+        top[pallet] = crate
+    init += [f"(clear {surface})" for surface in top.values()]
+    goal_top = {p: p for p in pallets}
+    goals = []
+    for crate in rng.sample(crates, len(crates)):
+        if rng.random() < 2 / 3:
+            pallet = rng.choice(pallets)
+            goals.append(f"(on {crate} {goal_top[pallet]})")
+            goal_top[pallet] = crate
+    if not goals:
+        goals.append(f"(on {crates[0]} {rng.choice(pallets)})")
+    objects = [
+        " ".join(depots) + " - depot",
+        " ".join(distributors) + " - distributor" if distributors else "",
+        " ".join(trucks) + " - truck",
+        " ".join(pallets) + " - pallet",
+        " ".join(crates) + " - crate",
+        " ".join(hoists) + " - hoist",
+    ]
+    pname = name or (
+        f"depots-{size.depots}-{size.distributors}-{size.trucks}-{size.pallets}-"
+        f"{size.hoists}-{size.crates}-{seed}"
+    )
+    return _pddl_problem(pname, "depot", objects, init, goals)
+
+
+@dataclass(frozen=True)
+class SatelliteSize:
+    """Parameters of the IPC-2002 Satellite generator.
+
+    Satellites, maximum instruments per satellite, modes, targets and observations.
+    """
+
+    satellites: int
+    instruments: int
+    modes: int
+    targets: int
+    observations: int
+
+
+def satellite_problem(size: SatelliteSize, seed: int, name: str = "") -> str:
+    """A STRIPS Satellite problem as the IPC-2002 generator lays it out.
+
+    Calibration directions (``Star0``, ``GroundStation1``, ...) come first, then the targets
+    (``Planet``/``Phenomenon``/``Star``); each satellite carries 1..``instruments``
+    instruments, each supporting 1-3 modes and calibrated on a random calibration
+    direction; satellites point at random directions with power available. Goals: distinct
+    (target, mode) images of modes some instrument supports, and a final pointing direction
+    for every second satellite.
+    """
+    if min(size.satellites, size.instruments, size.modes, size.targets) < 1:
+        raise ValueError("need at least one satellite, instrument, mode and target")
+    rng = random.Random(seed)
+    n_calib = max(2, size.satellites)
+    calib = [f"{('Star', 'GroundStation')[i % 2]}{i}" for i in range(n_calib)]
+    kinds = ("Planet", "Phenomenon", "Star")
+    targets = [f"{kinds[i % 3]}{n_calib + i}" for i in range(size.targets)]
+    modes = [f"{SATELLITE_MODES[i % 4]}{i}" for i in range(size.modes)]
+    satellites = [f"satellite{i}" for i in range(size.satellites)]
+    init: list[str] = []
+    instruments: list[str] = []
+    supported: set[str] = set()
+    for sat in satellites:
+        for _ in range(rng.randint(1, size.instruments)):
+            inst = f"instrument{len(instruments)}"
+            instruments.append(inst)
+            for mode in rng.sample(modes, rng.randint(1, min(3, len(modes)))):
+                init.append(f"(supports {inst} {mode})")
+                supported.add(mode)
+            init.append(f"(calibration_target {inst} {rng.choice(calib)})")
+            init.append(f"(on_board {inst} {sat})")
+        init += [f"(power_avail {sat})", f"(pointing {sat} {rng.choice(calib + targets)})"]
+    pairs = [(t, m) for t in targets for m in sorted(supported)]
+    chosen = rng.sample(pairs, min(size.observations, len(pairs)))
+    goals = [f"(have_image {t} {m})" for t, m in chosen]
+    goals = [f"(pointing {sat} {rng.choice(targets)})" for sat in satellites[1::2]] + goals
+    objects = [
+        " ".join(satellites) + " - satellite",
+        " ".join(instruments) + " - instrument",
+        " ".join(modes) + " - mode",
+        " ".join(calib + targets) + " - direction",
+    ]
+    pname = name or (
+        f"satellite-{size.satellites}-{size.instruments}-{size.modes}-{size.targets}-"
+        f"{size.observations}-{seed}"
+    )
+    return _pddl_problem(pname, "satellite", objects, init, goals)
 
 
 def distance(a: tuple[float, float, float], b: tuple[float, float, float]) -> float:

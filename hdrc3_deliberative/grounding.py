@@ -13,10 +13,11 @@ covers grounding as well as search.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable
 from dataclasses import replace
 
 from hdrc3_deliberative.errors import GroundingTimeout, PlanningInputError
+from hdrc3_deliberative.matching import FactIndex, JoinPlan, join_plan, match
 from hdrc3_deliberative.model import (
     Atom,
     AtomEffect,
@@ -39,6 +40,8 @@ from hdrc3_deliberative.motion_plan_info import MotionPlanInfo, StraightLineMoti
 from hdrc3_deliberative.names import FLIGHT_FUNCTIONS, NameChecker, TypeTable
 from hdrc3_deliberative.task import GroundAtom, GroundOp, NumericEffect, NumFn, NumTest, Task
 
+Getter = Callable[[dict[str, str]], GroundAtom]
+_NONE: tuple[int, int, list[NumTest], int] = (0, 0, [], 0)  # no conditions
 _COMPARE: dict[str, Callable[[float, float], bool]] = {
     "<": lambda a, b: a < b,
     "<=": lambda a, b: a <= b + 1e-9,
@@ -47,20 +50,6 @@ _COMPARE: dict[str, Callable[[float, float], bool]] = {
     "=": lambda a, b: abs(a - b) <= 1e-9,
     "!=": lambda a, b: abs(a - b) > 1e-9,
 }
-
-
-class _FactIndex:
-    """Reachable facts by predicate and by (predicate, position, value)."""
-
-    def __init__(self) -> None:
-        self.by_pred: dict[str, list[tuple[str, ...]]] = {}
-        self.by_arg: dict[tuple[str, int, str], list[tuple[str, ...]]] = {}
-
-    def add(self, pred: str, args: tuple[str, ...]) -> None:
-        """Record a new fact (callers ensure it is new)."""
-        self.by_pred.setdefault(pred, []).append(args)
-        for i, value in enumerate(args):
-            self.by_arg.setdefault((pred, i, value), []).append(args)
 
 
 def _fail(message: str, pos: Pos) -> PlanningInputError:
@@ -109,6 +98,14 @@ class Grounder:
             (self.init_num_values if atom.pred in num_targets else self.static_values)[key] = value
         self._n_atoms = 0
         self._getters: dict[int, Callable[[dict[str, str]], GroundAtom]] = {}
+        self._compiled_effs: dict[
+            int,
+            tuple[list[tuple[Callable[[dict[str, str]], GroundAtom], bool, bool]], list[NumEffect]],
+        ] = {}
+        self._pre_plans: dict[int, tuple[list[tuple[Getter, bool]], tuple[Comparison, ...]]] = {}
+        self._compiled_conds: dict[
+            int, list[tuple[Condition, Callable[[dict[str, str]], GroundAtom] | None]]
+        ] = {}
         self._type_members: dict[str, frozenset[str]] = {}
         self.static_facts: set[GroundAtom] = set()
         self.init_fluents: set[GroundAtom] = set()
@@ -194,107 +191,45 @@ class Grounder:
                 return 1 << (self._n_atoms + num_index[key])
         return 0
 
-    # --- matching --------------------------------------------------------------------------
-
-    def _bindings(
-        self,
-        op: Operator,
-        facts: _FactIndex,
-        seed: tuple[Atom, list[tuple[str, ...]]] | None = None,
-    ) -> Iterator[dict[str, str]]:
-        """Parameter bindings whose positive preconditions are (relaxed-)reachable.
-
-        With ``seed`` (semi-naive evaluation) that atom is matched only against the given new
-        facts, the others against all facts.
-        """
-        positives = [c.atom for c in op.pre if isinstance(c, Literal) and c.positive]
-        params = {p.name: p.type for p in op.params}
-        members = {name: self._members(tname) for name, tname in params.items()}
-        env: dict[str, str] = {}
-
-        def extend(remaining: list[Atom]) -> Iterator[dict[str, str]]:
-            self._tick()
-            if not remaining:
-                yield from free([p.name for p in op.params if p.name not in env])
-                return
-            # seed first, then the most constrained atom; candidates from the most selective
-            # bound position
-            if seed is not None and seed[0] in remaining:
-                best = seed[0]
-            else:
-                best = max(
-                    remaining,
-                    key=lambda a: sum(1 for t in a.args if t.name in env or t.name not in params),
-                )
-            rest = [a for a in remaining if a is not best]
-            candidates: list[tuple[str, ...]] | None = None
-            for i, term in enumerate(best.args):
-                value = env.get(term.name) if term.name in params else term.name
-                if value is not None:
-                    found = facts.by_arg.get((best.pred, i, value), [])
-                    if candidates is None or len(found) < len(candidates):
-                        candidates = found
-            if candidates is None:
-                candidates = facts.by_pred.get(best.pred, [])
-            if seed is not None and best is seed[0]:
-                candidates = seed[1]
-            for args in candidates:
-                bound: list[str] = []
-                ok = True
-                for term, value in zip(best.args, args, strict=True):
-                    if term.name in params:
-                        current = env.get(term.name)
-                        if current is None:
-                            if value not in members[term.name]:
-                                ok = False
-                                break
-                            env[term.name] = value
-                            bound.append(term.name)
-                        elif current != value:
-                            ok = False
-                            break
-                    elif term.name != value:
-                        ok = False
-                        break
-                if ok:
-                    yield from extend(rest)
-                for name in bound:
-                    del env[name]
-
-        def free(names: list[str]) -> Iterator[dict[str, str]]:
-            if not names:
-                yield dict(env)
-                return
-            name = names[0]
-            for obj in self.types.objects.get(params[name], ()):
-                env[name] = obj
-                yield from free(names[1:])
-                del env[name]
-
-        yield from extend(positives)
-
     def ground(self) -> Task:
-        """Instantiate reachable operators and encode everything as bitsets."""
-        facts = _FactIndex()
+        """Instantiate reachable operators and encode everything as bitsets.
+
+        Semi-naive relaxed reachability: the first round matches every operator against the
+        initial facts; each later round matches, for every positive precondition, only the
+        facts first reached in the previous round (joined with all facts).
+        """
+        facts = FactIndex()
         for pred, args in sorted(self.static_facts | self.init_fluents):
             facts.add(pred, args)
         reached = set(self.init_fluents)
         instances: dict[tuple[str, tuple[str, ...]], tuple[Operator, dict[str, str]]] = {}
+        plans: dict[tuple[str, int], JoinPlan] = {}
         delta: dict[str, list[tuple[str, ...]]] | None = None  # None: first, full round
         while delta is None or delta:
             new_delta: dict[str, list[tuple[str, ...]]] = {}
             for op in self.domain.operators:
+                names = [p.name for p in op.params]
+                members = [self._members(p.type) for p in op.params]
+                objects = [self.types.objects.get(p.type, ()) for p in op.params]
+                found: list[tuple[str, ...]] = []
                 if delta is None:
-                    found = list(self._bindings(op, facts))
+                    plan = plans.get((op.name, -1)) or join_plan(op, None)
+                    plans[(op.name, -1)] = plan
+                    found = match(plan, facts, members, objects, self._tick)
                 else:
-                    found = []
-                    for c in op.pre:
+                    for i, c in enumerate(op.pre):
                         if isinstance(c, Literal) and c.positive and c.atom.pred in delta:
-                            found.extend(self._bindings(op, facts, (c.atom, delta[c.atom.pred])))
-                for env in found:
-                    self._tick()
-                    key = (op.name, tuple(env[p.name] for p in op.params))
-                    if key in instances or not self._static_ok(op, env):
+                            plan = plans.get((op.name, i)) or join_plan(op, c.atom)
+                            plans[(op.name, i)] = plan
+                            found += match(
+                                plan, facts, members, objects, self._tick, delta[c.atom.pred]
+                            )
+                for values in found:
+                    key = (op.name, values)
+                    if key in instances:
+                        continue
+                    env = dict(zip(names, values, strict=True))
+                    if not self._static_ok(op, env):
                         continue
                     instances[key] = (op, env)
                     for eff in op.effects:
@@ -405,6 +340,7 @@ class Grounder:
             resource_indices=resource_indices,
             by_pred=by_pred,
             inert_nums=inert,
+            static_values=dict(self.static_values),
         )
 
     def _read_functions(self) -> frozenset[str]:
@@ -452,19 +388,21 @@ class Grounder:
         """(positive mask, negative mask, numeric tests, read mask) or None if unsatisfiable."""
         pos = neg = reads = 0
         tests: list[NumTest] = []
-        for cond in conds:
-            if isinstance(cond, Literal):
-                atom = self._ga(cond.atom, env)
-                if atom[0] in self.static_preds:
-                    if (atom in self.static_facts) != cond.positive:
+        static_preds, static_facts = self.static_preds, self.static_facts
+        for cond, getter in self._compiled(conds):
+            if getter is not None:
+                atom = getter(env)
+                positive = cond.positive  # type: ignore[union-attr]
+                if atom[0] in static_preds:
+                    if (atom in static_facts) != positive:
                         return None
                     continue
                 bit = atom_bit.get(atom)
                 if bit is None:
-                    if cond.positive:
+                    if positive:
                         return None
                     continue
-                if cond.positive:
+                if positive:
                     pos |= 1 << bit
                 else:
                     neg |= 1 << bit
@@ -475,6 +413,7 @@ class Grounder:
                 ) != cond.positive:
                     return None
             else:
+                assert isinstance(cond, Comparison)
                 test = self._compare(cond, env, num_index)
                 if test is None:
                     return None
@@ -482,6 +421,76 @@ class Grounder:
                 reads |= self._num_reads(cond.left, env, num_index)
                 reads |= self._num_reads(cond.right, env, num_index)
         return pos, neg, tests, reads | pos | neg
+
+    def _pre_masks(
+        self,
+        op: Operator,
+        env: dict[str, str],
+        atom_bit: dict[GroundAtom, int],
+        num_index: dict[GroundAtom, int],
+    ) -> tuple[int, int, list[NumTest], int] | None:
+        """``_conds`` of the precondition of an instance that reachability produced.
+
+        Static literals and object (in)equalities were checked when the instance was found
+        (``match`` and ``_static_ok``), so only fluent literals and comparisons remain.
+        """
+        plan = self._pre_plans.get(id(op))
+        if plan is None:
+            lits = [
+                (_atom_getter(c.atom), c.positive)
+                for c in op.pre
+                if isinstance(c, Literal) and c.atom.pred not in self.static_preds
+            ]
+            comparisons = tuple(c for c in op.pre if isinstance(c, Comparison))
+            plan = (lits, comparisons)
+            self._pre_plans[id(op)] = plan
+        pos = neg = 0
+        for getter, positive in plan[0]:
+            bit = atom_bit.get(getter(env))
+            if bit is None:
+                if positive:
+                    return None
+            elif positive:
+                pos |= 1 << bit
+            else:
+                neg |= 1 << bit
+        if not plan[1]:
+            return pos, neg, [], pos | neg
+        rest = self._conds(plan[1], env, atom_bit, num_index)
+        if rest is None:
+            return None
+        return pos, neg, rest[2], rest[3] | pos | neg
+
+    def _compiled(
+        self, conds: tuple[Condition, ...]
+    ) -> list[tuple[Condition, Callable[[dict[str, str]], GroundAtom] | None]]:
+        """Conditions with an atom getter for literals (cached per condition tuple)."""
+        found = self._compiled_conds.get(id(conds))
+        if found is None:
+            found = [(c, _atom_getter(c.atom) if isinstance(c, Literal) else None) for c in conds]
+            self._compiled_conds[id(conds)] = found
+        return found
+
+    def _compiled_effects(
+        self, op: Operator
+    ) -> tuple[list[tuple[Callable[[dict[str, str]], GroundAtom], bool, bool]], list[NumEffect]]:
+        """(atom getter, positive, at start) per literal effect, and the numeric effects."""
+        found = self._compiled_effs.get(id(op))
+        if found is None:
+            found = (
+                [
+                    (
+                        _atom_getter(e.literal.atom),
+                        e.literal.positive,
+                        e.time is EffectTime.START,
+                    )
+                    for e in op.effects
+                    if isinstance(e, AtomEffect)
+                ],
+                [e for e in op.effects if isinstance(e, NumEffect)],
+            )
+            self._compiled_effs[id(op)] = found
+        return found
 
     def _ground_op(
         self,
@@ -491,52 +500,53 @@ class Grounder:
         atom_bit: dict[GroundAtom, int],
         num_index: dict[GroundAtom, int],
     ) -> GroundOp | None:
-        pre = self._conds(op.pre, env, atom_bit, num_index)
-        prevail = self._conds(op.prevail, env, atom_bit, num_index)
+        pre = self._pre_masks(op, env, atom_bit, num_index)
+        prevail = self._conds(op.prevail, env, atom_bit, num_index) if op.prevail else _NONE
         duration = self._num(op.duration, env, num_index)
         if pre is None or prevail is None or duration is None or callable(duration):
             return None
         if duration <= 0:
             raise _fail(f"operator '{op.name}' has non-positive duration {duration}", op.pos)
-        add = delete = start_add = start_delete = writes = 0
+        writes = 0
+        add_bits: dict[int, bool] = {}  # bit -> added at the start; insertion-ordered
+        del_bits: dict[int, bool] = {}
         add_atoms: list[GroundAtom] = []
         del_atoms: list[GroundAtom] = []
         num_effects: list[NumericEffect] = []
         reads = pre[3]
-        for eff in op.effects:
-            if isinstance(eff, AtomEffect):
-                atom = self._ga(eff.literal.atom, env)
-                bit = 1 << atom_bit[atom] if atom in atom_bit else 0
-                if not bit:
-                    continue  # deleting an atom that can never be true
-                writes |= bit
-                if eff.literal.positive:
-                    add |= bit
-                    delete &= ~bit
-                    add_atoms.append(atom)
-                    if eff.time is EffectTime.START:
-                        start_add |= bit
-                else:
-                    delete |= bit
-                    del_atoms.append(atom)
-                    if eff.time is EffectTime.START:
-                        start_delete |= bit
+        atom_effects, numeric = self._compiled_effects(op)
+        for getter, positive, at_start in atom_effects:
+            atom = getter(env)
+            bit = atom_bit.get(atom)
+            if bit is None:
+                continue  # deleting an atom that can never be true
+            if positive:
+                add_bits[bit] = at_start
+                del_bits.pop(bit, None)
+                add_atoms.append(atom)
             else:
-                target = self._ga(eff.target, env)
-                if target not in num_index:
-                    raise _fail(
-                        f"no initial value for numeric feature {target[0]}({', '.join(target[1])})",
-                        eff.target.pos,
-                    )
-                value = self._num(eff.value, env, num_index)
-                if value is None:
-                    return None
-                reads |= self._num_reads(eff.value, env, num_index)
-                num_effects.append(
-                    NumericEffect(num_index[target], eff.op, _as_fn(value), eff.time)
+                del_bits[bit] = at_start
+                del_atoms.append(atom)
+        for eff in numeric:
+            target = self._ga(eff.target, env)
+            if target not in num_index:
+                raise _fail(
+                    f"no initial value for numeric feature {target[0]}({', '.join(target[1])})",
+                    eff.target.pos,
                 )
-                writes |= 1 << (self._n_atoms + num_index[target])
-        delete &= ~add
+            value = self._num(eff.value, env, num_index)
+            if value is None:
+                return None
+            reads |= self._num_reads(eff.value, env, num_index)
+            num_effects.append(NumericEffect(num_index[target], eff.op, _as_fn(value), eff.time))
+            writes |= 1 << (self._n_atoms + num_index[target])
+        for bit in add_bits:
+            del_bits.pop(bit, None)  # an atom both added and deleted ends up true
+        add = _mask(add_bits)
+        delete = _mask(del_bits)
+        start_add = _mask([b for b, start in add_bits.items() if start])
+        start_delete = _mask([b for b, start in del_bits.items() if start])
+        writes |= add | delete
         agent = env[op.agent] if op.agent is not None else None
         return GroundOp(
             index=index,
@@ -560,6 +570,14 @@ class Grounder:
             add_atoms=tuple(add_atoms),
             del_atoms=tuple(del_atoms),
         )
+
+
+def _mask(bits: Iterable[int]) -> int:
+    """The int with exactly the given bits set (one big-int allocation per bit at most)."""
+    out = 0
+    for bit in bits:
+        out |= 1 << bit
+    return out
 
 
 def _with_agent_token(op: GroundOp, agent_bit: dict[str, int]) -> GroundOp:

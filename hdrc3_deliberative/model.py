@@ -260,7 +260,21 @@ class FQuant:
     body: Formula
 
 
-Formula = FAtom | FGoal | FEq | FConst | FNot | FAnd | FOr | FImplies | FQuant
+@dataclass(frozen=True)
+class FCompare:
+    """Numeric comparison ``left op right`` of a control formula, evaluated at ``time``.
+
+    Every function term of the comparison is read in the same state (``[t]`` unless marked).
+    """
+
+    op: str
+    left: NumExpr
+    right: NumExpr
+    time: TimeRef | None = None
+    pos: Pos = field(default=NOWHERE, compare=False)
+
+
+Formula = FAtom | FGoal | FEq | FCompare | FConst | FNot | FAnd | FOr | FImplies | FQuant
 
 
 class RuleKind(Enum):

@@ -149,11 +149,11 @@ class TalPlanner:
         self._index: dict[int, list[GroundOp]] = {}
         self._unindexed: list[GroundOp] = []
         counts: dict[int, int] = {}
-        for op in task.ops:
-            for bit in _bits(op.pre_pos):
+        pre_bits = [_bits(op.pre_pos) for op in task.ops]
+        for bits in pre_bits:
+            for bit in bits:
                 counts[bit] = counts.get(bit, 0) + 1
-        for op in task.ops:
-            bits = _bits(op.pre_pos)
+        for op, bits in zip(task.ops, pre_bits, strict=True):
             if not bits:
                 self._unindexed.append(op)
                 continue
@@ -369,7 +369,7 @@ class TalPlanner:
 
         root = _Node(task.init_bits, task.init_nums, 0.0, 0.0, (), (), None, None, 0.0, 0)
         if self.control is not None:
-            violated = self.control.initial_violation(root.bits)
+            violated = self.control.initial_violation(root.bits, root.nums)
             if violated is not None:
                 return PlanResult(
                     PlanStatus.UNSOLVABLE_PROVEN,
@@ -395,7 +395,10 @@ class TalPlanner:
                 after = (parent.bits & ~op.delete) | op.add
                 if (
                     self.control is not None
-                    and self.control.step_violation(op, parent.bits, after) is not None
+                    and self.control.step_violation(
+                        op, parent.bits, after, parent.nums, _apply_nums(op, parent.nums)
+                    )
+                    is not None
                 ):
                     pruned_control += 1
                     continue
@@ -415,7 +418,10 @@ class TalPlanner:
                     continue
                 seen.append(res)
             if self._goal(node):
-                final_ok = self.control is None or self.control.final_violation(node.bits) is None
+                final_ok = (
+                    self.control is None
+                    or self.control.final_violation(node.bits, node.nums) is None
+                )
                 if final_ok and not self._check_queue(node, complete=True)[0]:
                     return PlanResult(PlanStatus.SOLVED, self._extract(node), stats())
             expanded += 1

@@ -31,6 +31,7 @@ from hdrc3_deliberative.model import (
     Equality,
     FAnd,
     FAtom,
+    FCompare,
     FConst,
     FEq,
     FGoal,
@@ -311,16 +312,30 @@ class _ToModel(Transformer[Token, list[_Stmt]]):
     def f_atom(self, items: list[Atom]) -> Formula:
         return FAtom(items[0], None)
 
-    def f_eq(self, items: list[Token]) -> Formula:
-        op = str(items[1])
-        if op not in ("=", "!="):
-            raise PlanningInputError(
-                f"expected '=' or '!=' between objects, found '{op}'",
-                self._source,
-                items[1].line or 0,
-                items[1].column or 0,
-            )
-        return FEq(Term(str(items[0])), Term(str(items[2])), op == "=")
+    def f_cmp(self, items: list[Any]) -> Formula:
+        """Object (in)equality between two bare names, else a numeric comparison."""
+        left, token, right = items
+        op = str(token)
+        if isinstance(left, Term) and isinstance(right, Term):
+            if op not in ("=", "!="):
+                raise PlanningInputError(
+                    f"expected '=' or '!=' between objects, found '{op}'",
+                    self._source,
+                    token.line or 0,
+                    token.column or 0,
+                )
+            return FEq(left, right, op == "=")
+        for side in (left, right):
+            if isinstance(side, Term):
+                raise PlanningInputError(
+                    f"'{side.name}' is an object, not a number: write a function term "
+                    f"such as '{side.name}()' or compare objects with '=' / '!='",
+                    self._source,
+                    token.line or 0,
+                    token.column or 0,
+                )
+        pos = Pos(self._source, token.line or 0, token.column or 0)
+        return FCompare(op, _num(left), _num(right), None, pos)
 
     @v_args(meta=True)
     def rule_decl(self, meta: Meta, items: list[Any]) -> _Stmt:
@@ -363,6 +378,8 @@ def _retime(formula: Formula, time: TimeRef) -> Formula:
         return FImplies(_retime(formula.left, time), _retime(formula.right, time))
     if isinstance(formula, FQuant):
         return FQuant(formula.universal, formula.variables, _retime(formula.body, time))
+    if isinstance(formula, FCompare) and formula.time is None:
+        return FCompare(formula.op, formula.left, formula.right, time, formula.pos)
     return formula
 
 

@@ -80,6 +80,7 @@ class Task:
     resource_indices: tuple[int, ...]
     by_pred: dict[str, dict[tuple[str, ...], int]] = field(default_factory=dict)
     inert_nums: tuple[int, ...] = ()  # numeric features nothing reads (plan metrics)
+    static_values: dict[GroundAtom, float] = field(default_factory=dict)  # static functions
 
     def mask_of(self, atom: GroundAtom) -> int:
         """Bit mask of a fluent atom (0 if it can never be true)."""

@@ -1,15 +1,20 @@
 from __future__ import annotations
 
 import random
+from pathlib import Path
 
 import pytest
 
 from hdrc3_deliberative.control import ControlCompiler
 from hdrc3_deliberative.errors import PlanningInputError
 from hdrc3_deliberative.generators import (
+    DEPOTS_CONTROL,
+    DEPOTS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
+    DepotsSize,
     LogisticsSize,
+    depots_problem,
     logistics_problem,
 )
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
@@ -151,6 +156,34 @@ def test_exists_forall_equality_and_goal_modality() -> None:
     assert program.step_violation(paint_c1, s, s | paint_c1.add) == "r"
 
 
+NESTED = (
+    "rule r: forall c: cell . [t] not painted(c) and [t+1] painted(c) ->\n"
+    "  exists d: cell, e: cell . adj(c, d) and adj(d, e) and painted(e)"
+)
+
+
+@pytest.mark.parametrize(
+    ("painted", "target", "allowed"),
+    [
+        ((), "c1", False),  # nothing painted two steps away
+        (("c3",), "c1", True),  # c1 -> c2 -> c3
+        (("hot",), "c1", True),  # c1 -> c2 -> hot
+        (("c1",), "c3", True),  # c3 -> c2 -> c1
+        (("c2",), "hot", True),  # hot -> c3 -> c2
+        (("c3",), "hot", False),  # hot's only neighbour is c3, whose only neighbour is c2
+    ],
+)
+def test_quantifier_whose_guard_binds_some_variables(
+    painted: tuple[str, ...], target: str, allowed: bool
+) -> None:
+    """``exists d, e`` with guard ``adj(c, d)`` binds d first, then e under ``adj(d, e)``."""
+    task, program = setup(NESTED)
+    paint = op(task, f"(paint r1 {target})")
+    s = state(task, f"at(r1, {target})", *(f"painted({c})" for c in painted))
+    expected = None if allowed else "r"
+    assert program.step_violation(paint, s, s | paint.add) == expected
+
+
 @pytest.mark.parametrize(
     ("rules", "message"),
     [
@@ -173,13 +206,19 @@ def test_control_error_position() -> None:
     assert str(err.value).startswith("c.tal:3:7:")
 
 
-def test_incremental_constraints_agree_with_full_evaluation() -> None:
+@pytest.mark.parametrize(
+    ("domain", "control", "problem"),
+    [
+        (LOGISTICS_DOMAIN, LOGISTICS_CONTROL, logistics_problem(LogisticsSize(4, 2, 1), seed=5)),
+        (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(1, 2, 2, 4, 3, 6), seed=3)),
+    ],
+)
+def test_incremental_constraints_agree_with_full_evaluation(
+    domain: Path, control: Path, problem: str
+) -> None:
     """Triggered (incremental) checks equal the whole rule evaluated on each transition."""
     tp = TaskPlanner()
-    problem = logistics_problem(LogisticsSize(4, 2, 1), seed=5)
-    d, p, spec = tp.read(
-        PlanRequest(LOGISTICS_DOMAIN.read_text(), problem, LOGISTICS_CONTROL.read_text())
-    )
+    d, p, spec = tp.read(PlanRequest(domain.read_text(), problem, control.read_text()))
     task = tp.ground(d, p)
     program = ControlCompiler(task, spec).compile()
     assert all(rule.trigger is not None for rule in program.rules)
@@ -197,3 +236,98 @@ def test_incremental_constraints_agree_with_full_evaluation() -> None:
         chosen = rng.choice(applicable)
         bits = (bits & ~chosen.delete) | chosen.add
     assert checked > 500
+
+
+NUMERIC_DOMAIN = """domain bots
+type cell
+type robot
+predicate at(r: robot, c: cell)
+predicate adj(a: cell, b: cell)
+function battery(r: robot)
+function cost(c: cell)
+operator move(r: robot, a: cell, b: cell)
+  agent r
+  pre at(r, a) and adj(a, b)
+  effect [t'] not at(r, a), at(r, b), battery(r) -= cost(b)
+end
+"""
+NUMERIC_PROBLEM = """problem p for bots
+object c1, c2, c3: cell
+object r1: robot
+init at(r1, c1), adj(c1, c2), adj(c2, c3), adj(c2, c1), adj(c3, c2)
+init battery(r1) = 5, cost(c1) = 1, cost(c2) = 2, cost(c3) = 4
+goal at(r1, c3)
+"""
+ENTER = "rule r: forall r: robot, c: cell . [t] not at(r, c) and [t+1] at(r, c) -> "
+
+
+def numeric_setup(rules: str) -> tuple[Task, ControlProgram]:
+    tp = TaskPlanner()
+    request = PlanRequest(NUMERIC_DOMAIN, NUMERIC_PROBLEM, rules, control_source="c.tal")
+    d, p, spec = tp.read(request)
+    task = tp.ground(d, p)
+    return task, ControlCompiler(task, spec).compile()
+
+
+@pytest.mark.parametrize(
+    ("rules", "battery", "label", "violated", "violated_when_charged"),
+    [
+        # untriggered rule on a function: checked for operators that change it, at t and t+1
+        ("rule r: forall r: robot . battery(r) >= 1", 5.0, "(move r1 c1 c2)", False, False),
+        ("rule r: forall r: robot . battery(r) >= 1", 2.0, "(move r1 c1 c2)", True, False),
+        ("rule r: forall r: robot . [t+1] battery(r) > 3", 5.0, "(move r1 c1 c2)", True, False),
+        # triggered rule, static function and arithmetic in the consequent
+        (ENTER + "battery(r) >= cost(c) + 1", 3.0, "(move r1 c1 c2)", False, False),
+        (ENTER + "battery(r) >= cost(c) + 1", 2.0, "(move r1 c1 c2)", True, False),
+        (ENTER + "[t+1] battery(r) = 1", 3.0, "(move r1 c1 c2)", False, True),
+        (ENTER + "battery(r) * 2 < cost(c) / 0", 3.0, "(move r1 c1 c2)", False, False),  # x/0: inf
+    ],
+)
+def test_numeric_comparisons_in_rules(
+    rules: str, battery: float, label: str, violated: bool, violated_when_charged: bool
+) -> None:
+    """Verdicts at (battery, battery - 2), then at (100, 98) on the same boolean states."""
+    task, program = numeric_setup(rules)
+    move = op(task, label)
+    bits = state(task, "at(r1, c1)")
+    before = (battery,)
+    after = tuple(before[0] - 2.0 for _ in before)  # cost(c2) = 2
+    verdict = program.step_violation(move, bits, (bits & ~move.delete) | move.add, before, after)
+    assert (verdict == "r") is violated
+    # the same boolean states with other numbers: numeric verdicts are not memoised
+    other = program.step_violation(move, bits, (bits & ~move.delete) | move.add, (100.0,), (98.0,))
+    assert (other == "r") is violated_when_charged
+
+
+@pytest.mark.parametrize(
+    ("rules", "status", "length"),
+    [
+        ("", PlanStatus.SOLVED, 2),
+        # c1 -> c2 -> c3 costs 2 + 4 = 6 > 5: the rule proves there is no plan
+        ("rule r: forall r: robot . battery(r) >= 0", PlanStatus.UNSOLVABLE_PROVEN, 0),
+        ("final f: forall r: robot . battery(r) + 2 > 0", PlanStatus.SOLVED, 2),  # ends at -1
+        (
+            "rule b: forall r: robot . battery(r) + 10 >= 0\n"
+            "final f: forall r: robot . battery(r) > 0",
+            PlanStatus.UNSOLVABLE_PROVEN,
+            0,
+        ),
+    ],
+)
+def test_numeric_rules_decide_planning(rules: str, status: PlanStatus, length: int) -> None:
+    result = TaskPlanner().plan(PlanRequest(NUMERIC_DOMAIN, NUMERIC_PROBLEM, rules), timeout=20)
+    assert result.status is status, result.reason
+    assert len(result.plan) == length
+
+
+@pytest.mark.parametrize(
+    ("rules", "message"),
+    [
+        ("rule r: forall r: robot . charge(r) > 1", "1:27: undefined function 'charge'"),
+        ("rule r: forall r: robot . battery(r, r) > 1", "takes 1 arguments, got 2"),
+        ("rule r: forall r: robot . battery(q) > 1", "undefined object or variable 'q'"),
+    ],
+)
+def test_numeric_comparison_errors(rules: str, message: str) -> None:
+    with pytest.raises(PlanningInputError, match=message):
+        numeric_setup(rules)

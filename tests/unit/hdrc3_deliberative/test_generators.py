@@ -1,13 +1,19 @@
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from hdrc3_deliberative.generators import (
+    DepotsSize,
     LogisticsSize,
+    SatelliteSize,
     UavSize,
     ZenoSize,
     blocks_problem,
+    depots_problem,
     logistics_problem,
+    satellite_problem,
     uav_problem,
     zenotravel_problem,
 )
@@ -56,3 +62,51 @@ def test_blocks_generator_makes_consistent_states(seed: int) -> None:
     assert on_table + on == 12  # every block lies on the table or on one other block
     assert init.count("(clear ") == on_table  # one clear block per tower
     assert "(on-table" not in goal and goal.count("(on ") <= 11
+
+
+@pytest.mark.parametrize(
+    ("size", "seed"),
+    [(DepotsSize(1, 2, 2, 3, 3, 6), 1), (DepotsSize(3, 2, 4, 9, 7, 20), 2)],
+)
+def test_depots_generator_follows_the_ipc_layout(size: DepotsSize, seed: int) -> None:
+    text = depots_problem(size, seed)
+    assert text == depots_problem(size, seed)
+    init, goal = text.split("(:goal")
+    places = size.depots + size.distributors
+    for i in range(places):  # place i has pallet i and hoist i
+        place = f"depot{i}" if i < size.depots else f"distributor{i - size.depots}"
+        assert f"(at pallet{i} {place})" in init and f"(at hoist{i} {place})" in init
+    assert init.count("(available hoist") == size.hoists
+    assert init.count("(at truck") == size.trucks
+    assert init.count("(on crate") == size.crates  # every crate lies on one surface
+    assert init.count("(clear ") == size.pallets  # one clear top per pallet stack
+    goal_surfaces = [line.split()[1].rstrip(")") for line in goal.split("(on ")[1:]]
+    assert len(goal_surfaces) == len(set(goal_surfaces))  # goal towers: one crate per surface
+
+
+def test_depots_generator_rejects_places_without_pallet_or_hoist() -> None:
+    with pytest.raises(ValueError, match="one pallet and one hoist per place"):
+        depots_problem(DepotsSize(2, 2, 1, 3, 4, 5), 1)
+
+
+@pytest.mark.parametrize(
+    ("size", "seed"), [(SatelliteSize(1, 1, 3, 3, 3), 1), (SatelliteSize(4, 3, 5, 12, 20), 2)]
+)
+def test_satellite_generator_follows_the_ipc_layout(size: SatelliteSize, seed: int) -> None:
+    text = satellite_problem(size, seed)
+    assert text == satellite_problem(size, seed)
+    init, goal = text.split("(:goal")
+    on_board = init.count("(on_board ")
+    assert size.satellites <= on_board <= size.satellites * size.instruments
+    assert init.count("(calibration_target ") == on_board  # one target per instrument
+    assert init.count("(power_avail ") == init.count("(pointing ") == size.satellites
+    images = re.findall(r"\(have_image ([^\s()]+) ([^\s()]+)\)", goal)
+    assert len(images) == len(set(images)) == size.observations
+    supported = set(re.findall(r"\(supports \S+ ([^\s()]+)\)", init))
+    assert {mode for _, mode in images} <= supported  # every goal image can be taken
+    assert goal.count("(pointing ") == size.satellites // 2
+
+
+def test_satellite_generator_rejects_empty_sizes() -> None:
+    with pytest.raises(ValueError, match="at least one satellite"):
+        satellite_problem(SatelliteSize(0, 1, 1, 1, 1), 1)

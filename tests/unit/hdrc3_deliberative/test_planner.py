@@ -7,6 +7,8 @@ import pytest
 from hdrc3_deliberative.generators import (
     BLOCKS_CONTROL,
     BLOCKS_DOMAIN,
+    DEPOTS_CONTROL,
+    DEPOTS_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
     UAV_CONTROL,
@@ -14,13 +16,23 @@ from hdrc3_deliberative.generators import (
     UAV_SCENARIO,
     ZENOTRAVEL_CONTROL,
     ZENOTRAVEL_DOMAIN,
+    DepotsSize,
     LogisticsSize,
+    SatelliteSize,
     UavSize,
     ZenoSize,
     blocks_problem,
+    depots_problem,
     logistics_problem,
+    satellite_problem,
     uav_problem,
     zenotravel_problem,
+)
+from hdrc3_deliberative.generators import (
+    SATELLITE_CONTROL as SAT_CONTROL,
+)
+from hdrc3_deliberative.generators import (
+    SATELLITE_DOMAIN as SAT_DOMAIN,
 )
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner, is_pddl
 from hdrc3_deliberative.result import PlanStatus
@@ -186,6 +198,10 @@ def test_domain_problem_mismatch_is_named(planner: TaskPlanner) -> None:
         (BLOCKS_DOMAIN, BLOCKS_CONTROL, blocks_problem(10, 2), 40),
         (ZENOTRAVEL_DOMAIN, ZENOTRAVEL_CONTROL, zenotravel_problem(ZenoSize(5, 2, 5), 1), 40),
         (ZENOTRAVEL_DOMAIN, ZENOTRAVEL_CONTROL, zenotravel_problem(ZenoSize(6, 2, 6), 2), 40),
+        (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(1, 2, 2, 3, 3, 6), 1), 40),
+        (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(2, 2, 3, 5, 5, 10), 2), 60),
+        (SAT_DOMAIN, SAT_CONTROL, satellite_problem(SatelliteSize(1, 1, 3, 3, 3), 1), 20),
+        (SAT_DOMAIN, SAT_CONTROL, satellite_problem(SatelliteSize(3, 2, 3, 8, 8), 2), 40),
     ],
 )
 def test_shipped_domains_solve_with_their_control_rules(
@@ -199,3 +215,49 @@ def test_shipped_domains_solve_with_their_control_rules(
     assert result.stats.nodes_expanded <= 2 * len(result.plan) + 1
     outcome = validate_pddl_plan(domain.read_text(), problem, result.plan)
     assert outcome.valid, outcome.reason
+
+
+# A problem in the layout of the IPC-2002 Depots files (domain name "Depot", capitalised types,
+# tab-free), written for this test.
+IPC_LAYOUT_DEPOT = """(define (problem depotprob1818) (:domain Depot)
+(:objects
+    depot0 - Depot
+    distributor0 distributor1 - Distributor
+    truck0 truck1 - Truck
+    pallet0 pallet1 pallet2 - Pallet
+    crate0 crate1 - Crate
+    hoist0 hoist1 hoist2 - Hoist)
+(:init
+    (at pallet0 depot0)
+    (clear crate1)
+    (at pallet1 distributor0)
+    (clear crate0)
+    (at pallet2 distributor1)
+    (clear pallet2)
+    (at truck0 distributor1)
+    (at truck1 depot0)
+    (at hoist0 depot0)
+    (available hoist0)
+    (at hoist1 distributor0)
+    (available hoist1)
+    (at hoist2 distributor1)
+    (available hoist2)
+    (at crate0 distributor0)
+    (on crate0 pallet1)
+    (at crate1 depot0)
+    (on crate1 pallet0)
+)
+(:goal (and
+        (on crate0 pallet2)
+        (on crate1 pallet1)
+    )
+))
+"""
+
+
+def test_depots_rules_read_the_competition_layout(planner: TaskPlanner) -> None:
+    domain = DEPOTS_DOMAIN.read_text()
+    result = planner.plan(PlanRequest(domain, IPC_LAYOUT_DEPOT, DEPOTS_CONTROL.read_text()), 30)
+    assert result.status is PlanStatus.SOLVED, result.reason
+    assert result.stats.nodes_expanded == len(result.plan)  # no backtracking
+    assert validate_pddl_plan(domain, IPC_LAYOUT_DEPOT, result.plan).valid

@@ -5,18 +5,24 @@ import pytest
 from hdrc3_deliberative.errors import PlanningInputError
 from hdrc3_deliberative.generators import LOGISTICS_CONTROL, UAV_CONTROL, UAV_DOMAIN, UAV_SCENARIO
 from hdrc3_deliberative.model import (
+    Atom,
     AtomEffect,
+    BinOp,
     Comparison,
     EffectTime,
     Equality,
     FAnd,
     FAtom,
+    FCompare,
+    FEq,
     FImplies,
     FNot,
     FQuant,
     FuncTerm,
+    Num,
     NumEffect,
     RuleKind,
+    Term,
     TimeRef,
 )
 from hdrc3_deliberative.tal_language import TalReader
@@ -93,7 +99,9 @@ def test_shipped_control_files_parse(reader: TalReader, path: object) -> None:
         ("domain", "domain d\ntype a\nfoo", "3:1", "unexpected 'foo'"),
         ("domain", "domain d\noperator x() effect [t] p() end", "2:21", "unexpected '[t]'"),
         ("control", "rule r: forall x: a . [t] p(x) ->", "1:34", "unexpected end of file"),
-        ("control", "rule r: p(x) < q(x)", "1:14", "'->'"),
+        ("control", "rule r: p(x) < < q(x)", "1:16", "unexpected '<'"),
+        ("control", "rule r: x < y", "1:11", "expected '=' or '!=' between objects"),
+        ("control", "rule r: fuel(a) > x", "1:17", "'x' is an object, not a number"),
         ("control", "operator x() end", "1:1", "not allowed in a control file"),
         ("problem", "problem p for d\ninit f(a) < 3", "2:11", "expected '='"),
         ("domain", "type a", "1:1", "missing 'domain NAME'"),
@@ -111,3 +119,25 @@ def test_syntax_errors(
         read(text, "x.tal")
     assert str(err.value).startswith(f"x.tal:{position}:"), str(err.value)
     assert message in str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("rule r: fuel(a) >= 3", FCompare(">=", FuncTerm(Atom("fuel", (Term("a"),))), Num(3.0))),
+        (
+            "rule r: [t+1] fuel(a) < cap(a) - 1",
+            FCompare(
+                "<",
+                FuncTerm(Atom("fuel", (Term("a"),))),
+                BinOp("-", FuncTerm(Atom("cap", (Term("a"),))), Num(1.0)),
+                TimeRef.NEXT,
+            ),
+        ),
+        ("rule r: a != b", FEq(Term("a"), Term("b"), False)),
+    ],
+)
+def test_control_comparisons(reader: TalReader, text: str, expected: object) -> None:
+    """Two bare names compare objects; anything with a function term or number is numeric."""
+    rule = reader.read_control(text, "c.tal").rules[0]
+    assert rule.formula == expected

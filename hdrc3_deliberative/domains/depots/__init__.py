@@ -1,0 +1,1 @@
+"""Depots (IPC-2002, STRIPS): domain and TALplanner control rules."""
