@@ -89,32 +89,34 @@ class PayloadWorld:
         body, geom = mujoco.mjtObj.mjOBJ_BODY, mujoco.mjtObj.mjOBJ_GEOM
         self._body = {oid: ident(body, body_names(oid).body) for oid in self.objects}
         self._owner = {int(g): oid for oid, b in self._body.items() for g in _geoms_of(m, b)}
-        planes = [ident(geom, body_names(oid).plane) for oid in self.objects]
+        planes = [_mocap(m, ident(body, body_names(oid).plane)) for oid in self.objects]
         bodies = [self._body[oid] for oid in self.objects]
         self._anchor: dict[str, int] = {}
+        """Mocap index of each agent's winch anchor."""
         self._hook_body: dict[str, int] = {}
         self._hook_geom: dict[str, int] = {}
         self._tendon: dict[str, int] = {}
         self._grip: dict[tuple[str, str], int] = {}
         for agent in self.hooks:
             anchor, hook, cable, plane = hook_names(agent)
-            self._anchor[agent] = int(m.body_mocapid[ident(body, anchor)])
+            self._anchor[agent] = _mocap(m, ident(body, anchor))
             self._hook_body[agent] = ident(body, hook)
             self._hook_geom[agent] = ident(geom, hook)
             self._tendon[agent] = ident(mujoco.mjtObj.mjOBJ_TENDON, cable)
             # the hook never sleeps: its winch and anchor move it without a contact to wake it
             tree = int(m.body_treeid[self._hook_body[agent]])
             m.tree_sleep_policy[tree] = mujoco.mjtSleepPolicy.mjSLEEP_NEVER
-            planes.append(ident(geom, plane))
+            planes.append(_mocap(m, ident(body, plane)))
             bodies.append(self._hook_body[agent])
             for oid in self.objects:
                 self._grip[(agent, oid)] = ident(mujoco.mjtObj.mjOBJ_EQUALITY, grip_name(agent, oid))
         self._planes = np.array(planes, dtype=np.int64)
+        """Mocap index of the ground plane of each body in ``_plane_bodies``."""
         self._plane_bodies = np.array(bodies, dtype=np.int64)
         self._plane_xy = np.full((len(planes), 2), np.inf)
         self._forces: dict[str, Vec3] = {agent: (0.0, 0.0, 0.0) for agent in self.hooks}
-        mujoco.mj_forward(m, self.data)
         self._follow_terrain()
+        mujoco.mj_forward(m, self.data)
 
     # ------------------------------------------------------------- pickling
     def __getstate__(self) -> dict[str, Any]:
@@ -125,6 +127,7 @@ class PayloadWorld:
         state["_arrays"] = {
             "qpos": d.qpos.copy(),
             "qvel": d.qvel.copy(),
+            "qacc_warmstart": d.qacc_warmstart.copy(),
             "mocap_pos": d.mocap_pos.copy(),
             "eq_active": d.eq_active.copy(),
             "eq_data": m.eq_data.copy(),
@@ -143,6 +146,7 @@ class PayloadWorld:
         d, m = self.data, self.model
         d.qpos[:] = arrays["qpos"]
         d.qvel[:] = arrays["qvel"]
+        d.qacc_warmstart[:] = arrays["qacc_warmstart"]
         d.mocap_pos[:] = arrays["mocap_pos"]
         d.eq_active[:] = arrays["eq_active"]
         m.eq_data[:] = arrays["eq_data"]
@@ -197,7 +201,7 @@ class PayloadWorld:
 
     def _follow_terrain(self) -> None:
         """Move the ground plane of every body that moved under it, tangent to the terrain."""
-        d, m = self.data, self.model
+        d = self.data
         xy = d.xpos[self._plane_bodies, :2]
         moved = np.nonzero(np.abs(xy - self._plane_xy).max(axis=1) > _FOLLOW)[0]
         if moved.size == 0:
@@ -209,8 +213,8 @@ class PayloadWorld:
             gx = (height(e + s, n) - height(e - s, n)) / (2.0 * s)
             gy = (height(e, n + s) - height(e, n - s)) / (2.0 * s)
             plane = int(self._planes[i])
-            m.geom_pos[plane] = (e, n, height(e, n))
-            m.geom_quat[plane] = _tilt_quat(gx, gy)
+            d.mocap_pos[plane] = (e, n, height(e, n))
+            d.mocap_quat[plane] = _tilt_quat(gx, gy)
             self._plane_xy[i] = (e, n)
 
     # ------------------------------------------------------------- gripping
@@ -357,6 +361,10 @@ class PayloadWorld:
     def poses(self) -> dict[str, PayloadPose]:
         """Poses of every payload object, by id."""
         return {oid: self.pose(oid) for oid in self.objects}
+
+
+def _mocap(model: Any, body: int) -> int:
+    return int(model.body_mocapid[body])
 
 
 def _geoms_of(model: Any, body: int) -> range:

@@ -6,7 +6,7 @@ base plate and four low walls) so that boxes put on it stay on it when it is lif
 
 Terrain: MuJoCo's height-field contacts with boxes jitter and, on a grid as coarse as a world
 file's (100 m), let boxes sink through (measured while writing this module), so the terrain is
-not a MuJoCo geom. Each body instead touches its own plane, which :mod:`sim.payload` keeps
+not a MuJoCo geom. Each body instead touches its own plane (a mocap body), which :mod:`sim.payload` keeps
 tangent to the world's bilinear terrain under the body every step: the contact sees exactly the
 height :class:`sim.terrain.Terrain` gives, and box-on-plane contacts rest without jitter.
 Buildings are not in this model (a box dropped on a roof falls to the ground).
@@ -86,6 +86,14 @@ def _geoms(obj: DynamicObject) -> list[tuple[str, str, str]]:
     ]
 
 
+def _plane(name: str, east: float, north: float, up: float) -> str:
+    """A ground plane in its own mocap body (MuJoCo moves static world geoms only at load)."""
+    return (
+        f'<body name="{name}" mocap="true" pos="{east} {north} {up}">'
+        f'<geom name="{name}" type="plane" size="0 0 1" contype="0" conaffinity="0"/></body>'
+    )
+
+
 def object_mass(obj: DynamicObject) -> float:
     """Mass of a payload object, kg."""
     return obj.mass if obj.mass is not None else DEFAULT_MASS[obj.kind]
@@ -110,10 +118,7 @@ def scene_xml(
     tendons: list[str] = []
     for obj, ground in objects:
         names = body_names(obj.id)
-        world.append(
-            f'<geom name="{names.plane}" type="plane" size="0 0 1" pos="{obj.east} {obj.north} '
-            f'{ground}" contype="0" conaffinity="0"/>'
-        )
+        world.append(_plane(names.plane, obj.east, obj.north, ground))
         mass = object_mass(obj)
         geoms = _geoms(obj)
         share = mass / len(geoms)
@@ -135,10 +140,7 @@ def scene_xml(
         world.append(
             f'<body name="{anchor}" mocap="true" pos="{e} {n} {u}"><site name="{anchor}"/></body>'
         )
-        world.append(
-            f'<geom name="{plane}" type="plane" size="0 0 1" pos="{e} {n} 0" contype="0" '
-            f'conaffinity="0"/>'
-        )
+        world.append(_plane(plane, e, n, u - 1.0))
         world.append(
             f'<body name="{hook_body}" pos="{e} {n} {u - hook.stowed_cable}"><freejoint/>'
             f'<geom name="{hook_body}" type="sphere" size="{r}" mass="{hook.hook_mass}"/>'
