@@ -83,6 +83,9 @@ class Hook:
         """WRONG_BOX injected: the next grip takes another object."""
         self.release_now = False
         """RELEASE injected: the world lets go of the held object at its next step."""
+        self.armed = True
+        """False after the magnet lost a held object while energised: it grips again only after
+        being switched off and on (else it would re-grip the object it just dropped)."""
 
     # ---------------------------------------------------------------- inputs
     def command(self, cable_length: float, magnet: bool) -> None:
@@ -90,6 +93,8 @@ class Hook:
         p = self.params
         self.target = min(max(cable_length, p.stowed_cable), p.max_cable)
         self.magnet = magnet
+        if not magnet:
+            self.armed = True
 
     def inject(self, fault: HookFault) -> None:
         """Switch a fault on (NONE clears hook failure and a pending wrong box)."""
@@ -123,7 +128,7 @@ class Hook:
     # ------------------------------------------------------------- gripping
     def may_grip(self) -> bool:
         """True when the magnet is on, works and holds nothing yet."""
-        return self.magnet and not self.failed and self.held is None
+        return self.magnet and self.armed and not self.failed and self.held is None
 
     def must_let_go(self) -> bool:
         """True when a held object has to fall: magnet off, hook failure or an injected release."""
@@ -138,6 +143,7 @@ class Hook:
         """The world detached the held object."""
         self.held = None
         self.release_now = False
+        self.armed = not self.magnet
 
     def reading(self) -> HookReading:
         """The ``carrying`` sensor's sample now."""

@@ -31,8 +31,12 @@ TIMESTEP = 0.005
 """s, MuJoCo step (one per 200 Hz flight-model step)."""
 WALL = 0.03
 """m, thickness of a carrier's base and walls."""
-WALL_HEIGHT = 0.12
-"""m, height of a carrier's walls above its base."""
+WALL_HEIGHT = 0.06
+"""m, height of a carrier's rim above its base."""
+POST = 0.03
+"""m, half width of a carrier's central lifting post."""
+LIFT_PLATE = 0.02
+"""m, thickness of the steel plate on the post's top that the magnet grips (0.16 m square)."""
 FRICTION = 0.8
 DEFAULT_MASS = {ObjectKind.BOX: 5.0, ObjectKind.CARRIER: 8.0}
 """kg, when the world file gives none."""
@@ -77,12 +81,20 @@ def _geoms(obj: DynamicObject) -> list[tuple[str, str, str]]:
     w = WALL / 2.0
     wall_z = WALL + WALL_HEIGHT / 2.0
     wh = WALL_HEIGHT / 2.0
+    post = (height - WALL - LIFT_PLATE) / 2.0
     return [
-        (f"{obj.id}:base", f"{hx} {hy} {w}", f"0 0 {w}"),
-        (f"{obj.id}:front", f"{w} {hy} {wh}", f"{hx - w} 0 {wall_z}"),
-        (f"{obj.id}:back", f"{w} {hy} {wh}", f"{-hx + w} 0 {wall_z}"),
-        (f"{obj.id}:left", f"{hx} {w} {wh}", f"0 {hy - w} {wall_z}"),
-        (f"{obj.id}:right", f"{hx} {w} {wh}", f"0 {-hy + w} {wall_z}"),
+        (f"{obj.id}:post", f"{POST} {POST} {post}", f"0 0 {WALL + post}"),
+        (
+            f"{obj.id}:plate",
+            f"{LIFT_PLATE * 4} {LIFT_PLATE * 4} {LIFT_PLATE / 2}",
+            f"0 0 {height - LIFT_PLATE / 2}",
+        ),
+        (f"{obj.id}:base", f"{hx + WALL} {hy + WALL} {w}", f"0 0 {w}"),
+        # the rim stands outside the footprint: the whole length x width holds boxes
+        (f"{obj.id}:front", f"{w} {hy + WALL} {wh}", f"{hx + w} 0 {wall_z}"),
+        (f"{obj.id}:back", f"{w} {hy + WALL} {wh}", f"{-hx - w} 0 {wall_z}"),
+        (f"{obj.id}:left", f"{hx} {w} {wh}", f"0 {hy + w} {wall_z}"),
+        (f"{obj.id}:right", f"{hx} {w} {wh}", f"0 {-hy - w} {wall_z}"),
     ]
 
 
@@ -92,6 +104,26 @@ def _plane(name: str, east: float, north: float, up: float) -> str:
         f'<body name="{name}" mocap="true" pos="{east} {north} {up}">'
         f'<geom name="{name}" type="plane" size="0 0 1" contype="0" conaffinity="0"/></body>'
     )
+
+
+def carrier_slots(carrier: DynamicObject, box_length: float) -> list[tuple[float, float]]:
+    """Box places on a carrier (ENU m): up to two boxes across on each side of the post.
+
+    ``capacity`` places alternating between the two halves along the carrier's length; the
+    boxes' centres sit ``box_length`` apart across the carrier's width.
+    """
+    capacity = carrier.capacity or 0
+    length, _, _ = carrier.size
+    along = (length / 2.0 + POST + LIFT_PLATE * 4) / 2.0
+    across = box_length / 2.0
+    s, c = math.sin(carrier.heading), math.cos(carrier.heading)  # length axis (east, north)
+    out = []
+    for i in range(capacity):
+        a = along if i % 2 == 0 else -along
+        b = across if (i // 2) % 2 == 0 else -across
+        # across axis: heading + 90 deg
+        out.append((carrier.east + a * s + b * c, carrier.north + a * c - b * s))
+    return out
 
 
 def object_mass(obj: DynamicObject) -> float:
