@@ -179,9 +179,7 @@ def _externals(sim: WorldSim) -> dict[str, object]:
 
 def encode(sim: WorldSim, run: RunState, period_ticks: int) -> bytes:
     """The checkpoint file's bytes for the current state of ``sim``."""
-    state = WorldState(
-        sim.tick, period_ticks, sim.agents, sim.wind, sim.objects, run, sim.payload
-    )
+    state = WorldState(sim.tick, period_ticks, sim.agents, sim.wind, sim.objects, run, sim.payload)
     buffer = io.BytesIO()
     pickler = _Pickler(buffer, sim)
     pickler.dump(WorldIdentity.of(sim.config))  # first: checked before the state is rebuilt

@@ -109,7 +109,9 @@ class PayloadWorld:
             planes.append(_mocap(m, ident(body, plane)))
             bodies.append(self._hook_body[agent])
             for oid in self.objects:
-                self._grip[(agent, oid)] = ident(mujoco.mjtObj.mjOBJ_EQUALITY, grip_name(agent, oid))
+                self._grip[(agent, oid)] = ident(
+                    mujoco.mjtObj.mjOBJ_EQUALITY, grip_name(agent, oid)
+                )
         self._planes = np.array(planes, dtype=np.int64)
         """Mocap index of the ground plane of each body in ``_plane_bodies``."""
         self._plane_bodies = np.array(bodies, dtype=np.int64)

@@ -47,9 +47,7 @@ def _full_collective_with_carrier(mass: float) -> tuple[WorldSim, float, float]:
 
 
 @pytest.mark.parametrize(("mass", "lifts"), [(8.0, True), (80.0, False)])
-def test_an_overweight_carrier_keeps_the_helicopter_on_the_ground(
-    mass: float, lifts: bool
-) -> None:
+def test_an_overweight_carrier_keeps_the_helicopter_on_the_ground(mass: float, lifts: bool) -> None:
     sim, carrier_top, aircraft_top = _full_collective_with_carrier(mass)
     if lifts:
         assert carrier_top > 5.0 and aircraft_top > 5.0
