@@ -6,8 +6,9 @@ base plate and four low walls) so that boxes put on it stay on it when it is lif
 
 Terrain: MuJoCo's height-field contacts with boxes jitter and, on a grid as coarse as a world
 file's (100 m), let boxes sink through (measured while writing this module), so the terrain is
-not a MuJoCo geom. Each body instead touches its own plane (a mocap body), which :mod:`sim.payload` keeps
-tangent to the world's bilinear terrain under the body every step: the contact sees exactly the
+not a MuJoCo geom. Each body instead touches its own plane (in a mocap body: MuJoCo moves static
+world geoms only at load), which :mod:`sim.payload` keeps tangent to the world's bilinear
+terrain under the body every step: the contact sees exactly the
 height :class:`sim.terrain.Terrain` gives, and box-on-plane contacts rest without jitter.
 Buildings are not in this model (a box dropped on a roof falls to the ground).
 
