@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
+from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_tst.engine import NodeRecord
 from hdrc3_tst.goal_planning import PlanHandle
 from hdrc3_tst.model import NodeRef, NodeState
@@ -38,6 +39,15 @@ class FakePlatform:
             handle.end(CommandState.FAILED, f"refused: {self.refuse[command]}")
         else:
             handle.state = CommandState.RUNNING
+        self.sent.append(handle)
+        return handle
+
+    def hook(self, action: HookAction, length: float = 0.0, object_id: str = "") -> Command:
+        """Record a hook command; it runs until the test completes it."""
+        handle = Command(
+            action, {"length": length, "object_id": object_id}, command_id=len(self.sent) + 1
+        )
+        handle.state = CommandState.RUNNING
         self.sent.append(handle)
         return handle
 

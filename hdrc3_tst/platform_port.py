@@ -14,6 +14,11 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
+from hdrc3_platform_server.hook_api import LABEL as HOOK_LABEL
+from hdrc3_platform_server.hook_api import HookAction
+
+AnyCommand = FclCommand | PpclCommand | HookAction
+"""What a command handle names: an FCL or PPCL command, or a ``ppcl_hook`` action."""
 
 
 class CommandState(enum.Enum):
@@ -35,8 +40,8 @@ class CommandState(enum.Enum):
 class Command:
     """A handle on one FCL/PPCL command; the port updates it as answers and events arrive."""
 
-    command: FclCommand | PpclCommand
-    args: dict[str, float] = field(default_factory=dict)
+    command: AnyCommand
+    args: dict[str, float | str] = field(default_factory=dict)
     state: CommandState = CommandState.SENT
     reason: str = ""
     command_id: int = 0
@@ -47,7 +52,9 @@ class Command:
 
     @property
     def label(self) -> str:
-        """``fcl_takeoff``, ``ppcl_look_at``, ..."""
+        """``fcl_takeoff``, ``ppcl_look_at``, ``ppcl_hook`` ..."""
+        if isinstance(self.command, HookAction):
+            return HOOK_LABEL
         prefix = "fcl" if isinstance(self.command, FclCommand) else "ppcl"
         return f"{prefix}_{self.command.value}"
 
@@ -78,8 +85,14 @@ class PlatformPort(Protocol):
     def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
         """Send a command with its registry arguments; the handle tracks its outcome."""
 
+    def hook(self, action: HookAction, length: float = 0.0, object_id: str = "") -> Command:
+        """A ``ppcl_hook`` command (winch and magnet); the handle tracks its outcome."""
+
     def stop(self, command: Command, reason: str) -> None:
-        """End a running command: FCL brakes to a hover (fcl_cancel), PPCL stops its mode."""
+        """End a running command: FCL brakes to a hover (fcl_cancel), PPCL stops its mode.
+
+        A stopped hook command leaves the hook as it is (a held load is not dropped).
+        """
 
     def state(self) -> PlatformState | None:
         """The latest Data Interface sample, None before the first one."""

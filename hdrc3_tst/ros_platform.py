@@ -19,14 +19,15 @@ from rclpy.node import Node
 
 from hdrc3_base.ros_runtime import SERVICE_QOS
 from hdrc3_interfaces.msg import FclReturn, HelicopterState, PlatformEvent, PpclReturn
-from hdrc3_interfaces.srv import PpclControl
+from hdrc3_interfaces.srv import PpclControl, PpclHook
 from hdrc3_platform_server.client import event_from_msg
 from hdrc3_platform_server.codes import EventKind, FclCommand, PpclCommand, Resource
 from hdrc3_platform_server.commands import FCL, PPCL
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_platform_server.node import EVENT_QOS, STATE_QOS
-from hdrc3_tst.platform_port import Command, CommandState, PlatformState
+from hdrc3_tst.platform_port import AnyCommand, Command, CommandState, PlatformState
 
 OWNER = "tst_manager"
 EARLY_IDS = 256
@@ -81,14 +82,26 @@ class RosPlatform:
             self._call(handle, request)
         return handle
 
+    def hook(self, action: HookAction, length: float = 0.0, object_id: str = "") -> Command:
+        """Call ``ppcl/hook``; the handle follows its answer and final event."""
+        handle = Command(action, {"length": length, "object_id": object_id})
+        request = PpclHook.Request(action=int(action), length=float(length), object_id=object_id)
+        self._call(handle, request)
+        return handle
+
     def stop(self, command: Command, reason: str) -> None:
-        """End a command: cancel (FCL) or abort the PTU mode (PPCL); late answers stop too."""
+        """End a command: cancel (FCL) or abort the PTU mode (PPCL); late answers stop too.
+
+        A hook command is only given up: the winch and magnet stay as they are.
+        """
         if command.state is CommandState.SENT:
             self._stop_on_accept[id(command)] = reason
             return
         if command.state.ended:
             return
-        if isinstance(command.command, FclCommand):
+        if isinstance(command.command, HookAction):
+            pass
+        elif isinstance(command.command, FclCommand):
             self._fire(FclCommand.CANCEL)
         elif PPCL[command.command].resource is Resource.PTU:
             self._fire(PpclCommand.PTU_ABORT)
@@ -106,7 +119,9 @@ class RosPlatform:
             )
         return self._clients[name]
 
-    def _service_name(self, command: FclCommand | PpclCommand) -> tuple[Any, str]:
+    def _service_name(self, command: AnyCommand) -> tuple[Any, str]:
+        if isinstance(command, HookAction):
+            return PpclHook, "ppcl/hook"
         if isinstance(command, FclCommand):
             return FCL[command].service_type(), f"fcl/{command.value}"
         return PPCL[command].service_type(), f"ppcl/{command.value}"

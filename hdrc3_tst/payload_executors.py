@@ -1,0 +1,143 @@
+"""Delivery executors: boxes and carriers on the winch hook (chapter section 11.1.2).
+
+One executor per operator of TALplanner's UAV logistics domain
+(``hdrc3_deliberative/domains/uav_logistics/domain.tal``), under the operator's name:
+``pick-up-box``, ``drop-box``, ``put-on-carrier``, ``take-from-carrier``, ``attach-carrier``
+and ``detach-carrier`` (``fly-to`` is the flight executor). The domain's helicopter is the
+node's agent; its boxes, carriers and locations are points: an object's point is named by the
+object's tag (what the magnet reads) and lies where the object is, a location's point where a
+load goes down.
+
+A pick-up is the chapter's sequence: hover ``HOVER_HEIGHT`` m above the object, lower the hook
+until it rests on the object (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
+must hold that very object), raise to ``CARRY_CABLE`` m. A put-down hovers above the place,
+lowers until the load rests, releases and winds the hook in. Each step is one platform command
+whose failure fails the node with the platform's reason (wrong box, nothing gripped, winch
+stalled by an overweight load, load lost).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Generator, Mapping
+from types import MappingProxyType
+
+from hdrc3_platform_server.hook_api import HookAction
+from hdrc3_tst.executor import SUCCEEDED, ActionContext, ActionExecutor, Progress, Status
+from hdrc3_tst.executor_steps import airborne, finish, fly_to
+
+Steps = Generator[None, None, Status]
+HOVER_HEIGHT = 6.0
+"""m above the ground where a load is picked up or put down."""
+REACH = 2.0
+"""m of cable paid out beyond the hover height: the hook reaches the ground with margin (the
+lowering stops on a slack cable before that)."""
+CARRY_CABLE = 1.0
+"""m of cable a load hangs on in flight."""
+APPROACH_SPEED = 2.0
+"""m/s of the final approach over a load or place."""
+
+
+def over(ctx: ActionContext, place: str) -> Steps:
+    """Take off if needed and hover ``HOVER_HEIGHT`` m above the place's point."""
+    outcome = yield from airborne(ctx)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return outcome
+    (point,) = ctx.place(place)
+    east, north = float(point[0]), float(point[1])
+    up = ctx.frame.ground_up(east, north) + HOVER_HEIGHT
+    return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
+
+
+def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str = "") -> Steps:
+    """One ppcl_hook command to its end."""
+    return (yield from finish(ctx, ctx.hook(action, length, tag)))
+
+
+def pick_up(ctx: ActionContext, place: str) -> Steps:
+    """Hover over the object of point ``place``, lower, attach it (by its tag), raise."""
+    tag = ctx.name(place)
+    for step in (
+        lambda: over(ctx, place),
+        lambda: hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
+        lambda: hook(ctx, HookAction.ATTACH, 0.0, tag),
+        lambda: hook(ctx, HookAction.RAISE, CARRY_CABLE),
+    ):
+        outcome = yield from step()
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+    return SUCCEEDED
+
+
+def put_down(ctx: ActionContext, place: str) -> Steps:
+    """Hover over point ``place``, lower the load until it rests, release, wind in."""
+    for step in (
+        lambda: over(ctx, place),
+        lambda: hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
+        lambda: hook(ctx, HookAction.RELEASE),
+        lambda: hook(ctx, HookAction.RAISE, 0.0),
+    ):
+        outcome = yield from step()
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+    return SUCCEEDED
+
+
+class PickUpBox(ActionExecutor):
+    """``pick-up-box(box)``: the box at its point (a depot) onto the hook."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Pick up the box."""
+        return (yield from pick_up(ctx, "box"))
+
+
+class TakeFromCarrier(ActionExecutor):
+    """``take-from-carrier(box)``: a box off a carrier (its point: its place on the carrier)."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Pick up the box from the carrier."""
+        return (yield from pick_up(ctx, "box"))
+
+
+class AttachCarrier(ActionExecutor):
+    """``attach-carrier(carrier)``: the carrier by its central lifting plate."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Pick up the carrier."""
+        return (yield from pick_up(ctx, "carrier"))
+
+
+class DropBox(ActionExecutor):
+    """``drop-box(box, place)``: the held box put down on the ground at the place."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Put the box down."""
+        return (yield from put_down(ctx, "place"))
+
+
+class PutOnCarrier(ActionExecutor):
+    """``put-on-carrier(box, place)``: the held box put down at its place on a carrier."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Put the box on the carrier."""
+        return (yield from put_down(ctx, "place"))
+
+
+class DetachCarrier(ActionExecutor):
+    """``detach-carrier(carrier, place)``: the held carrier put down at the place."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Put the carrier down."""
+        return (yield from put_down(ctx, "place"))
+
+
+PAYLOAD_EXECUTORS: Mapping[str, type[ActionExecutor]] = MappingProxyType(
+    {
+        "pick-up-box": PickUpBox,
+        "drop-box": DropBox,
+        "put-on-carrier": PutOnCarrier,
+        "take-from-carrier": TakeFromCarrier,
+        "attach-carrier": AttachCarrier,
+        "detach-carrier": DetachCarrier,
+    }
+)
+"""The delivery executors by action name (= the UAV logistics operators; a test checks)."""
