@@ -16,6 +16,7 @@ from typing import Any
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from sim.hook import Hook, HookFault, HookParams, HookReading
 from sim.payload_scene import (
@@ -77,6 +78,7 @@ class PayloadWorld:
         placed = [(o, terrain.height(o.east, o.north)) for o in self.objects.values()]
         self.xml = scene_xml(placed, sorted(anchors.items()), self.params)
         self.hooks = {agent: Hook(self.params) for agent in sorted(anchors)}
+        self._last_anchor = dict(anchors)
         self._build()
 
     def _build(self) -> None:
@@ -91,21 +93,23 @@ class PayloadWorld:
         self._owner = {int(g): oid for oid, b in self._body.items() for g in _geoms_of(m, b)}
         planes = [_mocap(m, ident(body, body_names(oid).plane)) for oid in self.objects]
         bodies = [self._body[oid] for oid in self.objects]
-        self._anchor: dict[str, int] = {}
-        """Mocap index of each agent's winch anchor."""
+        self._anchor: dict[str, tuple[int, int]] = {}
+        """(qpos, dof) address of each agent's winch anchor's first slide joint."""
         self._hook_body: dict[str, int] = {}
         self._hook_geom: dict[str, int] = {}
         self._tendon: dict[str, int] = {}
         self._grip: dict[tuple[str, str], int] = {}
         for agent in self.hooks:
             anchor, hook, cable, plane = hook_names(agent)
-            self._anchor[agent] = _mocap(m, ident(body, anchor))
+            joint = int(m.body_jntadr[ident(body, anchor)])
+            self._anchor[agent] = (int(m.jnt_qposadr[joint]), int(m.jnt_dofadr[joint]))
+            self._put_anchor(agent, self._last_anchor[agent], (0.0, 0.0, 0.0))
             self._hook_body[agent] = ident(body, hook)
             self._hook_geom[agent] = ident(geom, hook)
             self._tendon[agent] = ident(mujoco.mjtObj.mjOBJ_TENDON, cable)
-            # the hook never sleeps: its winch and anchor move it without a contact to wake it
-            tree = int(m.body_treeid[self._hook_body[agent]])
-            m.tree_sleep_policy[tree] = mujoco.mjtSleepPolicy.mjSLEEP_NEVER
+            # hook and winch never sleep: the aircraft moves them without a contact to wake them
+            for b in (self._hook_body[agent], ident(body, anchor)):
+                m.tree_sleep_policy[int(m.body_treeid[b])] = mujoco.mjtSleepPolicy.mjSLEEP_NEVER
             planes.append(_mocap(m, ident(body, plane)))
             bodies.append(self._hook_body[agent])
             for oid in self.objects:
@@ -130,26 +134,26 @@ class PayloadWorld:
             "qpos": d.qpos.copy(),
             "qvel": d.qvel.copy(),
             "qacc_warmstart": d.qacc_warmstart.copy(),
-            "mocap_pos": d.mocap_pos.copy(),
             "eq_active": d.eq_active.copy(),
             "eq_data": m.eq_data.copy(),
             "tendon_range": m.tendon_range.copy(),
             "time": np.array([d.time]),
         }
         state["_forces"] = self._forces
+        state["_last_anchor"] = self._last_anchor
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         """Restore: rebuild the model and put the state back."""
         arrays = state.pop("_arrays")
         forces = state.pop("_forces")
+        self._last_anchor = state.pop("_last_anchor")
         self.__dict__.update(state)
         self._build()
         d, m = self.data, self.model
         d.qpos[:] = arrays["qpos"]
         d.qvel[:] = arrays["qvel"]
         d.qacc_warmstart[:] = arrays["qacc_warmstart"]
-        d.mocap_pos[:] = arrays["mocap_pos"]
         d.eq_active[:] = arrays["eq_active"]
         m.eq_data[:] = arrays["eq_data"]
         m.tendon_range[:] = arrays["tendon_range"]
@@ -162,7 +166,10 @@ class PayloadWorld:
         """Advance by ``dt`` (a multiple of the MuJoCo step) with the winches at ``anchors``."""
         m, d = self.model, self.data
         for agent, pos in anchors.items():
-            d.mocap_pos[self._anchor[agent]] = pos
+            last = self._last_anchor[agent]
+            velocity = ((pos[0] - last[0]) / dt, (pos[1] - last[1]) / dt, (pos[2] - last[2]) / dt)
+            self._put_anchor(agent, pos, velocity)
+            self._last_anchor[agent] = pos
         for agent, hook in self.hooks.items():
             m.tendon_range[self._tendon[agent], 1] = hook.length
         for _ in range(max(1, round(dt / TIMESTEP))):
@@ -179,6 +186,17 @@ class PayloadWorld:
                 if touched is not None:
                     self._grip_object(agent, touched)
 
+    def _put_anchor(self, agent: str, pos: Vec3, velocity: Vec3) -> None:
+        """Winch anchor of ``agent`` at ``pos`` (ENU m) moving at ``velocity`` (m/s)."""
+        q, v = self._anchor[agent]
+        self.data.qpos[q : q + 3] = pos
+        self.data.qvel[v : v + 3] = velocity
+
+    def _anchor_position(self, agent: str) -> NDArray[np.float64]:
+        q, _ = self._anchor[agent]
+        position: NDArray[np.float64] = self.data.qpos[q : q + 3]
+        return position
+
     def _tensions(self) -> dict[str, float]:
         d = self.data
         n = d.nefc
@@ -192,7 +210,7 @@ class PayloadWorld:
         if tension <= 0.0:
             return (0.0, 0.0, 0.0)
         d = self.data
-        a = d.mocap_pos[self._anchor[agent]]
+        a = self._anchor_position(agent)
         h = d.xpos[self._hook_body[agent]]
         v = h - a
         norm = float(np.linalg.norm(v))
@@ -311,7 +329,8 @@ class PayloadWorld:
         self._let_go(agent)
         self.hooks[agent] = Hook(self.params)
         m, d = self.model, self.data
-        d.mocap_pos[self._anchor[agent]] = anchor
+        self._put_anchor(agent, anchor, (0.0, 0.0, 0.0))
+        self._last_anchor[agent] = anchor
         body = self._hook_body[agent]
         q = int(m.jnt_qposadr[m.body_jntadr[body]])
         v = int(m.jnt_dofadr[m.body_jntadr[body]])

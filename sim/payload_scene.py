@@ -12,7 +12,7 @@ terrain under the body every step: the contact sees exactly the
 height :class:`sim.terrain.Terrain` gives, and box-on-plane contacts rest without jitter.
 Buildings are not in this model (a box dropped on a roof falls to the ground).
 
-Each aircraft is a kinematic (mocap) anchor moved to its winch every step; the hook is a free
+Each aircraft is a heavy anchor on three slide joints, put at its winch every step; the hook is a free
 sphere on a rope (a spatial tendon whose upper length limit is the winch's cable length). The
 magnet's grip is a ``connect`` equality between the hook and an object, one per (hook, object)
 pair, inactive until the hook grips.
@@ -38,6 +38,8 @@ POST = 0.03
 """m, half width of a carrier's central lifting post."""
 LIFT_PLATE = 0.02
 """m, thickness of the steel plate on the post's top that the magnet grips (0.16 m square)."""
+ANCHOR_MASS = 1.0e4
+"""kg of a winch anchor: the cable's pull moves it by nanometres within a step."""
 FRICTION = 0.8
 DEFAULT_MASS = {ObjectKind.BOX: 5.0, ObjectKind.CARRIER: 8.0}
 """kg, when the world file gives none."""
@@ -170,8 +172,18 @@ def scene_xml(
     r = hook.hook_radius
     for agent, (e, n, u) in agents:
         anchor, hook_body, cable, plane = hook_names(agent)
+        # the winch: moved with the aircraft through three slide joints (position and velocity
+        # set every step), so the rope's constraint sees the true relative velocity of its ends
+        # (a mocap anchor has no velocity: the constraint's damping then acts on the hook's
+        # absolute velocity and throws it about at cruise speed); heavy, weightless, not colliding
+        slides = "".join(
+            f'<joint name="{anchor}:{axis}" type="slide" axis="{vec}" damping="0"/>'
+            for axis, vec in (("e", "1 0 0"), ("n", "0 1 0"), ("u", "0 0 1"))
+        )
         world.append(
-            f'<body name="{anchor}" mocap="true" pos="{e} {n} {u}"><site name="{anchor}"/></body>'
+            f'<body name="{anchor}" pos="0 0 0" gravcomp="1">{slides}'
+            f'<geom type="sphere" size="0.05" mass="{ANCHOR_MASS}" contype="0" conaffinity="0"/>'
+            f'<site name="{anchor}"/></body>'
         )
         world.append(_plane(plane, e, n, u - 1.0))
         world.append(
