@@ -85,7 +85,7 @@ class HookLimits:
     """m: a cable this close to its target has arrived."""
     slack_tension: float = 3.0
     """N: below this the cable is slack (the hook itself weighs more)."""
-    slack_time: float = 0.5
+    slack_time: float = 1.0
     """s of slack cable before LOWER ends resting on something."""
     attach_time: float = 3.0
     """s for the magnet to grip."""

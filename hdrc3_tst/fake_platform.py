@@ -17,7 +17,7 @@ from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_tst.engine import NodeRecord
 from hdrc3_tst.goal_planning import PlanHandle
 from hdrc3_tst.model import NodeRef, NodeState
-from hdrc3_tst.platform_port import Command, CommandState, PlatformState
+from hdrc3_tst.platform_port import Command, CommandState, PlatformState, Sighting
 
 
 @dataclass
@@ -31,6 +31,12 @@ class FakePlatform:
     stopped: list[tuple[Command, str]] = field(default_factory=list)
     refuse: dict[FclCommand | PpclCommand, str] = field(default_factory=dict)
     """Commands answered as refused, with the reason."""
+    sightings: dict[str, Sighting] = field(default_factory=dict)
+    """What the hook camera sees, by tag (the test sets it)."""
+
+    def seen(self, tag: str) -> Sighting | None:
+        """The scripted sighting of ``tag``."""
+        return self.sightings.get(tag)
 
     def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
         """Record the command; refused ones fail at once, the others run."""

@@ -8,7 +8,8 @@ node's agent; its boxes, carriers and locations are points: an object's point is
 object's tag (what the magnet reads) and lies where the object is, a location's point where a
 load goes down.
 
-A pick-up is the chapter's sequence: hover ``HOVER_HEIGHT`` m above the object, lower the hook
+A pick-up is the chapter's sequence: hover ``HOVER_HEIGHT`` m above the object (corrected on
+the hook camera's view of the object: a GPS fix is metres off), lower the hook
 until it rests on the object (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
 must hold that very object), raise to ``CARRY_CABLE`` m. A put-down hovers above the place,
 lowers until the load rests, releases and winds the hook in. Each step is one platform command
@@ -18,12 +19,21 @@ stalled by an overweight load, load lost).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Generator, Mapping
 from types import MappingProxyType
 
 from hdrc3_platform_server.hook_api import HookAction
-from hdrc3_tst.executor import SUCCEEDED, ActionContext, ActionExecutor, Progress, Status
+from hdrc3_tst.executor import (
+    SUCCEEDED,
+    ActionContext,
+    ActionExecutor,
+    Progress,
+    Status,
+    failed,
+)
 from hdrc3_tst.executor_steps import airborne, finish, fly_to
+from hdrc3_tst.platform_port import Sighting
 
 Steps = Generator[None, None, Status]
 HOVER_HEIGHT = 6.0
@@ -35,6 +45,15 @@ CARRY_CABLE = 1.0
 """m of cable a load hangs on in flight."""
 APPROACH_SPEED = 2.0
 """m/s of the final approach over a load or place."""
+ALIGNED = 0.12
+"""m: the hook camera sees the object this close below the winch: lower."""
+CORRECTION_SPEED = 0.5
+"""m/s of a correction flight over an object."""
+SETTLE_S = 4.0
+"""Mission seconds the aircraft hovers after a correction before the camera is asked again."""
+SIGHT_TIMEOUT_S = 5.0
+"""Mission seconds to wait for a new sighting of the object."""
+MAX_CORRECTIONS = 6
 
 
 def over(ctx: ActionContext, place: str) -> Steps:
@@ -48,6 +67,54 @@ def over(ctx: ActionContext, place: str) -> Steps:
     return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
 
 
+def _sighting(
+    ctx: ActionContext, tag: str, after: float | None
+) -> Generator[None, None, Sighting | None]:
+    """The first sighting of ``tag`` newer than ``after`` (None: not seen within the timeout)."""
+    deadline = ctx.now + SIGHT_TIMEOUT_S
+    while True:
+        seen = ctx.platform.seen(tag)
+        if seen is not None and (after is None or seen.time > after):
+            return seen
+        if ctx.now > deadline:
+            return None
+        yield
+
+
+def align(ctx: ActionContext, tag: str) -> Steps:
+    """Hover the winch over the object ``tag`` on the hook camera's offsets.
+
+    The flight to the object's point ends metres off (GPS); each correction flies the measured
+    offset from where the aircraft believes it is, hovers ``SETTLE_S`` s, and looks again.
+    """
+    after: float | None = None
+    miss = 0.0
+    for attempt in range(MAX_CORRECTIONS + 1):
+        seen = yield from _sighting(ctx, tag, after)
+        if seen is None:
+            return failed(f"the hook camera does not see {tag}")
+        after = seen.time
+        de, dn, _ = seen.offset
+        miss = math.hypot(de, dn)
+        if miss <= ALIGNED:
+            return SUCCEEDED
+        state = ctx.state()
+        if attempt == MAX_CORRECTIONS or state is None:
+            break
+        target = (state.east + de, state.north + dn, state.up)
+        outcome = yield from fly_to(ctx, target, CORRECTION_SPEED)
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+        settled = ctx.now + SETTLE_S
+        while ctx.now < settled:
+            yield
+        latest = ctx.platform.seen(tag)
+        after = latest.time if latest is not None else after
+    return failed(
+        f"could not hover over {tag}: {miss:.2f} m off after {MAX_CORRECTIONS} corrections"
+    )
+
+
 def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str = "") -> Steps:
     """One ppcl_hook command to its end."""
     return (yield from finish(ctx, ctx.hook(action, length, tag)))
@@ -58,6 +125,7 @@ def pick_up(ctx: ActionContext, place: str) -> Steps:
     tag = ctx.name(place)
     for step in (
         lambda: over(ctx, place),
+        lambda: align(ctx, tag),
         lambda: hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
         lambda: hook(ctx, HookAction.ATTACH, 0.0, tag),
         lambda: hook(ctx, HookAction.RAISE, CARRY_CABLE),

@@ -79,6 +79,16 @@ class PlatformState:
     """State of charge, 0..1 (1 when the platform does not report it)."""
 
 
+@dataclass(frozen=True)
+class Sighting:
+    """The hook camera's latest view of one tagged object: where it is from the winch."""
+
+    offset: tuple[float, float, float]
+    """m, local ENU, object (its grip point) minus winch."""
+    time: float
+    """s, sim time of the image."""
+
+
 class PlatformPort(Protocol):
     """One agent's Platform Server, as executors use it."""
 
@@ -96,3 +106,6 @@ class PlatformPort(Protocol):
 
     def state(self) -> PlatformState | None:
         """The latest Data Interface sample, None before the first one."""
+
+    def seen(self, tag: str) -> Sighting | None:
+        """The hook camera's latest sighting of the object ``tag``, None if never seen."""

@@ -14,6 +14,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from geometry_msgs.msg import PointStamped
 from rclpy.client import Client
 from rclpy.node import Node
 
@@ -27,7 +28,13 @@ from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_platform_server.node import EVENT_QOS, STATE_QOS
-from hdrc3_tst.platform_port import AnyCommand, Command, CommandState, PlatformState
+from hdrc3_tst.platform_port import (
+    AnyCommand,
+    Command,
+    CommandState,
+    PlatformState,
+    Sighting,
+)
 
 OWNER = "tst_manager"
 EARLY_IDS = 256
@@ -66,6 +73,10 @@ class RosPlatform:
         )
         node.create_subscription(
             HelicopterState, f"/{agent}/helicopter_state", self._on_state, STATE_QOS
+        )
+        self._seen: dict[str, Sighting] = {}
+        node.create_subscription(
+            PointStamped, f"/{agent}/sensors/hook_camera", self._on_seen, STATE_QOS
         )
 
     # --- PlatformPort ---------------------------------------------------------------------
@@ -110,6 +121,17 @@ class RosPlatform:
     def state(self) -> PlatformState | None:
         """The latest Data Interface sample in the local frame."""
         return self._state
+
+    def seen(self, tag: str) -> Sighting | None:
+        """The hook camera's latest sighting of ``tag``."""
+        return self._seen.get(tag)
+
+    def _on_seen(self, msg: Any) -> None:
+        p = msg.point
+        if not all(math.isfinite(v) for v in (p.x, p.y, p.z)):
+            return
+        stamp = float(msg.header.stamp.sec) + 1e-9 * float(msg.header.stamp.nanosec)
+        self._seen[str(msg.header.frame_id)] = Sighting((p.x, p.y, p.z), stamp)
 
     # --- calls ----------------------------------------------------------------------------
     def _client(self, srv_type: Any, name: str) -> Client:

@@ -49,7 +49,7 @@ class HookParams:
     """N: the drum does not wind in above this tension (about 50 kg hanging)."""
     hook_mass: float = 1.5
     """kg, electromagnet and cable end."""
-    hook_radius: float = 0.08
+    hook_radius: float = 0.1
     """m, the magnet's (spherical) collision shape."""
 
 

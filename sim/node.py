@@ -18,6 +18,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from geometry_msgs.msg import PointStamped
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType
 from rclpy.context import Context
 from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
@@ -154,6 +155,10 @@ class WorldSimNode(SteppedNode):
         self._published_poses: dict[str, tuple[float, float, float, float, str]] = {}
         self._carrying_pubs = {
             name: self.create_publisher(HookState, f"/{name}/sensors/carrying", SENSOR_QOS)
+            for name in names
+        }
+        self._hook_camera_pubs = {
+            name: self.create_publisher(PointStamped, f"/{name}/sensors/hook_camera", SENSOR_QOS)
             for name in names
         }
         self.topics = {name: AgentTopics(self, name, SENSOR_QOS, IMU_QOS) for name in names}
@@ -412,6 +417,14 @@ class WorldSimNode(SteppedNode):
         )
         stamp_header(msg.header, ns)
         self._carrying_pubs[name].publish(msg)
+        camera = self._hook_camera_pubs[name]
+        if camera.get_subscription_count():
+            for tag, (east, north, up) in self.sim.hook_camera(name):
+                seen = PointStamped()
+                stamp_header(seen.header, ns)
+                seen.header.frame_id = tag
+                seen.point.x, seen.point.y, seen.point.z = east, north, up
+                camera.publish(seen)
 
     def _publish_status(self, topics: AgentTopics, name: str, ns: int) -> None:
         sim = self.sim

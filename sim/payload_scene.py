@@ -12,8 +12,8 @@ terrain under the body every step: the contact sees exactly the
 height :class:`sim.terrain.Terrain` gives, and box-on-plane contacts rest without jitter.
 Buildings are not in this model (a box dropped on a roof falls to the ground).
 
-Each aircraft is a heavy anchor on three slide joints, put at its winch every step; the hook is a free
-sphere on a rope (a spatial tendon whose upper length limit is the winch's cable length). The
+Each aircraft is a heavy anchor on three slide joints, put at its winch every step; the hook is
+a free sphere on a rope (a spatial tendon whose upper length limit is the winch's cable length). The
 magnet's grip is a ``connect`` equality between the hook and an object, one per (hook, object)
 pair, inactive until the hook grips.
 """

@@ -20,6 +20,7 @@ from hdrc3_base.errors import ConfigError
 from sim.aircraft import Aircraft, YacsStatus
 from sim.flight_model import InitialPlacement
 from sim.hook import HookFault, HookReading
+from sim.hook_camera import observe
 from sim.payload import PayloadPose, PayloadWorld
 from sim.sensors.power import PowerDevice
 from sim.sensors.suite import SensorReadings, SensorSuite
@@ -282,6 +283,18 @@ class WorldSim:
     def carrying(self, agent: str) -> HookReading:
         """``agent``'s carrying sensor now."""
         return self.payload.reading(agent)
+
+    def hook_camera(self, agent: str) -> list[tuple[str, tuple[float, float, float]]]:
+        """What ``agent``'s hook camera sees now: tags and offsets from the winch (ENU m)."""
+        payload = self.payload
+        targets = []
+        for oid, obj in payload.objects.items():
+            pose = payload.pose(oid)
+            if pose.held_by:
+                continue
+            targets.append((oid, (pose.east, pose.north, pose.up + obj.size[2])))
+        winch = self.agents[agent].aircraft.model.hook_anchor()
+        return observe(winch, targets, (self.agents[agent].seed, self.tick))
 
     def object_poses(self) -> dict[str, PayloadPose]:
         """Rigid-body poses of the boxes and carriers now."""

@@ -12,8 +12,15 @@ from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_tst.actions import ACTIONS
 from hdrc3_tst.executor import ActionContext, Progress, Status, Stepper
 from hdrc3_tst.fake_platform import FakePlatform
-from hdrc3_tst.payload_executors import CARRY_CABLE, HOVER_HEIGHT, PAYLOAD_EXECUTORS, REACH
-from hdrc3_tst.platform_port import Command, PlatformState
+from hdrc3_tst.payload_executors import (
+    CARRY_CABLE,
+    HOVER_HEIGHT,
+    PAYLOAD_EXECUTORS,
+    REACH,
+    SETTLE_S,
+    SIGHT_TIMEOUT_S,
+)
+from hdrc3_tst.platform_port import Command, PlatformState, Sighting
 
 FRAME = frame_from_world("revinge")
 POINTS = {"box1": ((-166.0, 96.0, 0.0),), "body1": ((40.0, -20.0, 0.0),)}
@@ -28,8 +35,12 @@ def test_the_uav_logistics_operators_map_one_to_one_onto_executors() -> None:
     assert set(PAYLOAD_EXECUTORS) <= set(ACTIONS)
 
 
+BELOW = Sighting((0.05, -0.03, -5.7), 1.0)
+"""The hook camera sees box1 right below the winch."""
+
+
 def _run(action: str, args: dict[str, float | str]) -> tuple[FakePlatform, Stepper]:
-    platform = FakePlatform(sample=FLYING)
+    platform = FakePlatform(sample=FLYING, sightings={"box1": BELOW})
     ctx = ActionContext("n", "uav0", ACTIONS[action], args, POINTS, platform, FRAME, 0.0)
     return platform, Stepper(PAYLOAD_EXECUTORS[action](), ctx)
 
@@ -71,10 +82,42 @@ def test_a_wrong_box_fails_the_pick_up_with_the_platforms_reason() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     stepper.step(0.0)
     platform.complete(platform.sent[-1])  # flight
-    stepper.step(1.0)
+    stepper.step(1.0)  # aligned at once
+    stepper.step(1.5)
     platform.complete(platform.sent[-1])  # lowered
     stepper.step(2.0)
     wrong = "FAILED wrong object: the magnet holds 'box4', not 'box1'"
     platform.complete(platform.sent[-1], ok=False, reason=wrong)
     assert stepper.step(3.0) == Status(Progress.FAILED, f"ppcl_hook: {wrong}")
     assert len(platform.sent) == 3  # no raise after a failed attach
+
+
+def test_the_hook_camera_corrects_the_hover_over_the_box() -> None:
+    platform, stepper = _run("pick-up-box", {"box": "box1"})
+    platform.sightings["box1"] = Sighting((2.0, -1.0, -5.5), 1.0)  # GPS put it 2.2 m off
+    stepper.step(0.0)
+    platform.complete(platform.sent[-1])  # the flight over the box's point
+    stepper.step(1.0)
+    stepper.step(1.5)
+    correction = platform.sent[-1]
+    assert correction.command is FclCommand.TRAJ3D_FLYTO
+    lon, lat, _ = FRAME.to_wgs84(FLYING.east + 2.0, FLYING.north - 1.0, FLYING.up)
+    assert (correction.args["longitude"], correction.args["latitude"]) == pytest.approx((lon, lat))
+    platform.complete(correction)
+    for k in range(round(SETTLE_S) + 2):  # hovering to settle
+        stepper.step(2.0 + k)
+    assert platform.sent[-1] is correction
+    platform.sightings["box1"] = Sighting((0.04, 0.02, -5.6), 20.0)  # a fresh image
+    stepper.step(10.0)
+    stepper.step(11.0)
+    assert _hook_call(platform.sent[-1]) == LOWER
+
+
+def test_a_box_the_hook_camera_never_sees_fails_the_pick_up() -> None:
+    platform, stepper = _run("pick-up-box", {"box": "box1"})
+    platform.sightings.clear()
+    stepper.step(0.0)
+    platform.complete(platform.sent[-1])
+    stepper.step(1.0)
+    outcome = stepper.step(2.0 + SIGHT_TIMEOUT_S)
+    assert outcome == Status(Progress.FAILED, "the hook camera does not see box1")
