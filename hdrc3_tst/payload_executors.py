@@ -45,8 +45,13 @@ CARRY_CABLE = 1.0
 """m of cable a load hangs on in flight."""
 APPROACH_SPEED = 2.0
 """m/s of the final approach over a load or place."""
-ALIGNED = 0.12
-"""m: the hook camera sees the object this close below the winch: lower."""
+ALIGNED = 0.25
+"""m: the hook camera sees the object this close below the winch: lower (the magnet's 0.1 m
+sphere lands on a 0.4 m box; the RMAX hovers to about +-0.2 m)."""
+PICK_ATTEMPTS = 3
+"""Lowerings onto an object before a pick-up gives up."""
+MISSED = "gripped nothing"
+"""Part of ppcl_hook's reason when the magnet landed beside the object."""
 CORRECTION_SPEED = 0.5
 """m/s of a correction flight over an object."""
 SETTLE_S = 4.0
@@ -121,19 +126,32 @@ def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str =
 
 
 def pick_up(ctx: ActionContext, place: str) -> Steps:
-    """Hover over the object of point ``place``, lower, attach it (by its tag), raise."""
+    """Hover over the object of point ``place``, lower, attach it (by its tag), raise.
+
+    A lowering that lands the magnet beside the object (attach: nothing gripped) is tried again
+    from the alignment, up to ``PICK_ATTEMPTS`` times.
+    """
     tag = ctx.name(place)
-    for step in (
-        lambda: over(ctx, place),
-        lambda: align(ctx, tag),
-        lambda: hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
-        lambda: hook(ctx, HookAction.ATTACH, 0.0, tag),
-        lambda: hook(ctx, HookAction.RAISE, CARRY_CABLE),
-    ):
-        outcome = yield from step()
-        if outcome.progress is not Progress.SUCCEEDED:
+    outcome = yield from over(ctx, place)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return outcome
+    for _ in range(PICK_ATTEMPTS):
+        for step in (
+            lambda: align(ctx, tag),
+            lambda: hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
+            lambda: hook(ctx, HookAction.ATTACH, 0.0, tag),
+        ):
+            outcome = yield from step()
+            if outcome.progress is not Progress.SUCCEEDED:
+                break
+        if outcome.progress is Progress.SUCCEEDED:
+            return (yield from hook(ctx, HookAction.RAISE, CARRY_CABLE))
+        if MISSED not in outcome.reason:
             return outcome
-    return SUCCEEDED
+        wound = yield from hook(ctx, HookAction.RAISE, 0.0)
+        if wound.progress is not Progress.SUCCEEDED:
+            return wound
+    return outcome
 
 
 def put_down(ctx: ActionContext, place: str) -> Steps:

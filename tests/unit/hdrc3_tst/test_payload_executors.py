@@ -121,3 +121,21 @@ def test_a_box_the_hook_camera_never_sees_fails_the_pick_up() -> None:
     stepper.step(1.0)
     outcome = stepper.step(2.0 + SIGHT_TIMEOUT_S)
     assert outcome == Status(Progress.FAILED, "the hook camera does not see box1")
+
+
+def test_a_magnet_landing_beside_the_box_is_wound_in_and_lowered_again() -> None:
+    platform, stepper = _run("pick-up-box", {"box": "box1"})
+    stepper.step(0.0)
+    platform.complete(platform.sent[-1])  # flight
+    stepper.step(1.0)
+    stepper.step(1.5)
+    platform.complete(platform.sent[-1])  # lowered
+    stepper.step(2.0)
+    platform.complete(platform.sent[-1], ok=False, reason="FAILED the magnet gripped nothing")
+    stepper.step(3.0)
+    assert _hook_call(platform.sent[-1]) == (HookAction.RAISE, 0.0, "")
+    platform.complete(platform.sent[-1])
+    platform.sightings["box1"] = Sighting((0.1, 0.0, -5.7), 5.0)
+    stepper.step(4.0)
+    stepper.step(5.0)
+    assert _hook_call(platform.sent[-1]) == LOWER
