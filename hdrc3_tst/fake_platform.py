@@ -50,9 +50,7 @@ class FakePlatform:
 
     def hook(self, action: HookAction, length: float = 0.0, object_id: str = "") -> Command:
         """Record a hook command; it runs until the test completes it."""
-        handle = Command(
-            action, {"length": length, "object_id": object_id}, command_id=len(self.sent) + 1
-        )
+        handle = Command(action, {"length": length}, command_id=len(self.sent) + 1, tag=object_id)
         handle.state = CommandState.RUNNING
         self.sent.append(handle)
         return handle

@@ -136,12 +136,13 @@ def pick_up(ctx: ActionContext, place: str) -> Steps:
     if outcome.progress is not Progress.SUCCEEDED:
         return outcome
     for _ in range(PICK_ATTEMPTS):
+        # generators: each step sends its command only when it runs
         for step in (
-            lambda: align(ctx, tag),
-            lambda: hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
-            lambda: hook(ctx, HookAction.ATTACH, 0.0, tag),
+            align(ctx, tag),
+            hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
+            hook(ctx, HookAction.ATTACH, 0.0, tag),
         ):
-            outcome = yield from step()
+            outcome = yield from step
             if outcome.progress is not Progress.SUCCEEDED:
                 break
         if outcome.progress is Progress.SUCCEEDED:
@@ -157,12 +158,12 @@ def pick_up(ctx: ActionContext, place: str) -> Steps:
 def put_down(ctx: ActionContext, place: str) -> Steps:
     """Hover over point ``place``, lower the load until it rests, release, wind in."""
     for step in (
-        lambda: over(ctx, place),
-        lambda: hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
-        lambda: hook(ctx, HookAction.RELEASE),
-        lambda: hook(ctx, HookAction.RAISE, 0.0),
+        over(ctx, place),
+        hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
+        hook(ctx, HookAction.RELEASE),
+        hook(ctx, HookAction.RAISE, 0.0),
     ):
-        outcome = yield from step()
+        outcome = yield from step
         if outcome.progress is not Progress.SUCCEEDED:
             return outcome
     return SUCCEEDED

@@ -41,7 +41,7 @@ class Command:
     """A handle on one FCL/PPCL command; the port updates it as answers and events arrive."""
 
     command: AnyCommand
-    args: dict[str, float | str] = field(default_factory=dict)
+    args: dict[str, float] = field(default_factory=dict)
     state: CommandState = CommandState.SENT
     reason: str = ""
     command_id: int = 0
@@ -49,6 +49,8 @@ class Command:
     """A traj3d segment whose path following asks for the next segment (§7.2)."""
     busy: bool = False
     """Refused BUSY: the platform still runs another command (it may be sent again)."""
+    tag: str = ""
+    """A hook command's object tag (ATTACH: the object the magnet must hold)."""
 
     @property
     def label(self) -> str:

@@ -95,7 +95,7 @@ class RosPlatform:
 
     def hook(self, action: HookAction, length: float = 0.0, object_id: str = "") -> Command:
         """Call ``ppcl/hook``; the handle follows its answer and final event."""
-        handle = Command(action, {"length": length, "object_id": object_id})
+        handle = Command(action, {"length": length}, tag=object_id)
         request = PpclHook.Request(action=int(action), length=float(length), object_id=object_id)
         self._call(handle, request)
         return handle

@@ -140,6 +140,8 @@ class WorldSim:
         self.tick = 0
         self.objects: dict[str, DynamicObject] = {}
         self._readings: dict[str, list[SensorReadings]] = {}
+        self.payload: PayloadWorld
+        """Boxes, carriers and hooks (rebuilt by a full reset)."""
         self.reset()
 
     # ------------------------------------------------------------------ time

@@ -46,7 +46,7 @@ def _run(action: str, args: dict[str, float | str]) -> tuple[FakePlatform, Stepp
 
 
 def _hook_call(command: Command) -> tuple[object, ...]:
-    return (command.command, command.args["length"], command.args["object_id"])
+    return (command.command, command.args["length"], command.tag)
 
 
 @pytest.mark.parametrize(
