@@ -43,13 +43,13 @@ class HookParams:
     """m/s, paying out and winding in."""
     max_cable: float = 20.0
     """m, cable on the drum."""
-    stowed_cable: float = 0.15
+    stowed_cable: float = 0.12
     """m, cable out when the hook is wound in (the hook hangs just below the fuselage)."""
     stall_tension: float = 500.0
     """N: the drum does not wind in above this tension (about 50 kg hanging)."""
     hook_mass: float = 1.5
     """kg, electromagnet and cable end."""
-    hook_radius: float = 0.1
+    hook_radius: float = 0.08
     """m, the magnet's (spherical) collision shape."""
 
 

@@ -3,7 +3,8 @@
 The chapter's simulator used the Open Dynamics Engine so that dropped boxes bounce and roll;
 this one uses MuJoCo (``mujoco`` from PyPI). :class:`PayloadWorld` owns the model of
 :mod:`sim.payload_scene` and, each flight-model step, moves every aircraft's winch anchor, steps
-the rigid bodies, winds each winch (:class:`sim.hook.Hook`) under the measured cable tension,
+the rigid bodies, winds each winch (:class:`sim.hook.Hook`) under the measured pull of the
+cable (the constraint force of rope and cradle on the winch, which the aircraft feels too),
 lets magnets grip what they touch or let go, and returns the cable force on each aircraft, which
 :mod:`sim.world_sim` feeds into JSBSim. Deterministic: no randomness, fixed step.
 """
@@ -16,13 +17,13 @@ from typing import Any
 
 import mujoco
 import numpy as np
-from numpy.typing import NDArray
 
 from sim.hook import Hook, HookFault, HookParams, HookReading
 from sim.payload_scene import (
     PAYLOAD_KINDS,
     TIMESTEP,
     body_names,
+    cradle_name,
     grip_name,
     hook_names,
     object_mass,
@@ -99,6 +100,7 @@ class PayloadWorld:
         self._hook_geom: dict[str, int] = {}
         self._tendon: dict[str, int] = {}
         self._grip: dict[tuple[str, str], int] = {}
+        self._cradle: dict[str, int] = {}
         for agent in self.hooks:
             anchor, hook, cable, plane = hook_names(agent)
             joint = int(m.body_jntadr[ident(body, anchor)])
@@ -108,6 +110,8 @@ class PayloadWorld:
             self._hook_geom[agent] = ident(geom, hook)
             self._tendon[agent] = ident(mujoco.mjtObj.mjOBJ_TENDON, cable)
             # hook and winch never sleep: the aircraft moves them without a contact to wake them
+            self._cradle[agent] = ident(mujoco.mjtObj.mjOBJ_EQUALITY, cradle_name(agent))
+            m.eq_data[self._cradle[agent], 3:6] = 0.0  # the hook's centre (compiled elsewhere)
             for b in (self._hook_body[agent], ident(body, anchor)):
                 m.tree_sleep_policy[int(m.body_treeid[b])] = mujoco.mjtSleepPolicy.mjSLEEP_NEVER
             planes.append(_mocap(m, ident(body, plane)))
@@ -172,13 +176,15 @@ class PayloadWorld:
             self._last_anchor[agent] = pos
         for agent, hook in self.hooks.items():
             m.tendon_range[self._tendon[agent], 1] = hook.length
+            stowed = hook.length <= self.params.stowed_cable + 1e-9 and hook.target <= hook.length
+            d.eq_active[self._cradle[agent]] = 1 if stowed else 0
         for _ in range(max(1, round(dt / TIMESTEP))):
             self._follow_terrain()
             mujoco.mj_step(m, d)
-        tensions = self._tensions()
         for agent, hook in self.hooks.items():
-            hook.step(dt, tensions[agent])
-            self._forces[agent] = self._cable_force(agent, tensions[agent])
+            pull = self._pull(agent)
+            hook.step(dt, math.sqrt(pull[0] ** 2 + pull[1] ** 2 + pull[2] ** 2))
+            self._forces[agent] = pull
             if hook.must_let_go():
                 self._let_go(agent)
             elif hook.may_grip():
@@ -192,31 +198,10 @@ class PayloadWorld:
         self.data.qpos[q : q + 3] = pos
         self.data.qvel[v : v + 3] = velocity
 
-    def _anchor_position(self, agent: str) -> NDArray[np.float64]:
-        q, _ = self._anchor[agent]
-        position: NDArray[np.float64] = self.data.qpos[q : q + 3]
-        return position
-
-    def _tensions(self) -> dict[str, float]:
-        d = self.data
-        n = d.nefc
-        limits = d.efc_type[:n] == mujoco.mjtConstraint.mjCNSTR_LIMIT_TENDON
-        ids = d.efc_id[:n][limits]
-        forces = np.maximum(d.efc_force[:n][limits], 0.0)
-        return {a: float(forces[ids == t].sum()) for a, t in self._tendon.items()}
-
-    def _cable_force(self, agent: str, tension: float) -> Vec3:
-        """Force of the cable on the aircraft, N ENU: the tension towards the hook."""
-        if tension <= 0.0:
-            return (0.0, 0.0, 0.0)
-        d = self.data
-        a = self._anchor_position(agent)
-        h = d.xpos[self._hook_body[agent]]
-        v = h - a
-        norm = float(np.linalg.norm(v))
-        if norm < 1e-6:
-            return (0.0, 0.0, -tension)
-        f = v * (tension / norm)
+    def _pull(self, agent: str) -> Vec3:
+        """Force of cable and cradle on ``agent``'s winch, N ENU (the constraint force on it)."""
+        _, v = self._anchor[agent]
+        f = self.data.qfrc_constraint[v : v + 3]
         return (float(f[0]), float(f[1]), float(f[2]))
 
     def _follow_terrain(self) -> None:

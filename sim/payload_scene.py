@@ -15,7 +15,8 @@ Buildings are not in this model (a box dropped on a roof falls to the ground).
 Each aircraft is a heavy anchor on three slide joints, put at its winch every step; the hook is
 a free sphere on a rope (a spatial tendon whose upper length limit is the winch's cable length). The
 magnet's grip is a ``connect`` equality between the hook and an object, one per (hook, object)
-pair, inactive until the hook grips.
+pair, inactive until the hook grips; a wound-in hook is held in its cradle under the winch by
+another one.
 """
 
 from __future__ import annotations
@@ -38,6 +39,9 @@ POST = 0.03
 """m, half width of a carrier's central lifting post."""
 LIFT_PLATE = 0.02
 """m, thickness of the steel plate on the post's top that the magnet grips (0.16 m square)."""
+HOOK_DAMPING = 0.3
+"""N s/m (and N m s/rad) on the hook's motion: air drag of hook and cable, which keeps a
+pendulum whose cable is wound in from spinning up like a yo-yo."""
 ANCHOR_MASS = 1.0e4
 """kg of a winch anchor: the cable's pull moves it by nanometres within a step."""
 FRICTION = 0.8
@@ -62,6 +66,11 @@ def body_names(object_id: str) -> BodyNames:
 def hook_names(agent: str) -> tuple[str, str, str, str]:
     """(anchor body, hook body, tendon, ground plane) names of one agent's hook."""
     return (f"anchor:{agent}", f"hook:{agent}", f"cable:{agent}", f"ground:hook:{agent}")
+
+
+def cradle_name(agent: str) -> str:
+    """Name of the equality that holds ``agent``'s wound-in hook in its cradle."""
+    return f"cradle:{agent}"
 
 
 def grip_name(agent: str, object_id: str) -> str:
@@ -187,11 +196,16 @@ def scene_xml(
         )
         world.append(_plane(plane, e, n, u - 1.0))
         world.append(
-            f'<body name="{hook_body}" pos="{e} {n} {u - hook.stowed_cable}"><freejoint/>'
+            f'<body name="{hook_body}" pos="{e} {n} {u - hook.stowed_cable}">'
+            f'<joint type="free" damping="{HOOK_DAMPING}"/>'
             f'<geom name="{hook_body}" type="sphere" size="{r}" mass="{hook.hook_mass}"/>'
             f'<site name="{hook_body}"/></body>'
         )
         contacts.append(f'<pair geom1="{plane}" geom2="{hook_body}"/>')
+        equalities.append(
+            f'<connect name="{cradle_name(agent)}" body1="{anchor}" body2="{hook_body}" '
+            f'anchor="0 0 {-hook.stowed_cable}" active="false"/>'
+        )
         tendons.append(
             f'<spatial name="{cable}" limited="true" range="0 {hook.stowed_cable}" width="0.01">'
             f'<site site="{anchor}"/><site site="{hook_body}"/></spatial>'
