@@ -81,6 +81,8 @@ class HookLimits:
 
     max_cable: float = 20.0
     """m of cable on the drum."""
+    stowed_cable: float = 0.15
+    """m: at most this much cable out is a wound-in hook (a raise to less ends there)."""
     length_tolerance: float = 0.03
     """m: a cable this close to its target has arrived."""
     slack_tension: float = 3.0
@@ -207,7 +209,11 @@ class HookCommandLayer:
             return
         lim = self.limits
         now = sample.time
-        arrived = abs(sample.cable_length - p.length) <= lim.length_tolerance
+        goal = max(p.length, lim.stowed_cable) if p.action is HookAction.RAISE else p.length
+        if p.action is HookAction.RAISE:
+            arrived = sample.cable_length <= goal + lim.length_tolerance
+        else:
+            arrived = abs(sample.cable_length - goal) <= lim.length_tolerance
         if p.action is HookAction.LOWER:
             if arrived and sample.winch == Winch.STOPPED:
                 self._finish(EventKind.FINISHED, "", now)

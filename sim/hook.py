@@ -51,6 +51,9 @@ class HookParams:
     """kg, electromagnet and cable end."""
     hook_radius: float = 0.08
     """m, the magnet's (spherical) collision shape."""
+    load_cell_time: float = 0.2
+    """s, time constant of the load cell's filter (a hook paid out at the winch's speed falls
+    in short free falls and jerks, so the raw constraint force is zero most of the time)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -111,7 +114,7 @@ class Hook:
     # ------------------------------------------------------------------ step
     def step(self, dt: float, tension: float) -> float:
         """Move the drum for ``dt`` s under ``tension`` N; return the cable length now."""
-        self.tension = tension
+        self.tension += (tension - self.tension) * min(1.0, dt / self.params.load_cell_time)
         error = self.target - self.length
         if abs(error) < 1e-9:
             self.winch = WinchState.STOPPED

@@ -78,7 +78,7 @@ def test_lower_finishes_at_the_length() -> None:
 def test_lower_stops_when_the_hook_rests_on_something() -> None:
     rig = Rig()
     cid = rig.layer.submit(LOWER, 5.0, "", 0.0).command_id
-    for k in range(8):
+    for k in range(12):
         rig.sample(1.0 + 0.1 * k, cable_length=2.5, tension=0.0, winch=int(Winch.LOWERING))
     kind, reason = rig.final(cid) or (None, "")
     assert kind is EventKind.FINISHED and "rests on something at 2.50 m" in reason
@@ -146,3 +146,11 @@ def test_a_world_reset_fails_the_running_command() -> None:
     rig.layer.on_world_reset("reset", 1.0)
     assert rig.final(cid) == (EventKind.FAILED, "simulation reset: reset")
     assert rig.layer.submit(LOWER, 4.0, "", 1.0).code is PpclCode.NOT_ACCEPTED
+
+
+def test_a_raise_to_zero_ends_at_the_wound_in_hook() -> None:
+    rig = Rig()
+    rig.sample(0.0, cable_length=3.0)
+    cid = rig.layer.submit(RAISE, 0.0, "", 0.0).command_id
+    rig.sample(5.0, cable_length=0.12)
+    assert rig.final(cid) == (EventKind.FINISHED, "")

@@ -96,3 +96,10 @@ def test_a_magnet_that_lost_its_load_grips_again_only_after_being_switched_off_a
     hook.command(1.0, magnet=False)
     hook.command(1.0, magnet=True)
     assert hook.may_grip()
+
+
+def test_the_load_cell_filters_the_jerks_of_a_falling_hook() -> None:
+    hook = Hook()
+    for k in range(400):  # an on-off pull averaging 15 N
+        hook.step(0.005, 30.0 if k % 2 else 0.0)
+    assert hook.reading().tension == pytest.approx(15.0, abs=1.0)

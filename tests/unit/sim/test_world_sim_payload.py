@@ -63,5 +63,5 @@ def test_the_cable_pull_reaches_the_flight_model() -> None:
     for _ in range(TICK_RATE_HZ):
         sim.advance()
     pull = sim.agents["uav0"].aircraft.model.hook_force
-    assert math.hypot(*pull) == pytest.approx(sim.carrying("uav0").tension, rel=1e-9)
+    assert math.hypot(*pull) == pytest.approx(sim.carrying("uav0").tension, rel=0.02)  # filtered
     assert pull[2] == pytest.approx(-sim.payload.params.hook_mass * 9.81, rel=0.05)
