@@ -58,7 +58,10 @@ SETTLE_S = 4.0
 """Mission seconds the aircraft hovers after a correction before the camera is asked again."""
 SIGHT_TIMEOUT_S = 5.0
 """Mission seconds to wait for a new sighting of the object."""
-MAX_CORRECTIONS = 6
+CORRECT_ABOVE = 0.6
+"""m: a larger offset is flown; a smaller one is waited out."""
+ALIGN_S = 60.0
+"""Mission seconds an alignment may take."""
 
 
 def over(ctx: ActionContext, place: str) -> Steps:
@@ -89,12 +92,15 @@ def _sighting(
 def align(ctx: ActionContext, tag: str) -> Steps:
     """Hover the winch over the object ``tag`` on the hook camera's offsets.
 
-    The flight to the object's point ends metres off (GPS); each correction flies the measured
-    offset from where the aircraft believes it is, hovers ``SETTLE_S`` s, and looks again.
+    The flight to the object's point ends metres off (GPS): an offset over ``CORRECT_ABOVE`` is
+    flown (then the aircraft hovers ``SETTLE_S`` s); a smaller one is waited out, since the
+    hover wanders a few decimetres around its set-point and passes over the object. Done when
+    a sighting is within ``ALIGNED``; failed after ``ALIGN_S`` s.
     """
+    deadline = ctx.now + ALIGN_S
     after: float | None = None
-    miss = 0.0
-    for attempt in range(MAX_CORRECTIONS + 1):
+    miss = math.inf
+    while ctx.now <= deadline:
         seen = yield from _sighting(ctx, tag, after)
         if seen is None:
             return failed(f"the hook camera does not see {tag}")
@@ -104,20 +110,17 @@ def align(ctx: ActionContext, tag: str) -> Steps:
         if miss <= ALIGNED:
             return SUCCEEDED
         state = ctx.state()
-        if attempt == MAX_CORRECTIONS or state is None:
-            break
-        target = (state.east + de, state.north + dn, state.up)
-        outcome = yield from fly_to(ctx, target, CORRECTION_SPEED)
-        if outcome.progress is not Progress.SUCCEEDED:
-            return outcome
-        settled = ctx.now + SETTLE_S
-        while ctx.now < settled:
-            yield
-        latest = ctx.platform.seen(tag)
-        after = latest.time if latest is not None else after
-    return failed(
-        f"could not hover over {tag}: {miss:.2f} m off after {MAX_CORRECTIONS} corrections"
-    )
+        if miss > CORRECT_ABOVE and state is not None:
+            target = (state.east + de, state.north + dn, state.up)
+            outcome = yield from fly_to(ctx, target, CORRECTION_SPEED)
+            if outcome.progress is not Progress.SUCCEEDED:
+                return outcome
+            settled = ctx.now + SETTLE_S
+            while ctx.now < settled:
+                yield
+            latest = ctx.platform.seen(tag)
+            after = latest.time if latest is not None else after
+    return failed(f"could not hover over {tag}: still {miss:.2f} m off after {ALIGN_S:g} s")
 
 
 def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str = "") -> Steps:

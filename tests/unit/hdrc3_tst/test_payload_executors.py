@@ -107,9 +107,13 @@ def test_the_hook_camera_corrects_the_hover_over_the_box() -> None:
     for k in range(round(SETTLE_S) + 2):  # hovering to settle
         stepper.step(2.0 + k)
     assert platform.sent[-1] is correction
-    platform.sightings["box1"] = Sighting((0.04, 0.02, -5.6), 20.0)  # a fresh image
+    platform.sightings["box1"] = Sighting((0.4, 0.02, -5.6), 20.0)  # wandering: wait
     stepper.step(10.0)
     stepper.step(11.0)
+    assert platform.sent[-1] is correction
+    platform.sightings["box1"] = Sighting((0.1, 0.02, -5.6), 21.0)  # over the box
+    stepper.step(12.0)
+    stepper.step(13.0)
     assert _hook_call(platform.sent[-1]) == LOWER
 
 
