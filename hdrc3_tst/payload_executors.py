@@ -36,9 +36,9 @@ from hdrc3_tst.executor_steps import airborne, finish, fly_to
 from hdrc3_tst.platform_port import Sighting
 
 Steps = Generator[None, None, Status]
-HOVER_HEIGHT = 6.0
+HOVER_HEIGHT = 4.0
 """m above the ground where a load is picked up or put down."""
-REACH = 2.0
+REACH = 1.5
 """m of cable paid out beyond the hover height: the hook reaches the ground with margin (the
 lowering stops on a slack cable before that)."""
 CARRY_CABLE = 1.0

@@ -39,7 +39,7 @@ class HookFault(enum.IntEnum):
 class HookParams:
     """Winch and magnet ratings."""
 
-    winch_speed: float = 0.6
+    winch_speed: float = 1.0
     """m/s, paying out and winding in."""
     max_cable: float = 20.0
     """m, cable on the drum."""
