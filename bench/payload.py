@@ -87,8 +87,8 @@ def carrying(seconds: float) -> float:
 
     def fly() -> None:
         for k in range(steps):
-            a = 2.0 * k * DT  # 4 m/s on a 2 m radius
-            anchor = (ANCHOR[0] + 2.0 * math.cos(a), ANCHOR[1] + 2.0 * math.sin(a), ANCHOR[2] + 2)
+            a = 2.0 * k * DT  # 4 m/s on a 2 m radius, starting where the winch hovers
+            anchor = (ANCHOR[0] + 2.0 * math.cos(a) - 2.0, ANCHOR[1] + 2.0 * math.sin(a), ANCHOR[2])
             world.step(DT, {"uav0": anchor})
 
     return _cpu_ms(fly) / seconds
