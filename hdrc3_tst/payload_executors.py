@@ -11,8 +11,9 @@ load goes down.
 A pick-up is the chapter's sequence: hover ``HOVER_HEIGHT`` m above the object (corrected on
 the hook camera's view of the object: a GPS fix is metres off), lower the hook
 until it rests on the object (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
-must hold that very object), raise to ``CARRY_CABLE`` m. A put-down hovers above the place,
-lowers until the load rests, releases and winds the hook in. Each step is one platform command
+must hold that very object), raise to ``CARRY_CABLE`` m, climb to ``DEPART_HEIGHT``. A
+put-down hovers above the place, lowers until the load rests, releases, winds the hook in and
+climbs likewise. Each step is one platform command
 whose failure fails the node with the platform's reason (wrong box, nothing gripped, winch
 stalled by an overweight load, load lost).
 """
@@ -43,6 +44,9 @@ REACH = 1.5
 lowering stops on a slack cable before that)."""
 CARRY_CABLE = 1.0
 """m of cable a load hangs on in flight."""
+DEPART_HEIGHT = 12.0
+"""m above the ground an executor climbs back to when done: clear of the path planner's
+6 m margin with a load hanging on ``CARRY_CABLE`` m of cable."""
 APPROACH_SPEED = 2.0
 """m/s of the final approach over a load or place."""
 ALIGNED = 0.25
@@ -123,6 +127,17 @@ def align(ctx: ActionContext, tag: str) -> Steps:
     return failed(f"could not hover over {tag}: still {miss:.2f} m off after {ALIGN_S:g} s")
 
 
+def depart(ctx: ActionContext, place: str) -> Steps:
+    """Climb straight up to ``DEPART_HEIGHT`` m above the place's ground."""
+    (point,) = ctx.place(place)
+    east, north = float(point[0]), float(point[1])
+    state = ctx.state()
+    if state is not None:
+        east, north = state.east, state.north
+    up = ctx.frame.ground_up(east, north) + DEPART_HEIGHT
+    return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
+
+
 def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str = "") -> Steps:
     """One ppcl_hook command to its end."""
     return (yield from finish(ctx, ctx.hook(action, length, tag)))
@@ -149,7 +164,10 @@ def pick_up(ctx: ActionContext, place: str) -> Steps:
             if outcome.progress is not Progress.SUCCEEDED:
                 break
         if outcome.progress is Progress.SUCCEEDED:
-            return (yield from hook(ctx, HookAction.RAISE, CARRY_CABLE))
+            outcome = yield from hook(ctx, HookAction.RAISE, CARRY_CABLE)
+            if outcome.progress is not Progress.SUCCEEDED:
+                return outcome
+            return (yield from depart(ctx, place))
         if MISSED not in outcome.reason:
             return outcome
         wound = yield from hook(ctx, HookAction.RAISE, 0.0)
@@ -165,6 +183,7 @@ def put_down(ctx: ActionContext, place: str) -> Steps:
         hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
         hook(ctx, HookAction.RELEASE),
         hook(ctx, HookAction.RAISE, 0.0),
+        depart(ctx, place),
     ):
         outcome = yield from step
         if outcome.progress is not Progress.SUCCEEDED:

@@ -75,7 +75,13 @@ def test_the_chapters_sequence_hover_lower_attach_or_release_raise(
         assert stepper.step(1.0 + k).progress is Progress.RUNNING
         assert _hook_call(platform.sent[-1]) == expected
     platform.complete(platform.sent[-1])
-    assert stepper.step(10.0) == Status(Progress.SUCCEEDED)
+    assert stepper.step(10.0).progress is Progress.RUNNING
+    climb = platform.sent[-1]
+    assert climb.command is FclCommand.TRAJ3D_FLYTO  # back up clear of the ground
+    _, _, alt = FRAME.to_wgs84(FLYING.east, FLYING.north, FRAME.ground_up(0.0, 0.0) + 12.0)
+    assert climb.args["altitude"] == pytest.approx(alt)
+    platform.complete(climb)
+    assert stepper.step(11.0) == Status(Progress.SUCCEEDED)
 
 
 def test_a_wrong_box_fails_the_pick_up_with_the_platforms_reason() -> None:
