@@ -52,7 +52,7 @@ APPROACH_SPEED = 2.0
 ALIGNED = 0.25
 """m: the hook camera sees the object this close below the winch: lower (the magnet's 0.1 m
 sphere lands on a 0.4 m box; the RMAX hovers to about +-0.2 m)."""
-PICK_ATTEMPTS = 3
+PICK_ATTEMPTS = 5
 """Lowerings onto an object before a pick-up gives up."""
 MISSED = "gripped nothing"
 """Part of ppcl_hook's reason when the magnet landed beside the object."""
