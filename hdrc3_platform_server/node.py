@@ -30,6 +30,8 @@ from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import (
     CameraState,
     HelicopterState,
+    HookCommand,
+    HookState,
     PfcState,
     PlatformEvent,
     PowerStatus,
@@ -38,6 +40,7 @@ from hdrc3_interfaces.msg import (
 from hdrc3_interfaces.srv import (
     PpclControl,
     PpclGetCameraInfo,
+    PpclHook,
     PpclPtuActivityInfo,
     PpclPtuLimits,
 )
@@ -46,6 +49,7 @@ from hdrc3_platform_server.commands import FCL, PPCL, FclSpec, PpclSpec
 from hdrc3_platform_server.completion import CompletionEvent
 from hdrc3_platform_server.data_interface import HelicopterStateData
 from hdrc3_platform_server.geo_frame import WorldFrame, frame_from_world
+from hdrc3_platform_server.hook_api import HookSample, HookSetpoint
 from hdrc3_platform_server.journal import CommandJournal
 from hdrc3_platform_server.platform_status import CameraSample, PfcSample
 from hdrc3_platform_server.server import PlatformServerCore
@@ -114,13 +118,16 @@ class PlatformServerNode(Node):
         self.events_pub = self.create_publisher(PlatformEvent, "platform_events", EVENT_QOS)
         self.heli_pub = self.create_publisher(HelicopterState, "helicopter_state", STATE_QOS)
         self.camera_pub = self.create_publisher(CameraState, "camera_state", STATE_QOS)
+        self.hook_pub = self.create_publisher(HookCommand, "hook/command", STATE_QOS)
         self.core = PlatformServerCore(
             self.frame,
             self.transport,
             self._publish_event,
             id_start=_id_start(),
             journal=CommandJournal(Path(checkpoint) if checkpoint else None),
+            hook=self._send_hook,
         )
+        self.create_subscription(HookState, "sensors/carrying", self._on_carrying, STATE_QOS)
         self.create_subscription(PfcState, "pfc/state", self._on_pfc, STATE_QOS)
         self.create_subscription(CameraState, "ppc/camera_state", self._on_camera, STATE_QOS)
         self.create_subscription(PowerStatus, "sensors/power", self._on_power, STATE_QOS)
@@ -136,6 +143,7 @@ class PlatformServerNode(Node):
         self._service(PpclPtuActivityInfo, "ppcl/ptu_activity_info", self._on_activity)
         self._service(PpclGetCameraInfo, "ppcl/get_camera_info", self._on_camera_info)
         self._service(PpclPtuLimits, "ppcl/ptu_limits", self._on_limits)
+        self._service(PpclHook, "ppcl/hook", self._on_hook)
         self.create_timer(TICK_PERIOD_S, self._tick, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._heli = HelicopterState()
         self._heli.header.frame_id = "wgs84"
@@ -203,6 +211,36 @@ class PlatformServerNode(Node):
                 self._now(),
             )
         )
+
+    def _on_carrying(self, msg: Any) -> None:
+        self.core.on_hook(
+            HookSample(
+                _seconds(msg.header.stamp),
+                bool(msg.carrying),
+                str(msg.object_id),
+                bool(msg.magnet),
+                int(msg.winch),
+                float(msg.cable_length),
+                float(msg.tension),
+            )
+        )
+
+    def _send_hook(self, setpoint: HookSetpoint) -> None:
+        msg = HookCommand(cable_length=setpoint.cable_length, magnet=setpoint.magnet)
+        _set_stamp(msg.header.stamp, self._now())
+        self.hook_pub.publish(msg)
+
+    def _on_hook(self, request: Any, response: Any) -> Any:
+        def fill() -> None:
+            answer = self.core.submit_hook(
+                int(request.action), float(request.length), str(request.object_id), self._now()
+            )
+            response.result.code = int(answer.code)
+            response.result.reason = answer.reason
+            response.result.command_id = answer.command_id
+
+        self._guard(fill, self._ppcl_fail(response))
+        return response
 
     def _on_power(self, msg: Any) -> None:
         self.core.status.power_status = int(msg.status)

@@ -7,7 +7,7 @@ services to :attr:`fcl` / :attr:`ppcl`. Everything here runs on the caller's thr
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from hdrc3_hcsm.transport import Transport
 from hdrc3_platform_server.codes import FclCode, FclCommand, PpclCode, PpclCommand
@@ -22,6 +22,8 @@ from hdrc3_platform_server.data_interface import (
 from hdrc3_platform_server.drc import DrcKernel
 from hdrc3_platform_server.fcl_api import FclAnswer, FlightCommandLayer, IdSource
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.hook_api import LABEL as HOOK_LABEL
+from hdrc3_platform_server.hook_api import HookCommandLayer, HookSample, HookSetpoint
 from hdrc3_platform_server.journal import CommandJournal
 from hdrc3_platform_server.limits import Limits
 from hdrc3_platform_server.platform_status import CameraSample, PfcSample, PlatformStatus
@@ -42,7 +44,9 @@ class PlatformServerCore:
         settle_timeout: float = 15.0,
         stale_after: float = 2.0,
         journal: CommandJournal | None = None,
+        hook: Callable[[HookSetpoint], None] | None = None,
     ) -> None:
+        """``hook`` sends the payload hook's set-points (None: a server without a hook)."""
         lim = limits or Limits()
         self.journal = journal or CommandJournal(None)
         self._sink = sink
@@ -56,6 +60,7 @@ class PlatformServerCore:
         self.ppcl = PayloadCommandLayer(
             self.kernel, frame, self._publish, self.ids, self.landing_active, lim.ptu
         )
+        self.hook = HookCommandLayer(self._publish, self.ids, hook or _no_hook)
         self.gate = RateGate()
 
     def _publish(self, event: CompletionEvent) -> None:
@@ -81,6 +86,17 @@ class PlatformServerCore:
             self.journal.accepted(answer.command_id, command.label)
         return answer
 
+    def submit_hook(self, action: int, length: float, object_id: str, now: float) -> PpclAnswer:
+        """A ppcl_hook call (journaled as :meth:`submit_fcl`)."""
+        answer = self.hook.submit(action, length, object_id, now)
+        if answer.code is PpclCode.OK:
+            self.journal.accepted(answer.command_id, HOOK_LABEL)
+        return answer
+
+    def on_hook(self, sample: HookSample) -> None:
+        """Take a carrying-sensor sample (ends hook commands)."""
+        self.hook.on_sample(sample)
+
     def landing_active(self) -> bool:
         """True while fcl_land (vision-based landing) is in progress."""
         cur = self.fcl.current
@@ -89,6 +105,7 @@ class PlatformServerCore:
     def tick(self, now: float) -> None:
         """Run the DRC automaton once (replies from the PFC/PPC, timeouts)."""
         self.kernel.step(now)
+        self.hook.tick(now)
 
     def on_pfc(self, sample: PfcSample) -> HelicopterStateData | None:
         """Take a PFC report; returns the Data Interface sample when one is due (25 Hz)."""
@@ -109,6 +126,7 @@ class PlatformServerCore:
         """world_sim started the world over (``/world_sim/run`` RESET): running commands fail."""
         self.fcl.on_world_reset(reason, now)
         self.ppcl.on_world_reset(reason, now)
+        self.hook.on_world_reset(reason, now)
 
     def on_camera(self, sample: CameraSample) -> None:
         """Take a PPC camera report."""
@@ -117,3 +135,7 @@ class PlatformServerCore:
     def camera_states(self) -> list[CameraStateData]:
         """Latest state of every camera the PPC reported (published with each DI sample)."""
         return [camera_state(c) for _, c in sorted(self.status.cameras.items())]
+
+
+def _no_hook(setpoint: HookSetpoint) -> None:
+    """Set-points of a server without a hook go nowhere (its commands then time out)."""

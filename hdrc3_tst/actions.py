@@ -82,6 +82,10 @@ _DURATION = ParamSpec("duration", ParamType.DURATION, "s", None, 0.0, None)
 _PTU = PtuLimits()
 MAX_PARTS = 16
 """Most parts a scanned area is split into (one per aircraft)."""
+_BOX = ParamSpec("box", ParamType.POINT, "point named by the box's tag, where the box is")
+_CARRIER = ParamSpec("carrier", ParamType.POINT, "point named by the carrier's tag, where it is")
+_PLACE = ParamSpec("place", ParamType.POINT, "point where the load goes down")
+_HOOK = "ppcl hook (lower, attach, raise, release)"
 
 ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
     {
@@ -168,6 +172,18 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
                 "ppcl zoom",
             ),
             ActionSpec("wait", "do nothing for a while", (_DURATION,), "duration", ""),
+            ActionSpec("pick-up-box", "pick a box up onto the hook", (_BOX,), None, _HOOK),
+            ActionSpec("drop-box", "put the held box down", (_BOX, _PLACE), None, _HOOK),
+            ActionSpec(
+                "put-on-carrier", "put the held box onto a carrier", (_BOX, _PLACE), None, _HOOK
+            ),
+            ActionSpec("take-from-carrier", "pick a box up from a carrier", (_BOX,), None, _HOOK),
+            ActionSpec(
+                "attach-carrier", "pick a carrier up onto the hook", (_CARRIER,), None, _HOOK
+            ),
+            ActionSpec(
+                "detach-carrier", "put the held carrier down", (_CARRIER, _PLACE), None, _HOOK
+            ),
         )
     }
 )

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_tst.actions import ActionSpec
 from hdrc3_tst.navigation_port import NavigationPort
 from hdrc3_tst.platform_port import Command, PlatformPort, PlatformState
@@ -95,6 +96,16 @@ class ActionContext:
         handle = self.platform.send(command, **args)
         self.commands.append(handle)
         return handle
+
+    def hook(self, action: HookAction, length: float = 0.0, object_id: str = "") -> Command:
+        """Send a ``ppcl_hook`` command for this node."""
+        handle = self.platform.hook(action, length, object_id)
+        self.commands.append(handle)
+        return handle
+
+    def name(self, name: str) -> str:
+        """The name given for a place argument (a box's point is named by its tag)."""
+        return str(self.args[name])
 
     def number(self, name: str) -> float:
         """A numeric argument."""

@@ -13,10 +13,11 @@ from dataclasses import dataclass, field
 
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
+from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_tst.engine import NodeRecord
 from hdrc3_tst.goal_planning import PlanHandle
 from hdrc3_tst.model import NodeRef, NodeState
-from hdrc3_tst.platform_port import Command, CommandState, PlatformState
+from hdrc3_tst.platform_port import Command, CommandState, PlatformState, Sighting
 
 
 @dataclass
@@ -30,6 +31,12 @@ class FakePlatform:
     stopped: list[tuple[Command, str]] = field(default_factory=list)
     refuse: dict[FclCommand | PpclCommand, str] = field(default_factory=dict)
     """Commands answered as refused, with the reason."""
+    sightings: dict[str, Sighting] = field(default_factory=dict)
+    """What the hook camera sees, by tag (the test sets it)."""
+
+    def seen(self, tag: str) -> Sighting | None:
+        """The scripted sighting of ``tag``."""
+        return self.sightings.get(tag)
 
     def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
         """Record the command; refused ones fail at once, the others run."""
@@ -38,6 +45,13 @@ class FakePlatform:
             handle.end(CommandState.FAILED, f"refused: {self.refuse[command]}")
         else:
             handle.state = CommandState.RUNNING
+        self.sent.append(handle)
+        return handle
+
+    def hook(self, action: HookAction, length: float = 0.0, object_id: str = "") -> Command:
+        """Record a hook command; it runs until the test completes it."""
+        handle = Command(action, {"length": length}, command_id=len(self.sent) + 1, tag=object_id)
+        handle.state = CommandState.RUNNING
         self.sent.append(handle)
         return handle
 

@@ -14,6 +14,11 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
+from hdrc3_platform_server.hook_api import LABEL as HOOK_LABEL
+from hdrc3_platform_server.hook_api import HookAction
+
+AnyCommand = FclCommand | PpclCommand | HookAction
+"""What a command handle names: an FCL or PPCL command, or a ``ppcl_hook`` action."""
 
 
 class CommandState(enum.Enum):
@@ -35,7 +40,7 @@ class CommandState(enum.Enum):
 class Command:
     """A handle on one FCL/PPCL command; the port updates it as answers and events arrive."""
 
-    command: FclCommand | PpclCommand
+    command: AnyCommand
     args: dict[str, float] = field(default_factory=dict)
     state: CommandState = CommandState.SENT
     reason: str = ""
@@ -44,10 +49,14 @@ class Command:
     """A traj3d segment whose path following asks for the next segment (§7.2)."""
     busy: bool = False
     """Refused BUSY: the platform still runs another command (it may be sent again)."""
+    tag: str = ""
+    """A hook command's object tag (ATTACH: the object the magnet must hold)."""
 
     @property
     def label(self) -> str:
-        """``fcl_takeoff``, ``ppcl_look_at``, ..."""
+        """``fcl_takeoff``, ``ppcl_look_at``, ``ppcl_hook`` ..."""
+        if isinstance(self.command, HookAction):
+            return HOOK_LABEL
         prefix = "fcl" if isinstance(self.command, FclCommand) else "ppcl"
         return f"{prefix}_{self.command.value}"
 
@@ -72,14 +81,33 @@ class PlatformState:
     """State of charge, 0..1 (1 when the platform does not report it)."""
 
 
+@dataclass(frozen=True)
+class Sighting:
+    """The hook camera's latest view of one tagged object: where it is from the winch."""
+
+    offset: tuple[float, float, float]
+    """m, local ENU, object (its grip point) minus winch."""
+    time: float
+    """s, sim time of the image."""
+
+
 class PlatformPort(Protocol):
     """One agent's Platform Server, as executors use it."""
 
     def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
         """Send a command with its registry arguments; the handle tracks its outcome."""
 
+    def hook(self, action: HookAction, length: float = 0.0, object_id: str = "") -> Command:
+        """A ``ppcl_hook`` command (winch and magnet); the handle tracks its outcome."""
+
     def stop(self, command: Command, reason: str) -> None:
-        """End a running command: FCL brakes to a hover (fcl_cancel), PPCL stops its mode."""
+        """End a running command: FCL brakes to a hover (fcl_cancel), PPCL stops its mode.
+
+        A stopped hook command leaves the hook as it is (a held load is not dropped).
+        """
 
     def state(self) -> PlatformState | None:
         """The latest Data Interface sample, None before the first one."""
+
+    def seen(self, tag: str) -> Sighting | None:
+        """The hook camera's latest sighting of the object ``tag``, None if never seen."""

@@ -201,6 +201,10 @@ class _Scope:
         return None
 
 
+STOCKED = ("box", "carrier")
+"""Kinds of world objects a point may be placed at by name (``point box1 = box1 at 0``)."""
+
+
 @dataclass
 class _Resolver:
     file: TstFile
@@ -787,6 +791,9 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
             places = {p.name: (p.east, p.north) for p in world.places}
             places.update({p.name: (p.east, p.north) for p in world.pads})
             places.update({d.name: (d.east, d.north) for d in world.depots})
+            # where the world file stocks its boxes and carriers (the mission's depot plan)
+            stocked = (o for o in world.objects if o.kind.value in STOCKED)
+            places.update({o.id: (o.east, o.north) for o in stocked})
     resolver = _Resolver(tree, extent, places, all_agents, diags)
     resolver.declarations()
     tsts = mission_candidates(tree)

@@ -14,29 +14,25 @@ planner flies straight with ``traj3d_flyto``.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Generator, Mapping
+from collections.abc import Mapping
 from types import MappingProxyType
 
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_navigation.coverage import CoverageStatus, Platform, pair_footprint_width, plan_part
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
 from hdrc3_tst.executor import (
-    COMMAND_BOUND_S,
     SUCCEEDED,
     ActionContext,
     ActionExecutor,
     Progress,
-    Status,
     failed,
     flight_bound,
 )
+from hdrc3_tst.executor_steps import DATA_TIMEOUT_S, Steps, airborne, finish, fly_to
+from hdrc3_tst.payload_executors import PAYLOAD_EXECUTORS
 from hdrc3_tst.planned_flight import PlannedFlight, segment_args
-from hdrc3_tst.platform_port import Command, CommandState
 from hdrc3_tst.polyline import polyline
 
-Steps = Generator[None, None, Status]
-DATA_TIMEOUT_S = 10.0
-"""Mission seconds an executor waits for the first Data Interface sample."""
 SEGMENTS_DONE = "segments_done"
 """``ActionContext.memory`` key: segments of a streamed pattern flown to their end."""
 SCAN_START = ("scan_start_east", "scan_start_north")
@@ -47,53 +43,6 @@ TURN_SPEED = 3.0
 """m/s on the U-turns of a coverage pattern (the path follower may slow further)."""
 LANDING_SPEED = 1.0
 """m/s, the order of the RMAX's final descent (for the bound of a landing)."""
-
-
-def finish(
-    ctx: ActionContext,
-    command: Command,
-    within: float = COMMAND_BOUND_S,
-    until: Callable[[Command], bool] = lambda c: c.state.ended,
-) -> Steps:
-    """Wait until ``until(command)`` (default: it ended); its outcome as a Status.
-
-    A command that neither ends nor reaches ``until`` within ``within`` mission seconds is
-    stopped (the Platform Server owes it an outcome: this keeps a mission from waiting forever
-    when it never comes) and fails the node.
-    """
-    deadline = ctx.now + within
-    while not (until(command) or command.state.ended):
-        if ctx.now > deadline:
-            ctx.platform.stop(command, f"no outcome in {within:.0f} s")
-            return failed(f"{command.label}: no outcome in {within:.0f} s")
-        yield
-    if command.state is CommandState.FAILED:
-        return failed(f"{command.label}: {command.reason}")
-    return SUCCEEDED
-
-
-def airborne(ctx: ActionContext) -> Steps:
-    """Succeed when the aircraft flies; take off first when it is on the ground."""
-    while (state := ctx.state()) is None:
-        if ctx.elapsed > DATA_TIMEOUT_S:
-            return failed(f"no Data Interface sample from {ctx.agent} in {DATA_TIMEOUT_S:g} s")
-        yield
-    if state.failsafe:
-        return failed(f"{ctx.agent} is in a navigation failsafe: {state.failsafe}")
-    if not state.on_ground:
-        return SUCCEEDED
-    return (yield from finish(ctx, ctx.send(FclCommand.TAKEOFF)))
-
-
-def fly_to(ctx: ActionContext, point: tuple[float, ...], speed: float) -> Steps:
-    """Straight flight to a local ENU point, hovering there at the end."""
-    lon, lat, alt = ctx.frame.to_wgs84(point[0], point[1], point[2])
-    state = ctx.state()
-    length = math.dist(point, (state.east, state.north, state.up)) if state else 0.0
-    command = ctx.send(
-        FclCommand.TRAJ3D_FLYTO, longitude=lon, latitude=lat, altitude=alt, velocity=speed
-    )
-    return (yield from finish(ctx, command, flight_bound(length, speed)))
 
 
 def resumed(ctx: ActionContext, segments: list[PathSegment]) -> list[PathSegment]:
@@ -311,6 +260,10 @@ RMAX_EXECUTORS: Mapping[str, type[ActionExecutor]] = MappingProxyType(
         "ptu-turn-to": PtuTurnTo,
         "camera-zoom": CameraZoom,
         "wait": Wait,
+        **PAYLOAD_EXECUTORS,
     }
 )
 """The RMAX's executor of every action in :data:`~hdrc3_tst.actions.ACTIONS` (a test checks)."""
+
+
+__all__ = ["DATA_TIMEOUT_S", "RMAX_EXECUTORS", "airborne", "finish", "fly_to"]

@@ -14,19 +14,27 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from geometry_msgs.msg import PointStamped
 from rclpy.client import Client
 from rclpy.node import Node
 
 from hdrc3_base.ros_runtime import SERVICE_QOS
 from hdrc3_interfaces.msg import FclReturn, HelicopterState, PlatformEvent, PpclReturn
-from hdrc3_interfaces.srv import PpclControl
+from hdrc3_interfaces.srv import PpclControl, PpclHook
 from hdrc3_platform_server.client import event_from_msg
 from hdrc3_platform_server.codes import EventKind, FclCommand, PpclCommand, Resource
 from hdrc3_platform_server.commands import FCL, PPCL
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_platform_server.node import EVENT_QOS, STATE_QOS
-from hdrc3_tst.platform_port import Command, CommandState, PlatformState
+from hdrc3_tst.platform_port import (
+    AnyCommand,
+    Command,
+    CommandState,
+    PlatformState,
+    Sighting,
+)
 
 OWNER = "tst_manager"
 EARLY_IDS = 256
@@ -66,6 +74,10 @@ class RosPlatform:
         node.create_subscription(
             HelicopterState, f"/{agent}/helicopter_state", self._on_state, STATE_QOS
         )
+        self._seen: dict[str, Sighting] = {}
+        node.create_subscription(
+            PointStamped, f"/{agent}/sensors/hook_camera", self._on_seen, STATE_QOS
+        )
 
     # --- PlatformPort ---------------------------------------------------------------------
     def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
@@ -81,14 +93,26 @@ class RosPlatform:
             self._call(handle, request)
         return handle
 
+    def hook(self, action: HookAction, length: float = 0.0, object_id: str = "") -> Command:
+        """Call ``ppcl/hook``; the handle follows its answer and final event."""
+        handle = Command(action, {"length": length}, tag=object_id)
+        request = PpclHook.Request(action=int(action), length=float(length), object_id=object_id)
+        self._call(handle, request)
+        return handle
+
     def stop(self, command: Command, reason: str) -> None:
-        """End a command: cancel (FCL) or abort the PTU mode (PPCL); late answers stop too."""
+        """End a command: cancel (FCL) or abort the PTU mode (PPCL); late answers stop too.
+
+        A hook command is only given up: the winch and magnet stay as they are.
+        """
         if command.state is CommandState.SENT:
             self._stop_on_accept[id(command)] = reason
             return
         if command.state.ended:
             return
-        if isinstance(command.command, FclCommand):
+        if isinstance(command.command, HookAction):
+            pass
+        elif isinstance(command.command, FclCommand):
             self._fire(FclCommand.CANCEL)
         elif PPCL[command.command].resource is Resource.PTU:
             self._fire(PpclCommand.PTU_ABORT)
@@ -98,6 +122,17 @@ class RosPlatform:
         """The latest Data Interface sample in the local frame."""
         return self._state
 
+    def seen(self, tag: str) -> Sighting | None:
+        """The hook camera's latest sighting of ``tag``."""
+        return self._seen.get(tag)
+
+    def _on_seen(self, msg: Any) -> None:
+        p = msg.point
+        if not all(math.isfinite(v) for v in (p.x, p.y, p.z)):
+            return
+        stamp = float(msg.header.stamp.sec) + 1e-9 * float(msg.header.stamp.nanosec)
+        self._seen[str(msg.header.frame_id)] = Sighting((p.x, p.y, p.z), stamp)
+
     # --- calls ----------------------------------------------------------------------------
     def _client(self, srv_type: Any, name: str) -> Client:
         if name not in self._clients:
@@ -106,7 +141,9 @@ class RosPlatform:
             )
         return self._clients[name]
 
-    def _service_name(self, command: FclCommand | PpclCommand) -> tuple[Any, str]:
+    def _service_name(self, command: AnyCommand) -> tuple[Any, str]:
+        if isinstance(command, HookAction):
+            return PpclHook, "ppcl/hook"
         if isinstance(command, FclCommand):
             return FCL[command].service_type(), f"fcl/{command.value}"
         return PPCL[command].service_type(), f"ppcl/{command.value}"

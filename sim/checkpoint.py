@@ -38,12 +38,13 @@ from types import MethodType
 from typing import Any
 
 from hdrc3_base.errors import ConfigError
+from sim.payload import PayloadWorld
 from sim.wind import Wind
 from sim.world import DynamicObject
 from sim.world_sim import TICK_NS, SimAgent, SimConfig, WorldSim
 
 MAGIC = b"hdrc3 world checkpoint\n"
-FORMAT = 1
+FORMAT = 2
 """Version of the file layout and of the pickled classes; another version is not resumed."""
 _HEADER = struct.Struct(f">{len(MAGIC)}sI32s")
 _ALLOWED_MODULES = ("sim.", "numpy")
@@ -118,6 +119,8 @@ class WorldState:
     wind: Wind
     objects: dict[str, DynamicObject]
     run: RunState
+    payload: PayloadWorld
+    """Boxes, carriers and hooks (rigid bodies)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -176,7 +179,7 @@ def _externals(sim: WorldSim) -> dict[str, object]:
 
 def encode(sim: WorldSim, run: RunState, period_ticks: int) -> bytes:
     """The checkpoint file's bytes for the current state of ``sim``."""
-    state = WorldState(sim.tick, period_ticks, sim.agents, sim.wind, sim.objects, run)
+    state = WorldState(sim.tick, period_ticks, sim.agents, sim.wind, sim.objects, run, sim.payload)
     buffer = io.BytesIO()
     pickler = _Pickler(buffer, sim)
     pickler.dump(WorldIdentity.of(sim.config))  # first: checked before the state is rebuilt
@@ -294,7 +297,14 @@ class Checkpoints:
                 f"{found.reason}; the world starts over"
             )
             return RunEvent(RunKind.RESET, RunState(new_run_id()), sim.time_ns, reason=reason)
-        sim.resume(state.tick, state.agents, state.wind, state.objects, state.period_ticks)
+        sim.resume(
+            state.tick,
+            state.agents,
+            state.wind,
+            state.objects,
+            state.period_ticks,
+            payload=state.payload,
+        )
         saved = state.tick * TICK_NS
         reason = (
             f"world_sim restarted and resumed the world of t = {saved / 1e9:.2f} s "

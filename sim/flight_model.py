@@ -34,6 +34,10 @@ RHO_SLUGFT3_TO_KGM3 = 515.378818
 MODEL_DIR = Path(__file__).resolve().parent / "jsbsim_models"
 """Directory holding ``rmax.xml``."""
 
+WINCH_Z = 0.25
+"""m, structural height of the payload hook's winch above the skid bottoms, on the shaft axis
+(written into the model's ``hook`` force location at load)."""
+
 TerrainHeight = Callable[[float, float], float]
 """``terrain_height(east, north) -> up`` in metres of the local ENU frame."""
 
@@ -201,6 +205,7 @@ class FlightModel:
         self.on_ground = True
         """True while the skids carry weight."""
         self._wind_ned = (0.0, 0.0, 0.0)
+        self._hook_force = (0.0, 0.0, 0.0)
         self._fdm = self._load()
         self._bind_nodes()
         self._set_masses()
@@ -264,7 +269,11 @@ class FlightModel:
         self._n_payload = node("inertia/pointmass-weight-lbs[1]")
         self._n_total_f = tuple(node(f"forces/fb{a}-total-lbs") for a in "xyz")
         self._n_mass = node("inertia/mass-slugs")
+        self._n_cg_x = node("inertia/cg-x-in")
         self._n_cg_z = node("inertia/cg-z-in")
+        self._n_hook = tuple(node(f"external_reactions/hook/{a}") for a in "xyz")
+        self._n_hook_force = node("external_reactions/hook/magnitude")
+        node("external_reactions/hook/location-z-in").set_double_value(WINCH_Z / IN)
 
     def _set_masses(self) -> None:
         self._n_fuel.set_double_value(self.powertrain.fuel * KG_TO_LBS)
@@ -325,6 +334,7 @@ class FlightModel:
         self._set_masses()
         for n, v in zip(self._n_wind, self._wind_ned, strict=True):
             n.set_double_value(v / FT)
+        self.set_hook_force(self._hook_force)
         self._restore_rigid_body(body)
         self._read_state()
 
@@ -373,6 +383,40 @@ class FlightModel:
     def payload(self) -> float:
         """Carried payload, kg."""
         return self._payload
+
+    def set_hook_force(self, force_enu: tuple[float, float, float]) -> None:
+        """Pull of the payload hook's cable on the winch, N ENU, from the next step on."""
+        east, north, up = force_enu
+        magnitude = math.sqrt(east * east + north * north + up * up)
+        self._hook_force = force_enu
+        if magnitude == 0.0:
+            self._n_hook_force.set_double_value(0.0)
+            return
+        nx, ny, nz = self._n_hook
+        nx.set_double_value(north / magnitude)
+        ny.set_double_value(east / magnitude)
+        nz.set_double_value(-up / magnitude)
+        self._n_hook_force.set_double_value(magnitude * N_TO_LBF)
+
+    @property
+    def hook_force(self) -> tuple[float, float, float]:
+        """Cable pull on the winch applied in the next step, N ENU."""
+        return self._hook_force
+
+    def hook_anchor(self) -> tuple[float, float, float]:
+        """Where the winch cable leaves the fuselage, m local ENU."""
+        # structural (x aft, z up, inches) offset from the CG, turned into body FRD metres
+        fwd = -(0.0 - self._n_cg_x.get_double_value()) * IN
+        down = self._n_cg_z.get_double_value() * IN - WINCH_Z
+        cr, sr = math.cos(self.roll), math.sin(self.roll)
+        cp, sp = math.cos(self.pitch), math.sin(self.pitch)
+        ch, sh = math.cos(self.heading), math.sin(self.heading)
+        # body FRD -> NED for 3-2-1 Euler angles, applied to (fwd, 0, down)
+        north = ch * cp * fwd + (ch * sp * cr + sh * sr) * down
+        east = sh * cp * fwd + (sh * sp * cr - ch * sr) * down
+        d = -sp * fwd + cp * cr * down
+        e0, n0, u0 = self.position_enu
+        return (e0 + east, n0 + north, u0 - d)
 
     # ------------------------------------------------------------------ step
     def step(self) -> None:

@@ -18,6 +18,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from geometry_msgs.msg import PointStamped
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType
 from rclpy.context import Context
 from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
@@ -28,6 +29,8 @@ from hdrc3_base.errors import ConfigError, Hdrc3Error
 from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
 from hdrc3_interfaces.msg import (
     CameraCommand,
+    HookCommand,
+    HookState,
     LaserCommand,
     PtuCommand,
     SimRun,
@@ -66,6 +69,10 @@ from sim.yacs import YacsCommand as Command
 NODE_NAME = "world_sim"
 WIND_EVERY = 5
 """Ticks between /world_sim/wind messages (10 Hz sim time)."""
+PAYLOAD_EVERY = 5
+"""Ticks between carrying-sensor samples and looks for moved boxes (10 Hz sim time)."""
+MOVED = 0.01
+"""m (or rad of heading) a box or carrier moves before /world_sim/objects is sent again."""
 STALL_S = 0.5
 """Wall seconds without the awaited commands after which a tick is re-announced."""
 WAIT_STEP_S = 0.1
@@ -145,6 +152,15 @@ class WorldSimNode(SteppedNode):
         self._wind = WindState()
         self._wind.header.frame_id = "world_enu"
         self._objects_pub = self.create_publisher(WorldObjects, "/world_sim/objects", LATCHED_QOS)
+        self._published_poses: dict[str, tuple[float, float, float, float, str]] = {}
+        self._carrying_pubs = {
+            name: self.create_publisher(HookState, f"/{name}/sensors/carrying", SENSOR_QOS)
+            for name in names
+        }
+        self._hook_camera_pubs = {
+            name: self.create_publisher(PointStamped, f"/{name}/sensors/hook_camera", SENSOR_QOS)
+            for name in names
+        }
         self.topics = {name: AgentTopics(self, name, SENSOR_QOS, IMU_QOS) for name in names}
         self._command_subs = {}
         for name in names:
@@ -246,7 +262,11 @@ class WorldSimNode(SteppedNode):
                 )
             )
 
+        def on_hook(msg: Any) -> None:
+            report(requests.hook_command(agent, msg.cable_length, msg.magnet))
+
         ns = f"/{agent}"
+        self.create_subscription(HookCommand, f"{ns}/hook/command", on_hook, COMMAND_QOS)
         self.create_subscription(PtuCommand, f"{ns}/ptu/command", on_ptu, COMMAND_QOS)
         self.create_subscription(CameraCommand, f"{ns}/camera/command", on_camera, COMMAND_QOS)
         self.create_subscription(LaserCommand, f"{ns}/laser/command", on_laser, COMMAND_QOS)
@@ -352,20 +372,59 @@ class WorldSimNode(SteppedNode):
             self.get_logger().error(problem, throttle_duration_sec=10.0)
 
     def _publish_objects(self) -> None:
+        """Every dynamic object; boxes and carriers where their rigid bodies are now."""
         msg = WorldObjects()
         stamp_header(msg.header, self.sim.time_ns)
+        poses = self.sim.object_poses()
+        terrain = self.sim.world.terrain
+        published = {}
         for obj in self.sim.objects.values():
-            msg.objects.append(
-                WorldObject(
-                    id=obj.id,
-                    kind=obj.kind.value,
-                    east=obj.east,
-                    north=obj.north,
-                    heading=obj.heading,
-                    size=list(obj.size),
-                )
-            )
+            pose = poses.get(obj.id)
+            item = WorldObject(id=obj.id, kind=obj.kind.value, size=list(obj.size))
+            if pose is None:
+                item.east, item.north, item.heading = obj.east, obj.north, obj.heading
+                item.up = terrain.height(obj.east, obj.north)
+            else:
+                item.east, item.north, item.up = pose.east, pose.north, pose.up
+                item.heading, item.held_by = pose.heading, pose.held_by
+                published[obj.id] = (pose.east, pose.north, pose.up, pose.heading, pose.held_by)
+            msg.objects.append(item)
+        self._published_poses = published
         self._objects_pub.publish(msg)
+
+    def _objects_moved(self) -> bool:
+        """True when a box or carrier moved (or changed hands) since the last objects message."""
+        last = self._published_poses
+        for oid, p in self.sim.object_poses().items():
+            old = last.get(oid)
+            if old is None or old[4] != p.held_by:
+                return True
+            if max(abs(old[0] - p.east), abs(old[1] - p.north), abs(old[2] - p.up)) > MOVED:
+                return True
+            if abs((old[3] - p.heading + math.pi) % math.tau - math.pi) > MOVED:
+                return True
+        return False
+
+    def _publish_carrying(self, name: str, ns: int) -> None:
+        r = self.sim.carrying(name)
+        msg = HookState(
+            carrying=r.carrying,
+            object_id=r.object_id,
+            magnet=r.magnet,
+            winch=int(r.winch),
+            cable_length=r.cable_length,
+            tension=r.tension,
+        )
+        stamp_header(msg.header, ns)
+        self._carrying_pubs[name].publish(msg)
+        camera = self._hook_camera_pubs[name]
+        if camera.get_subscription_count():
+            for tag, (east, north, up) in self.sim.hook_camera(name):
+                seen = PointStamped()
+                stamp_header(seen.header, ns)
+                seen.header.frame_id = tag
+                seen.point.x, seen.point.y, seen.point.z = east, north, up
+                camera.publish(seen)
 
     def _publish_status(self, topics: AgentTopics, name: str, ns: int) -> None:
         sim = self.sim
@@ -400,6 +459,10 @@ class WorldSimNode(SteppedNode):
             if topics.status.get_subscription_count():
                 self._publish_status(topics, name, ns)
             topics.publish_truth(sim.truth(name), ns)
+            if not repeat and sim.tick % PAYLOAD_EVERY == 0:
+                self._publish_carrying(name, ns)
+        if not repeat and sim.tick % PAYLOAD_EVERY == 0 and self._objects_moved():
+            self._publish_objects()
         if sim.tick % WIND_EVERY == 0 and self._wind_pub.get_subscription_count():
             w = self._wind
             stamp_header(w.header, ns)

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from sim.geodesy import geodetic_to_enu
+from sim.hook import HookFault
 from sim.lockstep import LockstepBarrier
 from sim.rc_transmitter import FlightModeSwitch, RcSticks
 from sim.sensors.fault import FaultMode
@@ -27,6 +28,9 @@ from sim.world_loader import DEFAULT_SIZES, ZERO_CELSIUS
 from sim.world_sim import WorldSim, finite
 from sim.yacs import YacsCommand
 
+HOOK = "hook"
+"""SimInjectFault sensor name of the payload hook (its modes are HOOK_MODES)."""
+HOOK_MODES = frozenset(int(f) for f in HookFault if f is not HookFault.NONE)
 MAX_TELEPORT_HEIGHT = 500.0
 """m above the terrain: higher teleports are rejected."""
 ANGLE_LIMIT = math.tau
@@ -215,15 +219,19 @@ class SimServices:
         problem = self._agent(agent)
         if problem is not None:
             return problem
+        if sensor == HOOK:
+            return self._hook_fault(agent, mode)
         sensors = self.sim.agents[agent].sensors.sensors()
         target = sensors.get(sensor)
         if target is None:
-            known = ", ".join(sorted(sensors))
+            known = ", ".join(sorted([*sensors, HOOK]))
             return SimResult(
                 SimCode.UNKNOWN_NAME, f"unknown sensor {shown(sensor)} (known: {known})"
             )
         modes = list(FaultMode)
         if not 0 <= mode < len(modes):
+            if mode in HOOK_MODES:
+                return invalid(f"fault mode {mode} is a fault of the {HOOK!r}, not of a sensor")
             return invalid(f"unknown fault mode {mode}")
         fault = modes[mode]
         if len(magnitude) > MAX_FAULT_VALUES:
@@ -244,6 +252,17 @@ class SimServices:
                     f"({', '.join(target.fields)}), got {len(values)}",
                 )
         target.fault.set(fault, values)
+        return OK
+
+    def _hook_fault(self, agent: str, mode: int) -> SimResult:
+        """Release in flight, hook failure, wrong box, or NONE (clears them)."""
+        if mode != HookFault.NONE and mode not in HOOK_MODES:
+            known = ", ".join(f"{m.value} {m.name.lower()}" for m in HookFault)
+            return invalid(f"fault mode {mode} is not a hook fault ({known})")
+        fault = HookFault(mode)
+        if fault is HookFault.RELEASE and not self.sim.carrying(agent).carrying:
+            return SimResult(SimCode.WRONG_STATE, f"the hook of {agent} holds nothing to release")
+        self.sim.hook_fault(agent, fault)
         return OK
 
     def spawn_object(
@@ -348,6 +367,19 @@ class SimServices:
         return OK
 
     # ------------------------------------------------- payload (PPC) commands
+    def hook_command(self, agent: str, cable_length: float, magnet: bool) -> SimResult:
+        """Winch length (m, within the drum's cable) and magnet switch of the payload hook."""
+        problem = self._agent(agent)
+        if problem is not None:
+            return problem
+        top = self.sim.payload.params.max_cable
+        if not (math.isfinite(cable_length) and 0.0 <= cable_length <= top):
+            return invalid(
+                f"cable length must be finite, within [0, {top:g}] m, got {cable_length:g}"
+            )
+        self.sim.hook_command(agent, cable_length, bool(magnet))
+        return OK
+
     def ptu_command(self, agent: str, pan: float, tilt: float) -> SimResult:
         """Pan-tilt set-point within +-one turn (then clamped to the PTU's limits)."""
         problem = self._agent(agent)

@@ -19,6 +19,9 @@ import numpy as np
 from hdrc3_base.errors import ConfigError
 from sim.aircraft import Aircraft, YacsStatus
 from sim.flight_model import InitialPlacement
+from sim.hook import HookFault, HookReading
+from sim.hook_camera import observe
+from sim.payload import PayloadPose, PayloadWorld
 from sim.sensors.power import PowerDevice
 from sim.sensors.suite import SensorReadings, SensorSuite
 from sim.truth_state import TruthState
@@ -137,6 +140,8 @@ class WorldSim:
         self.tick = 0
         self.objects: dict[str, DynamicObject] = {}
         self._readings: dict[str, list[SensorReadings]] = {}
+        self.payload: PayloadWorld
+        """Boxes, carriers and hooks (rebuilt by a full reset)."""
         self.reset()
 
     # ------------------------------------------------------------------ time
@@ -155,6 +160,7 @@ class WorldSim:
         """Agent (or everything) back to the start: see ``SimReset.srv`` for the semantics."""
         if agent is not None:
             self._build(self.agents[agent])
+            self.payload.reset_hook(agent, self.agents[agent].aircraft.model.hook_anchor())
             return
         self.tick = 0
         self.wind.reset(self._wind_seed)
@@ -162,6 +168,11 @@ class WorldSim:
         self.objects = {o.id: o for o in self.world.objects}
         for sim_agent in self.agents.values():
             self._build(sim_agent)
+        self.payload = PayloadWorld(
+            self.world.terrain,
+            list(self.world.objects),
+            {name: a.aircraft.model.hook_anchor() for name, a in self.agents.items()},
+        )
 
     def resume(
         self,
@@ -170,6 +181,7 @@ class WorldSim:
         wind: Wind,
         objects: dict[str, DynamicObject],
         skip: int = 0,
+        payload: PayloadWorld | None = None,
     ) -> None:
         """Take over a checkpointed world state of ``tick``, its clock moved on by ``skip`` ticks.
 
@@ -185,6 +197,8 @@ class WorldSim:
             agent.aircraft.shift_time(skip * STEPS_PER_TICK)
         self.wind = wind
         self.objects = dict(objects)
+        if payload is not None:
+            self.payload = payload
         self._readings = {name: [] for name in self.agents}
 
     def _origin(self) -> tuple[float, float, float]:
@@ -243,6 +257,7 @@ class WorldSim:
         sim_agent = self.agents[agent]
         new.command(sim_agent.command)
         sim_agent.aircraft = new
+        self.payload.reset_hook(agent, new.model.hook_anchor())
 
     # ---------------------------------------------------------------- inputs
     def command(self, agent: str, cmd: YacsCommand) -> None:
@@ -256,8 +271,36 @@ class WorldSim:
         self.wind.set(settings)
 
     def spawn(self, obj: DynamicObject) -> None:
-        """Add a dynamic object (unchecked)."""
+        """Add a dynamic object (unchecked; boxes and carriers come from the world file)."""
         self.objects[obj.id] = obj
+
+    def hook_command(self, agent: str, cable_length: float, magnet: bool) -> None:
+        """Winch and magnet set-point of ``agent``'s hook (unchecked)."""
+        self.payload.command(agent, cable_length, magnet)
+
+    def hook_fault(self, agent: str, fault: HookFault) -> None:
+        """Inject a hook fault (unchecked)."""
+        self.payload.inject(agent, fault)
+
+    def carrying(self, agent: str) -> HookReading:
+        """``agent``'s carrying sensor now."""
+        return self.payload.reading(agent)
+
+    def hook_camera(self, agent: str) -> list[tuple[str, tuple[float, float, float]]]:
+        """What ``agent``'s hook camera sees now: tags and offsets from the winch (ENU m)."""
+        payload = self.payload
+        targets = []
+        for oid, obj in payload.objects.items():
+            pose = payload.pose(oid)
+            if pose.held_by:
+                continue
+            targets.append((oid, (pose.east, pose.north, pose.up + obj.size[2])))
+        winch = self.agents[agent].aircraft.model.hook_anchor()
+        return observe(winch, targets, (self.agents[agent].seed, self.tick))
+
+    def object_poses(self) -> dict[str, PayloadPose]:
+        """Rigid-body poses of the boxes and carriers now."""
+        return self.payload.poses()
 
     # ------------------------------------------------------------------ step
     def advance(self) -> None:
@@ -265,13 +308,20 @@ class WorldSim:
         gust = self.wind.step(TICK_S)
         mean = self.wind.mean
         for agent in self.agents.values():
-            aircraft = agent.aircraft
-            aircraft.model.set_wind(mean, gust)
-            out = self._readings[agent.name]
-            for _ in range(STEPS_PER_TICK):
+            agent.aircraft.model.set_wind(mean, gust)
+        payload = self.payload
+        dt = 1.0 / FDM_RATE_HZ
+        for _ in range(STEPS_PER_TICK):
+            anchors = {}
+            for agent in self.agents.values():
+                aircraft = agent.aircraft
                 readings = aircraft.step()
                 if readings is not None:  # every world_sim aircraft has its suite
-                    out.append(readings)
+                    self._readings[agent.name].append(readings)
+                anchors[agent.name] = aircraft.model.hook_anchor()
+            payload.step(dt, anchors)
+            for agent in self.agents.values():
+                agent.aircraft.model.set_hook_force(payload.cable_force(agent.name))
         self.tick += 1
 
     def take_readings(self) -> dict[str, list[SensorReadings]]:

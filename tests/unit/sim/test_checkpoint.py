@@ -61,7 +61,7 @@ def _restored(data: bytes, skip: int = 0) -> tuple[WorldSim, ck.WorldState]:
     assert found.status is LoadStatus.OK, found.reason
     assert found.state is not None
     state = found.state
-    sim.resume(state.tick, state.agents, state.wind, state.objects, skip)
+    sim.resume(state.tick, state.agents, state.wind, state.objects, skip, payload=state.payload)
     return sim, state
 
 

@@ -332,3 +332,36 @@ def test_extreme_values_get_a_defined_answer(
             assert not result.ok, (name, args)
     fuzzed.sim.advance()
     assert all(math.isfinite(v) for v in fuzzed.sim.truth("uav0").position_enu)
+
+
+@pytest.mark.parametrize(
+    ("call", "code", "reason"),
+    [
+        (lambda s: s.inject_fault("uav0", "hook", 3, []), SimCode.INVALID_ARGUMENT,
+         "not a hook fault"),
+        (lambda s: s.inject_fault("uav0", "gps", 6, []), SimCode.INVALID_ARGUMENT,
+         "a fault of the 'hook'"),
+        (lambda s: s.inject_fault("uav0", "hook", 5, []), SimCode.WRONG_STATE, "holds nothing"),
+        (lambda s: s.hook_command("uav0", NAN, True), SimCode.INVALID_ARGUMENT, "cable length"),
+        (lambda s: s.hook_command("uav0", 25.0, True), SimCode.INVALID_ARGUMENT, "[0, 20] m"),
+        (lambda s: s.hook_command("uav9", 1.0, True), SimCode.UNKNOWN_AGENT, "uav9"),
+    ],
+)  # fmt: skip
+def test_bad_hook_requests(
+    services: SimServices, call: Callable[[SimServices], SimResult], code: SimCode, reason: str
+) -> None:
+    result = call(services)
+    assert result.code is code and reason in result.reason
+
+
+def test_hook_faults_and_commands_reach_the_hook() -> None:
+    sim = WorldSim(SimConfig(WORLD, ("uav0",)))
+    s = SimServices(sim, LockstepBarrier(sim.agents))
+    assert s.inject_fault("uav0", "hook", 6, []).ok  # hook failure
+    assert sim.payload.hooks["uav0"].failed
+    assert s.inject_fault("uav0", "hook", 0, []).ok
+    assert not sim.payload.hooks["uav0"].failed
+    assert s.inject_fault("uav0", "hook", 7, []).ok  # wrong box at the next grip
+    assert sim.payload.hooks["uav0"].wrong_box
+    assert s.hook_command("uav0", 2.0, True).ok
+    assert (sim.payload.hooks["uav0"].target, sim.carrying("uav0").magnet) == (2.0, True)

@@ -1,0 +1,252 @@
+"""Delivery executors: boxes and carriers on the winch hook (chapter section 11.1.2).
+
+One executor per operator of TALplanner's UAV logistics domain
+(``hdrc3_deliberative/domains/uav_logistics/domain.tal``), under the operator's name:
+``pick-up-box``, ``drop-box``, ``put-on-carrier``, ``take-from-carrier``, ``attach-carrier``
+and ``detach-carrier`` (``fly-to`` is the flight executor). The domain's helicopter is the
+node's agent; its boxes, carriers and locations are points: an object's point is named by the
+object's tag (what the magnet reads) and lies where the object is, a location's point where a
+load goes down.
+
+A pick-up is the chapter's sequence: hover ``HOVER_HEIGHT`` m above the object (corrected on
+the hook camera's view of the object: a GPS fix is metres off), lower the hook
+until it rests on the object (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
+must hold that very object), raise to ``CARRY_CABLE`` m, climb to ``DEPART_HEIGHT``. A
+put-down hovers above the place, lowers until the load rests, releases, winds the hook in and
+climbs likewise. Each step is one platform command
+whose failure fails the node with the platform's reason (wrong box, nothing gripped, winch
+stalled by an overweight load, load lost).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Generator, Mapping
+from types import MappingProxyType
+
+from hdrc3_platform_server.hook_api import HookAction
+from hdrc3_tst.executor import (
+    SUCCEEDED,
+    ActionContext,
+    ActionExecutor,
+    Progress,
+    Status,
+    failed,
+)
+from hdrc3_tst.executor_steps import airborne, finish, fly_to
+from hdrc3_tst.platform_port import Sighting
+
+Steps = Generator[None, None, Status]
+HOVER_HEIGHT = 4.0
+"""m above the ground where a load is picked up or put down."""
+REACH = 1.5
+"""m of cable paid out beyond the hover height: the hook reaches the ground with margin (the
+lowering stops on a slack cable before that)."""
+CARRY_CABLE = 1.0
+"""m of cable a load hangs on in flight."""
+DEPART_HEIGHT = 12.0
+"""m above the ground an executor climbs back to when done: clear of the path planner's
+6 m margin with a load hanging on ``CARRY_CABLE`` m of cable."""
+APPROACH_SPEED = 2.0
+"""m/s of the final approach over a load or place."""
+ALIGNED = 0.25
+"""m: the hook camera sees the object this close below the winch: lower (the magnet's 0.1 m
+sphere lands on a 0.4 m box; the RMAX hovers to about +-0.2 m)."""
+PICK_ATTEMPTS = 5
+"""Lowerings onto an object before a pick-up gives up."""
+MISSED = "gripped nothing"
+"""Part of ppcl_hook's reason when the magnet landed beside the object."""
+CORRECTION_SPEED = 0.5
+"""m/s of a correction flight over an object."""
+SETTLE_S = 4.0
+"""Mission seconds the aircraft hovers after a correction before the camera is asked again."""
+SIGHT_TIMEOUT_S = 5.0
+"""Mission seconds to wait for a new sighting of the object."""
+CORRECT_ABOVE = 0.6
+"""m: a larger offset is flown; a smaller one is waited out."""
+ALIGN_S = 60.0
+"""Mission seconds an alignment may take."""
+
+
+def over(ctx: ActionContext, place: str) -> Steps:
+    """Take off if needed and hover ``HOVER_HEIGHT`` m above the place's point."""
+    outcome = yield from airborne(ctx)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return outcome
+    (point,) = ctx.place(place)
+    east, north = float(point[0]), float(point[1])
+    up = ctx.frame.ground_up(east, north) + HOVER_HEIGHT
+    return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
+
+
+def _sighting(
+    ctx: ActionContext, tag: str, after: float | None
+) -> Generator[None, None, Sighting | None]:
+    """The first sighting of ``tag`` newer than ``after`` (None: not seen within the timeout)."""
+    deadline = ctx.now + SIGHT_TIMEOUT_S
+    while True:
+        seen = ctx.platform.seen(tag)
+        if seen is not None and (after is None or seen.time > after):
+            return seen
+        if ctx.now > deadline:
+            return None
+        yield
+
+
+def align(ctx: ActionContext, tag: str) -> Steps:
+    """Hover the winch over the object ``tag`` on the hook camera's offsets.
+
+    The flight to the object's point ends metres off (GPS): an offset over ``CORRECT_ABOVE`` is
+    flown (then the aircraft hovers ``SETTLE_S`` s); a smaller one is waited out, since the
+    hover wanders a few decimetres around its set-point and passes over the object. Done when
+    a sighting is within ``ALIGNED``; failed after ``ALIGN_S`` s.
+    """
+    deadline = ctx.now + ALIGN_S
+    after: float | None = None
+    miss = math.inf
+    while ctx.now <= deadline:
+        seen = yield from _sighting(ctx, tag, after)
+        if seen is None:
+            return failed(f"the hook camera does not see {tag}")
+        after = seen.time
+        de, dn, _ = seen.offset
+        miss = math.hypot(de, dn)
+        if miss <= ALIGNED:
+            return SUCCEEDED
+        state = ctx.state()
+        if miss > CORRECT_ABOVE and state is not None:
+            target = (state.east + de, state.north + dn, state.up)
+            outcome = yield from fly_to(ctx, target, CORRECTION_SPEED)
+            if outcome.progress is not Progress.SUCCEEDED:
+                return outcome
+            settled = ctx.now + SETTLE_S
+            while ctx.now < settled:
+                yield
+            latest = ctx.platform.seen(tag)
+            after = latest.time if latest is not None else after
+    return failed(f"could not hover over {tag}: still {miss:.2f} m off after {ALIGN_S:g} s")
+
+
+def depart(ctx: ActionContext, place: str) -> Steps:
+    """Climb straight up to ``DEPART_HEIGHT`` m above the place's ground."""
+    (point,) = ctx.place(place)
+    east, north = float(point[0]), float(point[1])
+    state = ctx.state()
+    if state is not None:
+        east, north = state.east, state.north
+    up = ctx.frame.ground_up(east, north) + DEPART_HEIGHT
+    return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
+
+
+def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str = "") -> Steps:
+    """One ppcl_hook command to its end."""
+    return (yield from finish(ctx, ctx.hook(action, length, tag)))
+
+
+def pick_up(ctx: ActionContext, place: str) -> Steps:
+    """Hover over the object of point ``place``, lower, attach it (by its tag), raise.
+
+    A lowering that lands the magnet beside the object (attach: nothing gripped) is tried again
+    from the alignment, up to ``PICK_ATTEMPTS`` times.
+    """
+    tag = ctx.name(place)
+    outcome = yield from over(ctx, place)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return outcome
+    for _ in range(PICK_ATTEMPTS):
+        # generators: each step sends its command only when it runs
+        for step in (
+            align(ctx, tag),
+            hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
+            hook(ctx, HookAction.ATTACH, 0.0, tag),
+        ):
+            outcome = yield from step
+            if outcome.progress is not Progress.SUCCEEDED:
+                break
+        if outcome.progress is Progress.SUCCEEDED:
+            outcome = yield from hook(ctx, HookAction.RAISE, CARRY_CABLE)
+            if outcome.progress is not Progress.SUCCEEDED:
+                return outcome
+            return (yield from depart(ctx, place))
+        if MISSED not in outcome.reason:
+            return outcome
+        wound = yield from hook(ctx, HookAction.RAISE, 0.0)
+        if wound.progress is not Progress.SUCCEEDED:
+            return wound
+    return outcome
+
+
+def put_down(ctx: ActionContext, place: str) -> Steps:
+    """Hover over point ``place``, lower the load until it rests, release, wind in."""
+    for step in (
+        over(ctx, place),
+        hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
+        hook(ctx, HookAction.RELEASE),
+        hook(ctx, HookAction.RAISE, 0.0),
+        depart(ctx, place),
+    ):
+        outcome = yield from step
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+    return SUCCEEDED
+
+
+class PickUpBox(ActionExecutor):
+    """``pick-up-box(box)``: the box at its point (a depot) onto the hook."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Pick up the box."""
+        return (yield from pick_up(ctx, "box"))
+
+
+class TakeFromCarrier(ActionExecutor):
+    """``take-from-carrier(box)``: a box off a carrier (its point: its place on the carrier)."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Pick up the box from the carrier."""
+        return (yield from pick_up(ctx, "box"))
+
+
+class AttachCarrier(ActionExecutor):
+    """``attach-carrier(carrier)``: the carrier by its central lifting plate."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Pick up the carrier."""
+        return (yield from pick_up(ctx, "carrier"))
+
+
+class DropBox(ActionExecutor):
+    """``drop-box(box, place)``: the held box put down on the ground at the place."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Put the box down."""
+        return (yield from put_down(ctx, "place"))
+
+
+class PutOnCarrier(ActionExecutor):
+    """``put-on-carrier(box, place)``: the held box put down at its place on a carrier."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Put the box on the carrier."""
+        return (yield from put_down(ctx, "place"))
+
+
+class DetachCarrier(ActionExecutor):
+    """``detach-carrier(carrier, place)``: the held carrier put down at the place."""
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Put the carrier down."""
+        return (yield from put_down(ctx, "place"))
+
+
+PAYLOAD_EXECUTORS: Mapping[str, type[ActionExecutor]] = MappingProxyType(
+    {
+        "pick-up-box": PickUpBox,
+        "drop-box": DropBox,
+        "put-on-carrier": PutOnCarrier,
+        "take-from-carrier": TakeFromCarrier,
+        "attach-carrier": AttachCarrier,
+        "detach-carrier": DetachCarrier,
+    }
+)
+"""The delivery executors by action name (= the UAV logistics operators; a test checks)."""

@@ -1,0 +1,151 @@
+"""Delivery executors: the UAV logistics operators, one each, and the hook commands they send."""
+
+from __future__ import annotations
+
+import pytest
+
+from hdrc3_deliberative.generators import UAV_DOMAIN
+from hdrc3_deliberative.tal_language import TalReader
+from hdrc3_platform_server.codes import FclCommand
+from hdrc3_platform_server.geo_frame import frame_from_world
+from hdrc3_platform_server.hook_api import HookAction
+from hdrc3_tst.actions import ACTIONS
+from hdrc3_tst.executor import ActionContext, Progress, Status, Stepper
+from hdrc3_tst.fake_platform import FakePlatform
+from hdrc3_tst.payload_executors import (
+    CARRY_CABLE,
+    HOVER_HEIGHT,
+    PAYLOAD_EXECUTORS,
+    REACH,
+    SETTLE_S,
+    SIGHT_TIMEOUT_S,
+)
+from hdrc3_tst.platform_port import Command, PlatformState, Sighting
+
+FRAME = frame_from_world("revinge")
+POINTS = {"box1": ((-166.0, 96.0, 0.0),), "body1": ((40.0, -20.0, 0.0),)}
+FLYING = PlatformState(0.0, 0.0, 30.0, on_ground=False, autonomous=True)
+LOWER = (HookAction.LOWER, HOVER_HEIGHT + REACH, "")
+
+
+def test_the_uav_logistics_operators_map_one_to_one_onto_executors() -> None:
+    domain = TalReader().read_domain(UAV_DOMAIN.read_text())
+    operators = {op.name for op in domain.operators} - {"fly-to"}
+    assert set(PAYLOAD_EXECUTORS) == operators
+    assert set(PAYLOAD_EXECUTORS) <= set(ACTIONS)
+
+
+BELOW = Sighting((0.05, -0.03, -5.7), 1.0)
+"""The hook camera sees box1 right below the winch."""
+
+
+def _run(action: str, args: dict[str, float | str]) -> tuple[FakePlatform, Stepper]:
+    platform = FakePlatform(sample=FLYING, sightings={"box1": BELOW})
+    ctx = ActionContext("n", "uav0", ACTIONS[action], args, POINTS, platform, FRAME, 0.0)
+    return platform, Stepper(PAYLOAD_EXECUTORS[action](), ctx)
+
+
+def _hook_call(command: Command) -> tuple[object, ...]:
+    return (command.command, command.args["length"], command.tag)
+
+
+@pytest.mark.parametrize(
+    ("action", "args", "place", "hook_calls"),
+    [
+        ("pick-up-box", {"box": "box1"}, "box1",
+         [LOWER, (HookAction.ATTACH, 0.0, "box1"), (HookAction.RAISE, CARRY_CABLE, "")]),
+        ("drop-box", {"box": "box1", "place": "body1"}, "body1",
+         [LOWER, (HookAction.RELEASE, 0.0, ""), (HookAction.RAISE, 0.0, "")]),
+    ],
+)  # fmt: skip
+def test_the_chapters_sequence_hover_lower_attach_or_release_raise(
+    action: str, args: dict[str, float | str], place: str, hook_calls: list[tuple[object, ...]]
+) -> None:
+    platform, stepper = _run(action, args)
+    assert stepper.step(0.0).progress is Progress.RUNNING
+    (flight,) = platform.sent
+    assert flight.command is FclCommand.TRAJ3D_FLYTO
+    east, north, _ = POINTS[place][0]
+    up = FRAME.ground_up(east, north) + HOVER_HEIGHT
+    lon, lat, alt = FRAME.to_wgs84(east, north, up)
+    assert (flight.args["longitude"], flight.args["latitude"]) == pytest.approx((lon, lat))
+    assert flight.args["altitude"] == pytest.approx(alt)
+    for k, expected in enumerate(hook_calls):
+        platform.complete(platform.sent[-1])
+        assert stepper.step(1.0 + k).progress is Progress.RUNNING
+        assert _hook_call(platform.sent[-1]) == expected
+    platform.complete(platform.sent[-1])
+    assert stepper.step(10.0).progress is Progress.RUNNING
+    climb = platform.sent[-1]
+    assert climb.command is FclCommand.TRAJ3D_FLYTO  # back up clear of the ground
+    _, _, alt = FRAME.to_wgs84(FLYING.east, FLYING.north, FRAME.ground_up(0.0, 0.0) + 12.0)
+    assert climb.args["altitude"] == pytest.approx(alt)
+    platform.complete(climb)
+    assert stepper.step(11.0) == Status(Progress.SUCCEEDED)
+
+
+def test_a_wrong_box_fails_the_pick_up_with_the_platforms_reason() -> None:
+    platform, stepper = _run("pick-up-box", {"box": "box1"})
+    stepper.step(0.0)
+    platform.complete(platform.sent[-1])  # flight
+    stepper.step(1.0)  # aligned at once
+    stepper.step(1.5)
+    platform.complete(platform.sent[-1])  # lowered
+    stepper.step(2.0)
+    wrong = "FAILED wrong object: the magnet holds 'box4', not 'box1'"
+    platform.complete(platform.sent[-1], ok=False, reason=wrong)
+    assert stepper.step(3.0) == Status(Progress.FAILED, f"ppcl_hook: {wrong}")
+    assert len(platform.sent) == 3  # no raise after a failed attach
+
+
+def test_the_hook_camera_corrects_the_hover_over_the_box() -> None:
+    platform, stepper = _run("pick-up-box", {"box": "box1"})
+    platform.sightings["box1"] = Sighting((2.0, -1.0, -5.5), 1.0)  # GPS put it 2.2 m off
+    stepper.step(0.0)
+    platform.complete(platform.sent[-1])  # the flight over the box's point
+    stepper.step(1.0)
+    stepper.step(1.5)
+    correction = platform.sent[-1]
+    assert correction.command is FclCommand.TRAJ3D_FLYTO
+    lon, lat, _ = FRAME.to_wgs84(FLYING.east + 2.0, FLYING.north - 1.0, FLYING.up)
+    assert (correction.args["longitude"], correction.args["latitude"]) == pytest.approx((lon, lat))
+    platform.complete(correction)
+    for k in range(round(SETTLE_S) + 2):  # hovering to settle
+        stepper.step(2.0 + k)
+    assert platform.sent[-1] is correction
+    platform.sightings["box1"] = Sighting((0.4, 0.02, -5.6), 20.0)  # wandering: wait
+    stepper.step(10.0)
+    stepper.step(11.0)
+    assert platform.sent[-1] is correction
+    platform.sightings["box1"] = Sighting((0.1, 0.02, -5.6), 21.0)  # over the box
+    stepper.step(12.0)
+    stepper.step(13.0)
+    assert _hook_call(platform.sent[-1]) == LOWER
+
+
+def test_a_box_the_hook_camera_never_sees_fails_the_pick_up() -> None:
+    platform, stepper = _run("pick-up-box", {"box": "box1"})
+    platform.sightings.clear()
+    stepper.step(0.0)
+    platform.complete(platform.sent[-1])
+    stepper.step(1.0)
+    outcome = stepper.step(2.0 + SIGHT_TIMEOUT_S)
+    assert outcome == Status(Progress.FAILED, "the hook camera does not see box1")
+
+
+def test_a_magnet_landing_beside_the_box_is_wound_in_and_lowered_again() -> None:
+    platform, stepper = _run("pick-up-box", {"box": "box1"})
+    stepper.step(0.0)
+    platform.complete(platform.sent[-1])  # flight
+    stepper.step(1.0)
+    stepper.step(1.5)
+    platform.complete(platform.sent[-1])  # lowered
+    stepper.step(2.0)
+    platform.complete(platform.sent[-1], ok=False, reason="FAILED the magnet gripped nothing")
+    stepper.step(3.0)
+    assert _hook_call(platform.sent[-1]) == (HookAction.RAISE, 0.0, "")
+    platform.complete(platform.sent[-1])
+    platform.sightings["box1"] = Sighting((0.1, 0.0, -5.7), 5.0)
+    stepper.step(4.0)
+    stepper.step(5.0)
+    assert _hook_call(platform.sent[-1]) == LOWER
