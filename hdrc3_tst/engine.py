@@ -84,8 +84,10 @@ class EngineSink(Protocol):
     def status(self, record: NodeRecord) -> None:
         """A node this agent holds changed state."""
 
-    def flag(self, node_id: str, action: str, executing: bool) -> None:
-        """An action's executor started (True) or stopped (False)."""
+    def flag(
+        self, node_id: str, action: str, executing: bool, args: Mapping[str, float | str]
+    ) -> None:
+        """An action's executor started (True) or stopped (False), with the action's arguments."""
 
     def start_remote(self, ref: NodeRef, epoch: float) -> None:
         """Ask ``ref.agent``'s manager to execute ``ref.node_id``."""
@@ -363,7 +365,7 @@ class ExecutionEngine:
             memory=rec.memory,
         )
         rec.stepper = Stepper(executor(), action_ctx)
-        self.ctx.sink.flag(node.node_id, node.action, True)
+        self.ctx.sink.flag(node.node_id, node.action, True, action_ctx.args)
         return ""
 
     def _bind(self, node: Node, pspec: ParamSpec) -> tuple[float | str | None, str]:
@@ -401,7 +403,7 @@ class ExecutionEngine:
         action_ctx.paths.clear()
         if status.progress is Progress.RUNNING:
             return
-        self.ctx.sink.flag(node.node_id, node.action, False)
+        self.ctx.sink.flag(node.node_id, node.action, False, action_ctx.args)
         if status.progress is Progress.SUCCEEDED:
             self._succeed(rec)
         else:
@@ -690,7 +692,8 @@ class ExecutionEngine:
             if not command.state.ended:
                 self.ctx.platform.stop(command, reason)
         rec.stepper.close()
-        self.ctx.sink.flag(node_id, self.tst.tree.nodes[node_id].action, False)
+        action = self.tst.tree.nodes[node_id].action
+        self.ctx.sink.flag(node_id, action, False, rec.stepper.ctx.args)
 
     def _abort_child(self, child_id: str, reason: str) -> None:
         child = self.records[child_id]

@@ -9,6 +9,7 @@ replaced). Nothing here talks to ROS.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from hdrc3_control.path_segment import PathSegment
@@ -159,6 +160,7 @@ class RecordingSink:
 
     statuses: list[tuple[str, NodeState, str]] = field(default_factory=list)
     flags: list[tuple[str, str, bool]] = field(default_factory=list)
+    flag_args: dict[str, dict[str, float | str]] = field(default_factory=dict)
     remote_starts: list[NodeRef] = field(default_factory=list)
     remote_aborts: list[tuple[NodeRef, str]] = field(default_factory=list)
     notes: list[tuple[str, str]] = field(default_factory=list)
@@ -168,9 +170,12 @@ class RecordingSink:
         """Record a state change."""
         self.statuses.append((record.node_id, record.state, record.reason))
 
-    def flag(self, node_id: str, action: str, executing: bool) -> None:
-        """Record an execution flag."""
+    def flag(
+        self, node_id: str, action: str, executing: bool, args: Mapping[str, float | str]
+    ) -> None:
+        """Record an execution flag (and the arguments of the node's last flag)."""
         self.flags.append((node_id, action, executing))
+        self.flag_args[node_id] = dict(args)
 
     def start_remote(self, ref: NodeRef, epoch: float) -> None:
         """Record a remote start."""

@@ -16,7 +16,7 @@ import gc
 import math
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -103,8 +103,10 @@ class _Sink:
     def status(self, record: NodeRecord) -> None:
         self._manager.publish_status(self._mission, record)
 
-    def flag(self, node_id: str, action: str, executing: bool) -> None:
-        self._manager.publish_flag(self._mission, node_id, action, executing)
+    def flag(
+        self, node_id: str, action: str, executing: bool, args: Mapping[str, float | str]
+    ) -> None:
+        self._manager.publish_flag(self._mission, node_id, action, executing, args)
 
     def start_remote(self, ref: NodeRef, epoch: float) -> None:
         self._manager.call_remote(self._mission, ref, epoch)
@@ -372,8 +374,15 @@ class TstManagerNode(Node):
         """Publish a node's state change."""
         self._status_pub.publish(self._status(self.engines[mission], record))
 
-    def publish_flag(self, mission: str, node_id: str, action: str, executing: bool) -> None:
-        """Publish an execution flag."""
+    def publish_flag(
+        self,
+        mission: str,
+        node_id: str,
+        action: str,
+        executing: bool,
+        args: Mapping[str, float | str],
+    ) -> None:
+        """Publish an execution flag with the action's arguments (numbers as ``%g``)."""
         self._flag_pub.publish(
             ExecutionFlag(
                 header=_header(self.get_clock().now().to_msg()),
@@ -382,6 +391,8 @@ class TstManagerNode(Node):
                 node_id=node_id,
                 action=action,
                 executing=executing,
+                argument_names=list(args),
+                argument_values=[v if isinstance(v, str) else f"{v:g}" for v in args.values()],
             )
         )
 

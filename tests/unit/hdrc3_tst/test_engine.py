@@ -112,6 +112,8 @@ def test_example_6_1_on_uav0_runs_its_nodes_and_starts_tau3_on_uav1() -> None:
     assert values["Speed2"] == 8.0  # the open speed was bound to the preferred value
     assert ("tau2", "scan-area", True) in rig.sink.flags
     assert ("tau2", "scan-area", False) in rig.sink.flags
+    # the flags carry the action's arguments (operator-specific monitor formulas bind them)
+    assert rig.sink.flag_args["tau2"]["area"] == "AreaA"
 
 
 def test_a_node_waits_for_its_earliest_start() -> None:
