@@ -222,3 +222,16 @@ def test_the_pipeline_runs_only_while_the_ppc_engages_it(rig: Rig) -> None:
         if rig.spin_until(lambda t=t: result_at(rig, t) is not None):
             break
     assert result_at(rig, t) is not None
+
+
+def test_an_ungated_node_takes_images_without_a_ppc(ros_context: object) -> None:
+    from rclpy.parameter import Parameter
+
+    from hdrc3_perception.node import SaliencyNode
+
+    ungated = [Parameter("gated", value=False)]
+    node = SaliencyNode(context=ros_context, namespace="/uav9", parameter_overrides=ungated)
+    try:
+        assert node.engaged  # subscribed to the images at once: no ppc/image_processing needed
+    finally:
+        node.destroy_node()
