@@ -24,7 +24,7 @@ import enum
 import itertools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import shapely
 from shapely.geometry import Polygon, box
@@ -305,21 +305,9 @@ def plan_coverage(
         turn_speed: Speed on the U-turns, m/s (capped by each platform's speed).
         bounds: (east_min, north_min, east_max, north_max) the area must lie in (the world).
     """
-    if not platforms:
-        return _fail(CoverageStatus.NO_PLATFORMS, "no platforms to cover the area")
-    for p in platforms:
-        values = (p.footprint, p.speed, *p.start)
-        if not all(math.isfinite(v) for v in values) or p.footprint <= 0 or p.speed <= 0:
-            return _fail(CoverageStatus.BAD_PLATFORM, f"{p.name}: footprint, speed, start {values}")
-    if len({p.name for p in platforms}) != len(platforms):
-        return _fail(CoverageStatus.BAD_PLATFORM, "platform names must differ")
-    if not (math.isfinite(altitude_up) and math.isfinite(turn_speed) and turn_speed > 0):
-        return _fail(CoverageStatus.BAD_NUMBERS, f"altitude {altitude_up}, turn speed {turn_speed}")
-    area, reason = _check_area(polygon)
-    if area is None:
-        return _fail(CoverageStatus.INVALID_AREA, reason)
-    if bounds is not None and not box(*bounds).covers(area):
-        return _fail(CoverageStatus.OUTSIDE_WORLD, f"the area leaves the world's extent {bounds}")
+    area = _checked(polygon, platforms, altitude_up, turn_speed, bounds)
+    if isinstance(area, CoveragePlan):
+        return area
     axes = SweepAxes.of(area)
     if len(platforms) <= MAX_PERMUTED:
         orders = list(itertools.permutations(platforms))
@@ -354,14 +342,39 @@ def plan_part(
     """
     if not (isinstance(part, int) and isinstance(parts, int) and 1 <= part <= parts):
         return _fail(CoverageStatus.BAD_NUMBERS, f"part {part} of {parts}: need 1 <= part <= parts")
-    fleet = [replace(platform, name=f"{platform.name}#{k}") for k in range(1, parts + 1)]
-    plan = plan_coverage(polygon, fleet[:1], altitude_up, turn_speed, bounds)
-    if plan.status is not CoverageStatus.PLANNED:
-        return plan
-    area, _ = _check_area(polygon)
-    assert area is not None  # plan_coverage checked it
-    ours = _plan_order(area, SweepAxes.of(area), fleet, altitude_up, turn_speed)[part - 1]
-    return CoveragePlan(CoverageStatus.PLANNED, "", (replace(ours, platform=platform),))
+    area = _checked(polygon, (platform,), altitude_up, turn_speed, bounds)
+    if isinstance(area, CoveragePlan):
+        return area
+    axes = SweepAxes.of(area)
+    cuts = _cuts(area, axes, [platform.sweep_rate] * parts)
+    band = _assign(area, axes, platform, cuts[part - 1], cuts[part], altitude_up, turn_speed)
+    return CoveragePlan(CoverageStatus.PLANNED, "", (band,))
+
+
+def _checked(
+    polygon: Sequence[Sequence[float]],
+    platforms: Sequence[Platform],
+    altitude_up: float,
+    turn_speed: float,
+    bounds: tuple[float, float, float, float] | None,
+) -> Polygon | CoveragePlan:
+    """The area to cover, or the failed plan that says what is wrong with the request."""
+    if not platforms:
+        return _fail(CoverageStatus.NO_PLATFORMS, "no platforms to cover the area")
+    for p in platforms:
+        values = (p.footprint, p.speed, *p.start)
+        if not all(math.isfinite(v) for v in values) or p.footprint <= 0 or p.speed <= 0:
+            return _fail(CoverageStatus.BAD_PLATFORM, f"{p.name}: footprint, speed, start {values}")
+    if len({p.name for p in platforms}) != len(platforms):
+        return _fail(CoverageStatus.BAD_PLATFORM, "platform names must differ")
+    if not (math.isfinite(altitude_up) and math.isfinite(turn_speed) and turn_speed > 0):
+        return _fail(CoverageStatus.BAD_NUMBERS, f"altitude {altitude_up}, turn speed {turn_speed}")
+    area, reason = _check_area(polygon)
+    if area is None:
+        return _fail(CoverageStatus.INVALID_AREA, reason)
+    if bounds is not None and not box(*bounds).covers(area):
+        return _fail(CoverageStatus.OUTSIDE_WORLD, f"the area leaves the world's extent {bounds}")
+    return area
 
 
 def _cut(
@@ -386,23 +399,47 @@ def _plan_order(
     altitude_up: float,
     turn_speed: float,
 ) -> tuple[Assignment, ...]:
-    s0, s1, o0, o1 = axes.extent(area)
-    reach = max(abs(s0), abs(s1)) + 10.0
-    total = sum(p.sweep_rate for p in order)
+    cuts = _cuts(area, axes, [p.sweep_rate for p in order])
+    return tuple(
+        _assign(area, axes, p, low, high, altitude_up, turn_speed)
+        for p, low, high in zip(order, cuts, cuts[1:], strict=False)
+    )
+
+
+def _reach(area: Polygon, axes: SweepAxes) -> float:
+    s0, s1, _, _ = axes.extent(area)
+    return max(abs(s0), abs(s1)) + 10.0
+
+
+def _cuts(area: Polygon, axes: SweepAxes, rates: Sequence[float]) -> list[float]:
+    """Across offsets bounding bands whose area shares are the ``rates``' shares, in order."""
+    _, _, o0, o1 = axes.extent(area)
+    reach = _reach(area, axes)
+    total = sum(rates)
     cuts, share = [o0], 0.0
-    for p in order[:-1]:
-        share += p.sweep_rate / total
+    for rate in rates[:-1]:
+        share += rate / total
         cuts.append(_cut(area, axes, share, o0, o1, reach))
     cuts.append(o1)
-    result = []
-    for p, low, high in zip(order, cuts, cuts[1:], strict=False):
-        part = area.intersection(axes.band(low, high, reach))
-        legs = sweep_legs(part, p.footprint, axes)
-        turn = min(turn_speed, p.speed)
-        options = [_boustrophedon(legs, r, f) for r in (False, True) for f in (False, True)]
-        flown = min(options, key=lambda ls: math.dist(p.start, ls[0][0]))
-        segments = tuple(_segments(flown, altitude_up, p.speed, turn))
-        transit = math.dist(p.start, flown[0][0])
-        duration = transit / p.speed + sum(s.arc_length() / s.target_velocity for s in segments)
-        result.append(Assignment(p, part, segments, transit, duration))
-    return tuple(result)
+    return cuts
+
+
+def _assign(
+    area: Polygon,
+    axes: SweepAxes,
+    p: Platform,
+    low: float,
+    high: float,
+    altitude_up: float,
+    turn_speed: float,
+) -> Assignment:
+    """The band between two across offsets, flown by ``p`` from the corner nearest its start."""
+    part = area.intersection(axes.band(low, high, _reach(area, axes)))
+    legs = sweep_legs(part, p.footprint, axes)
+    turn = min(turn_speed, p.speed)
+    options = [_boustrophedon(legs, r, f) for r in (False, True) for f in (False, True)]
+    flown = min(options, key=lambda ls: math.dist(p.start, ls[0][0]))
+    segments = tuple(_segments(flown, altitude_up, p.speed, turn))
+    transit = math.dist(p.start, flown[0][0])
+    duration = transit / p.speed + sum(s.arc_length() / s.target_velocity for s in segments)
+    return Assignment(p, part, segments, transit, duration)
