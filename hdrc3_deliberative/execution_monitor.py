@@ -57,7 +57,7 @@ from hdrc3_dyknow.formula import (
     Term,
     Until,
 )
-from hdrc3_dyknow.grounding import EXEC, GroundingError, Scope, compile_formula
+from hdrc3_dyknow.grounding import EXEC, GroundingError, Scope, compile_formula, quantified_sorts
 from hdrc3_dyknow.interpretation import State, atom_key
 from hdrc3_dyknow.knowledge_process import KnowledgeProcessHost
 from hdrc3_dyknow.progression import ProgressionEngine, Verdict
@@ -316,7 +316,7 @@ class ExecutionMonitor:
     # --- formulas ------------------------------------------------------------------------
     def _unknown_feature(self, decl: MonitorDecl) -> str:
         """Name an unknown sort or a fluent that is no ontology feature (before binding)."""
-        for sort in sorted(set(_sorts(decl.formula))):
+        for sort in sorted(quantified_sorts(decl.formula)):
             found = self.matcher.match_sort(sort)
             if found.status is not MatchStatus.MATCHED:
                 return found.reason
@@ -341,7 +341,7 @@ class ExecutionMonitor:
     def _plan(self, decl: MonitorDecl, bindings: Mapping[str, str]) -> _Plan | str:
         """Ground ``decl`` and match each fluent it reads to streams; a reason on failure."""
         domains: dict[str, tuple[str, ...]] = {"Object": tuple(self.matcher.ontology.objects())}
-        for sort in set(_sorts(decl.formula)):
+        for sort in quantified_sorts(decl.formula):
             found = self.matcher.match_sort(sort)
             if found.status is not MatchStatus.MATCHED:
                 return found.reason
@@ -498,12 +498,6 @@ def _why(active: _Active, state: State) -> str:
         else:
             shown.append(f"{key}={value}")
     return ", ".join(shown)
-
-
-def _sorts(formula: Formula) -> Iterator[str]:
-    for sub in _subformulas(formula):
-        if isinstance(sub, Quantified):
-            yield sub.sort
 
 
 def _variables(formula: Formula) -> Iterator[str]:
