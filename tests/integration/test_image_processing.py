@@ -8,8 +8,6 @@ images world_render draws and processes colour + thermal pairs; `ip_abort` stops
 from __future__ import annotations
 
 import json
-import time
-from collections.abc import Callable
 from typing import Any
 
 import pytest
@@ -23,21 +21,13 @@ from hdrc3.cli.main import main as hdrc3_main
 from hdrc3_control.perception_kernel_node import IMAGE_PROCESSING_TOPIC
 from hdrc3_control.ppc_modes import ImageProcessing
 from hdrc3_perception.node import LATCHED, RESULT_QOS
+from tests.integration.ros_wait import spin_until
 
 pytestmark = pytest.mark.ros
 
 CLOCK_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
-
-
-def _spin_until(executor: SingleThreadedExecutor, done: Callable[[], bool], timeout: float) -> bool:
-    deadline = time.monotonic() + timeout
-    while not done():
-        if time.monotonic() > deadline:
-            return False
-        executor.spin_once(timeout_sec=0.05)
-    return True
 
 
 def test_ip_saliency_runs_the_pipeline_until_ip_abort(
@@ -64,7 +54,7 @@ def test_ip_saliency_runs_the_pipeline_until_ip_abort(
     node.create_subscription(
         Clock, "/clock", lambda m: clock.append(m.clock.sec + 1e-9 * m.clock.nanosec), CLOCK_QOS
     )
-    assert _spin_until(executor, lambda: modes == [ImageProcessing.IDLE], 60.0), modes
+    assert spin_until(executor, lambda: modes == [ImageProcessing.IDLE], 60.0), modes
     assert hdrc3_main(["state", "uav0", "--once", "--timeout", "60"]) == 0
 
     assert hdrc3_main(["ppcl", "uav0", "ip_saliency"]) == 1  # control first
@@ -72,18 +62,18 @@ def test_ip_saliency_runs_the_pipeline_until_ip_abort(
     assert hdrc3_main(["ppcl", "uav0", "request", "ip", "--owner", "test"]) == 0
     assert hdrc3_main(["ppcl", "uav0", "ip_saliency", "--timeout", "60"]) == 0
     assert "ppcl_ip_saliency: FINISHED" in capsys.readouterr().out
-    assert _spin_until(executor, lambda: modes[-1] == ImageProcessing.SALIENCY, 30.0), modes
+    assert spin_until(executor, lambda: modes[-1] == ImageProcessing.SALIENCY, 30.0), modes
     # the pipeline gets pairs of the rendered images and processes them (the pad from 0 m)
-    assert _spin_until(executor, lambda: len(results) >= 3, 120.0), (results, clock[-1])
+    assert spin_until(executor, lambda: len(results) >= 3, 120.0), (results, clock[-1])
     assert {r["status"] for r in results} <= {"processed", "no_state"}
     assert any(r["status"] == "processed" for r in results), results
 
     assert hdrc3_main(["ppcl", "uav0", "ip_abort", "--timeout", "60"]) == 0
-    assert _spin_until(executor, lambda: modes[-1] == ImageProcessing.IDLE, 30.0), modes
+    assert spin_until(executor, lambda: modes[-1] == ImageProcessing.IDLE, 30.0), modes
     stopped_at = clock[-1]
     count = len(results)
     # two more sim seconds: nothing newer than the stop is processed (in-flight pairs aside)
-    assert _spin_until(executor, lambda: clock[-1] > stopped_at + 2.0, 60.0)
+    assert spin_until(executor, lambda: clock[-1] > stopped_at + 2.0, 60.0)
     assert all(r["time"] <= stopped_at + 0.2 for r in results[count:]), results[count:]
     node.destroy_node()
     assert launch.interrupt() == 0

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import pytest
@@ -13,6 +12,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from hdrc3.mcap_recording import RecordingReader
 from hdrc3_interfaces.msg import HelicopterState
+from tests.integration.ros_wait import spin_until
 
 pytestmark = pytest.mark.ros
 TOPIC = "/uav0/helicopter_state"
@@ -20,15 +20,6 @@ COUNT = 25
 # keep every sample of the burst until the recorder has acknowledged it: a shallower keep-last
 # history drops unacknowledged samples when the recorder is slow to read on a loaded machine
 BURST_QOS = QoSProfile(depth=COUNT, reliability=ReliabilityPolicy.RELIABLE)
-
-
-def _spin_until(executor: SingleThreadedExecutor, predicate, timeout: float) -> bool:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        if time.monotonic() > deadline:
-            return False
-        executor.spin_once(timeout_sec=0.05)
-    return True
 
 
 def test_record_then_replay_delivers_the_same_messages(hdrc3_cli, ros_context, tmp_path: Path):
@@ -39,7 +30,7 @@ def test_record_then_replay_delivers_the_same_messages(hdrc3_cli, ros_context, t
     publisher = node.create_publisher(HelicopterState, TOPIC, BURST_QOS)
 
     recorder = hdrc3_cli("record", str(out), "--topics", TOPIC)
-    assert _spin_until(executor, lambda: publisher.get_subscription_count() > 0, 30)
+    assert spin_until(executor, lambda: publisher.get_subscription_count() > 0, 30)
     for i in range(COUNT):
         publisher.publish(HelicopterState(altitude=100.0 + i, on_ground_flag=i == 0))
     assert publisher.wait_for_all_acked(Duration(seconds=10))
@@ -53,7 +44,7 @@ def test_record_then_replay_delivers_the_same_messages(hdrc3_cli, ros_context, t
     node.create_subscription(HelicopterState, TOPIC, received.append, 100)
     node.destroy_publisher(publisher)
     replay = hdrc3_cli("replay", str(out), "--speed", "4", "--wait-for-subscribers", "30")
-    assert _spin_until(executor, lambda: len(received) == COUNT, 30), len(received)
+    assert spin_until(executor, lambda: len(received) == COUNT, 30), len(received)
     assert replay.finish() == 0
     assert [m.altitude for m in received] == [100.0 + i for i in range(COUNT)]
     assert [m.on_ground_flag for m in received[:2]] == [True, False]

@@ -7,7 +7,6 @@ its last image with fresh stamps, a dropped one publishes nothing.
 
 from __future__ import annotations
 
-import time
 import zlib
 from collections.abc import Callable
 from typing import Any
@@ -24,6 +23,7 @@ from hdrc3_interfaces.msg import CameraState, SimResult
 from hdrc3_interfaces.srv import SimInjectFault
 from sim.render.imaging import CENTI_KELVIN
 from sim.sensors.camera import COLOR_CAMERA, THERMAL_CAMERA, camera_intrinsics
+from tests.integration.ros_wait import spin_until
 
 pytestmark = pytest.mark.ros
 
@@ -37,15 +37,6 @@ FREEZE, DROP, NONE = 2, 1, 0
 
 def _ns(stamp: Any) -> int:
     return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
-
-
-def _spin_until(executor: SingleThreadedExecutor, done: Callable[[], bool], timeout: float) -> bool:
-    deadline = time.monotonic() + timeout
-    while not done():
-        if time.monotonic() > deadline:
-            return False
-        executor.spin_once(timeout_sec=0.05)
-    return True
 
 
 def test_images_follow_sim_time_camera_state_and_faults(hdrc3_cli, ros_context) -> None:
@@ -82,8 +73,8 @@ def test_images_follow_sim_time_camera_state_and_faults(hdrc3_cli, ros_context) 
         lambda m: zooms.__setitem__(_ns(m.header.stamp), m.zoom),
         RELIABLE,
     )
-    assert _spin_until(executor, lambda: len(images["color"]) >= 5, 60.0), clock[-1]
-    assert _spin_until(executor, lambda: len(images["thermal"]) >= 5, 30.0), clock[-1]
+    assert spin_until(executor, lambda: len(images["color"]) >= 5, 60.0), clock[-1]
+    assert spin_until(executor, lambda: len(images["thermal"]) >= 5, 30.0), clock[-1]
 
     # stamps: exposure sim times on the 25 Hz grid, never ahead of the clock
     for name, params, encoding in (
@@ -108,7 +99,7 @@ def test_images_follow_sim_time_camera_state_and_faults(hdrc3_cli, ros_context) 
     def matched() -> list[int]:
         return [s for s, _, _ in images["color"] if s in infos and s in zooms]
 
-    assert _spin_until(executor, lambda: bool(matched()), 60.0), (sorted(zooms)[:3], clock[-1])
+    assert spin_until(executor, lambda: bool(matched()), 60.0), (sorted(zooms)[:3], clock[-1])
     stamp = matched()[-1]
     k = camera_intrinsics(COLOR_CAMERA, zooms[stamp]).matrix()
     assert np.allclose(np.reshape(infos[stamp].k, (3, 3)), k)
@@ -121,13 +112,13 @@ def test_images_follow_sim_time_camera_state_and_faults(hdrc3_cli, ros_context) 
         future = client.call_async(
             SimInjectFault.Request(agent="uav0", sensor="color_camera", mode=mode)
         )
-        assert _spin_until(executor, future.done, 20.0)
+        assert spin_until(executor, future.done, 20.0)
         assert future.result().result.code == SimResult.OK
         node.destroy_client(client)
         return max(clock) + 2 * FRAME_NS
 
     def frames_after(start: int, count: int) -> list[tuple[int, int, Image]]:
-        assert _spin_until(
+        assert spin_until(
             executor, lambda: sum(s > start for s, _, _ in images["color"]) >= count, 60.0
         ), (start, clock[-1])
         return [f for f in images["color"] if f[0] > start]
@@ -137,7 +128,7 @@ def test_images_follow_sim_time_camera_state_and_faults(hdrc3_cli, ros_context) 
     assert len({digest for _, digest, _ in frozen}) == 1  # the same image ...
     assert len({s for s, _, _ in frozen}) == len(frozen)  # ... with fresh stamps
     dropped_from = fault(DROP)
-    assert _spin_until(executor, lambda: max(clock) > dropped_from + 1_000_000_000, 30.0)
+    assert spin_until(executor, lambda: max(clock) > dropped_from + 1_000_000_000, 30.0)
     resumed_from = fault(NONE)
     resumed = frames_after(resumed_from, 3)
     dropped_until = resumed_from - 2 * FRAME_NS

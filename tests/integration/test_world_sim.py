@@ -10,9 +10,7 @@ import itertools
 import math
 import os
 import signal
-import time
 from collections import defaultdict
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -48,6 +46,7 @@ from hdrc3_interfaces.srv import (
     SimTeleport,
 )
 from sim.world_loader import load_world
+from tests.integration.ros_wait import spin_until
 
 pytestmark = pytest.mark.ros
 
@@ -94,15 +93,6 @@ def _ns(stamp: Any) -> int:
     return stamp.sec * 1_000_000_000 + stamp.nanosec
 
 
-def _spin_until(executor: SingleThreadedExecutor, done: Callable[[], bool], timeout: float) -> bool:
-    deadline = time.monotonic() + timeout
-    while not done():
-        if time.monotonic() > deadline:
-            return False
-        executor.spin_once(timeout_sec=0.05)
-    return True
-
-
 def _sim_now(executor: SingleThreadedExecutor, node: Node) -> int:
     """A sim time (ns) at or after that of every world_sim request answered so far.
 
@@ -114,7 +104,7 @@ def _sim_now(executor: SingleThreadedExecutor, node: Node) -> int:
     now: list[int] = []
     sub = node.create_subscription(Clock, "/clock", lambda m: now.append(_ns(m.clock)), CLOCK_QOS)
     try:
-        assert _spin_until(executor, lambda: bool(now), 20.0), "no /clock"
+        assert spin_until(executor, lambda: bool(now), 20.0), "no /clock"
     finally:
         node.destroy_subscription(sub)
     return now[0]
@@ -125,7 +115,7 @@ def _call(executor: SingleThreadedExecutor, node: Node, srv: Any, name: str, **f
     try:
         assert client.wait_for_service(timeout_sec=20.0), name
         future = client.call_async(srv.Request(**fields))
-        assert _spin_until(executor, future.done, 20.0), f"{name} did not answer"
+        assert spin_until(executor, future.done, 20.0), f"{name} did not answer"
         return future.result().result
     finally:
         node.destroy_client(client)
@@ -210,7 +200,7 @@ def _fly(executor: SingleThreadedExecutor, node: Node, pad: tuple[float, float])
     answered is answered again with the same command (world_sim ignores the duplicate).
     """
     pub = node.create_publisher(YacsCommand, "/uav0/yacs/command", RELIABLE)
-    assert _spin_until(executor, lambda: pub.get_subscription_count() > 0, 20.0)
+    assert spin_until(executor, lambda: pub.get_subscription_count() > 0, 20.0)
     result = _call(executor, node, SimReset, "/world_sim/reset", agent="", lockstep_agents=["uav0"])
     assert result.code == SimResult.OK, result.reason
     truths: dict[int, TruthState] = {}
@@ -250,7 +240,7 @@ def _fly(executor: SingleThreadedExecutor, node: Node, pad: tuple[float, float])
         return flight is not None and flight.phase == "done"
 
     try:
-        assert _spin_until(executor, answer, 120.0), (flight, expected * 1e-9)
+        assert spin_until(executor, answer, 120.0), (flight, expected * 1e-9)
     finally:
         node.destroy_subscription(sub)
         node.destroy_publisher(pub)
@@ -306,10 +296,10 @@ def test_launch_two_rmaxes_rates_hover_and_bit_identical_lockstep(hdrc3_cli, ros
     def flowing() -> bool:
         return bool(clock) and all(stamps.get(k) for k in keys) and len(truth_last) == len(pads)
 
-    assert _spin_until(executor, flowing, 30.0), [k for k in keys if not stamps.get(k)]
+    assert spin_until(executor, flowing, 30.0), [k for k in keys if not stamps.get(k)]
     start = max(stamps[k][0] for k in keys)
     end = start + 2_000_000_000
-    assert _spin_until(executor, lambda: clock[-1] >= end + 100_000_000, 30.0), clock[-1:]
+    assert spin_until(executor, lambda: clock[-1] >= end + 100_000_000, 30.0), clock[-1:]
     assert clock == sorted(clock) and clock[-1] > clock[0]
 
     def drained() -> bool:
@@ -317,7 +307,7 @@ def test_launch_two_rmaxes_rates_hover_and_bit_identical_lockstep(hdrc3_cli, ros
         truth_stamps = [_ns(truth_last[a].header.stamp) for a in pads]
         return all(stamps[k][-1] >= end for k in keys) and min(truth_stamps) >= end
 
-    assert _spin_until(executor, drained, 120.0), {k: v[-1:] for k, v in stamps.items()}
+    assert spin_until(executor, drained, 120.0), {k: v[-1:] for k, v in stamps.items()}
     for key, ns in stamps.items():
         rate = RATES[key.split("/", 1)[1]][1]
         count = sum(start <= s < end for s in ns)
@@ -404,9 +394,9 @@ def test_requests_change_the_running_world(hdrc3_cli, ros_context) -> None:
     def advance(seconds: float) -> None:
         """Let ``seconds`` of sim time pass after every request answered so far."""
         goal = _sim_now(executor, node) + int(seconds * 1e9)
-        assert _spin_until(executor, lambda: clock[-1] >= goal, 20.0), clock[-1]
+        assert spin_until(executor, lambda: clock[-1] >= goal, 20.0), clock[-1]
 
-    assert _spin_until(executor, lambda: bool(gps and objects and truth and wind), 20.0)
+    assert spin_until(executor, lambda: bool(gps and objects and truth and wind), 20.0)
     assert len(objects[-1].objects) == len(world.objects)
     assert not laser  # switched off at start
 
@@ -423,7 +413,7 @@ def test_requests_change_the_running_world(hdrc3_cli, ros_context) -> None:
     gps_fault(0)
     cleared_at = clock[-1]
     resumed = lambda: sum(s > cleared_at for s in gps) >= 5  # noqa: E731
-    assert _spin_until(executor, resumed, 20.0)
+    assert spin_until(executor, resumed, 20.0)
     gaps = [b - a for a, b in itertools.pairwise(gps)]
     assert max(gaps) >= 1_800_000_000, max(gaps)
     assert gaps[-4:] == pytest.approx([100_000_000] * 4, abs=10_000)  # 10 Hz again
@@ -433,7 +423,7 @@ def test_requests_change_the_running_world(hdrc3_cli, ros_context) -> None:
             executor, node, SimSetPower, "/world_sim/set_power", agent="uav0", devices=256, on=True
         )
     )
-    assert _spin_until(executor, lambda: len(laser) > 40, 30.0), (len(laser), clock[-1])
+    assert spin_until(executor, lambda: len(laser) > 40, 30.0), (len(laser), clock[-1])
     # 1 / 13 ms: 40 scans within about 0.52 s of sim time
     assert laser[40] - laser[0] == pytest.approx(40 * 13_000_000, rel=0.05)
     # teleport by latitude/longitude onto the origin, 4 m up
@@ -444,7 +434,7 @@ def test_requests_change_the_running_world(hdrc3_cli, ros_context) -> None:
     )  # fmt: skip
     moved_at = _sim_now(executor, node)  # clock[-1] may still be of before the teleport
     later = lambda: _ns(truth[-1].header.stamp) > moved_at + 500_000_000  # noqa: E731
-    assert _spin_until(executor, later, 20.0)
+    assert spin_until(executor, later, 20.0)
     assert math.dist(truth[-1].position_enu[:2], (0.0, 0.0)) < 0.5
     # an object appears in the latched object list
     ok(
@@ -459,7 +449,7 @@ def test_requests_change_the_running_world(hdrc3_cli, ros_context) -> None:
             north=2.0,
         )
     )
-    assert _spin_until(executor, lambda: any(x.id == "crate" for x in objects[-1].objects), 10.0)
+    assert spin_until(executor, lambda: any(x.id == "crate" for x in objects[-1].objects), 10.0)
     # wind at run time
     request = SimSetWind.Request()
     request.mean.x, request.gust_intensity = 6.0, 1.0
@@ -468,14 +458,14 @@ def test_requests_change_the_running_world(hdrc3_cli, ros_context) -> None:
             executor, node, SimSetWind, "/world_sim/set_wind", mean=request.mean, gust_intensity=1.0
         )
     )
-    assert _spin_until(executor, lambda: wind[-1].mean.x == 6.0 and wind[-1].gust.x != 0.0, 10.0)
+    assert spin_until(executor, lambda: wind[-1].mean.x == 6.0 and wind[-1].gust.x != 0.0, 10.0)
     # the perception kernel's PTU set-point moves the pan-tilt unit
     pans: list[float] = []
     node.create_subscription(PtuState, "/uav0/sensors/ptu", lambda m: pans.append(m.pan), RELIABLE)
     ptu = node.create_publisher(PtuCommand, "/uav0/ptu/command", RELIABLE)
-    assert _spin_until(executor, lambda: ptu.get_subscription_count() > 0, 10.0)
+    assert spin_until(executor, lambda: ptu.get_subscription_count() > 0, 10.0)
     ptu.publish(PtuCommand(pan=0.5, tilt=0.2))
-    assert _spin_until(executor, lambda: bool(pans) and abs(pans[-1] - 0.5) < 0.01, 20.0)
+    assert spin_until(executor, lambda: bool(pans) and abs(pans[-1] - 0.5) < 0.01, 20.0)
     bad = _call(executor, node, SimSetRc, "/uav0/rc/set", set_sticks=True, throttle=math.inf)
     assert bad.code == SimResult.INVALID_ARGUMENT
     node.destroy_node()
@@ -531,7 +521,7 @@ def test_extreme_requests_get_an_answer_and_the_node_lives_on(hdrc3_cli, ros_con
     # payload commands with absurd values (topics: refused and logged, nothing to answer)
     ptu = node.create_publisher(PtuCommand, "/uav0/ptu/command", RELIABLE)
     laser = node.create_publisher(LaserCommand, "/uav0/laser/command", RELIABLE)
-    assert _spin_until(
+    assert spin_until(
         executor, lambda: ptu.get_subscription_count() and laser.get_subscription_count(), 20.0
     )
     ptu.publish(PtuCommand(pan=1e308, tilt=math.nan))
@@ -563,19 +553,19 @@ def test_world_sim_killed_mid_flight_resumes_its_checkpoint(hdrc3_cli, ros_conte
     node.create_subscription(TruthState, "/uav0/ground_truth/state", truth.append, RELIABLE)
     node.create_subscription(SimRun, "/world_sim/run", runs.append, CLOCK_QOS)
     node.create_subscription(LaunchStatus, STATUS_TOPIC, status.append, STATUS_QOS)
-    assert _spin_until(executor, lambda: bool(runs and status), 20.0)
+    assert spin_until(executor, lambda: bool(runs and status), 20.0)
     assert runs[0].kind == SimRun.STARTED
     # the safety pilot starts the engine and climbs on the collective stick (no controller)
     result = _call(executor, node, SimSetRc, "/uav0/rc/set", engine=SimSetRc.Request.ENGINE_ON,
                    set_sticks=True, throttle=0.65)  # fmt: skip
     assert result.code == SimResult.OK, result.reason
     airborne = lambda: bool(truth) and truth[-1].height_above_ground > 8.0  # noqa: E731
-    assert _spin_until(executor, airborne, 60.0), truth[-1:]
+    assert spin_until(executor, airborne, 60.0), truth[-1:]
     pid = next(p.pid for p in status[-1].processes if p.name == "world_sim")
     os.kill(pid, signal.SIGKILL)
     before = len(truth)
     resumed = lambda: len(runs) > 1 and len(truth) > before + 10  # noqa: E731
-    assert _spin_until(executor, resumed, 90.0), (runs[1:], len(truth) - before)
+    assert spin_until(executor, resumed, 90.0), (runs[1:], len(truth) - before)
     run = runs[-1]
     assert run.kind == SimRun.RESUMED, run.reason
     assert run.run_id == runs[0].run_id and run.process_id != runs[0].process_id
