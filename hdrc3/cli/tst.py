@@ -224,13 +224,14 @@ def _run(args: argparse.Namespace) -> int:
     if world is None:
         raise ConfigError("--launch needs a world: the file declares none; give --world")
     nodes = [k.name for k in CATALOG if k.default] + ["tst_manager", "task_planner", "path_planner"]
-    if any(node.action == "scan-area" for node in check.tst.tree.nodes.values()):
+    scans = any(node.action == "scan-area" for node in check.tst.tree.nodes.values())
+    if scans:
         nodes += CAMERA_NODES  # a scan builds the saliency map from rendered images
     record = out / "run.mcap" if out is not None else None
     system = LaunchedSystem(
         agents, world, args.speed, args.domain_id, record, nodes, console.print, args.seed
     )
-    scanned = world if CAMERA_NODES[-1] in nodes else None
+    scanned = world if scans else None
     with system:
         code = _execute(
             console, path, mission, agents, out, args.timeout, hand_over_first=True, scanned=scanned
