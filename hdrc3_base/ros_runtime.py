@@ -4,11 +4,19 @@ Every hdrc3 entry point (launcher, recorder, replayer, nodes) uses :class:`RosPr
 keeps DDS on loopback by default, owns its own :class:`rclpy.context.Context` and turns SIGINT /
 SIGTERM into a stop request that the main loop honours (rclpy's own handler would tear the
 context down under the loop's feet).
+
+The signal handler only writes a byte to a pipe; a thread of the process reads it and sets
+:attr:`RosProcess.stop_requested`. Setting the :class:`threading.Event` in the handler takes the
+event's lock, which the interrupted main thread may hold (inside ``Event.wait``/``set``, or a
+first handler when a second signal arrives: a launcher's SIGINT and the parent-death SIGTERM):
+the process then deadlocked and outlived its launcher (seen: a platform server stuck for good).
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 import signal
 import sys
 import threading
@@ -60,6 +68,8 @@ class RosProcess:
         self.executor: SingleThreadedExecutor | None = None
         self.stop_requested = threading.Event()
         self._previous: dict[int, object] = {}
+        self._signal_pipe: tuple[int, int] | None = None
+        self._signal_thread: threading.Thread | None = None
 
     def __enter__(self) -> RosProcess:
         apply_localhost_default()
@@ -71,6 +81,12 @@ class RosProcess:
         )
         self.executor = SingleThreadedExecutor(context=self.context)
         if self._handle_signals and threading.current_thread() is threading.main_thread():
+            self._signal_pipe = os.pipe()
+            os.set_blocking(self._signal_pipe[1], False)
+            self._signal_thread = threading.Thread(
+                target=self._relay_signals, args=(self._signal_pipe[0],), daemon=True
+            )
+            self._signal_thread.start()
             for sig in (signal.SIGINT, signal.SIGTERM):
                 self._previous[sig] = signal.signal(sig, self._on_signal)
         return self
@@ -83,12 +99,26 @@ class RosProcess:
     ) -> None:
         for sig, handler in self._previous.items():
             signal.signal(sig, handler)  # type: ignore[arg-type]
+        self._previous = {}
+        if self._signal_pipe is not None:
+            os.close(self._signal_pipe[1])  # the relay thread reads end-of-file and returns
+            if self._signal_thread is not None:
+                self._signal_thread.join()
+            os.close(self._signal_pipe[0])
+            self._signal_pipe = self._signal_thread = None
         if self.executor is not None:
             self.executor.shutdown(timeout_sec=1.0)
         self.context.try_shutdown()
 
     def _on_signal(self, signum: int, frame: FrameType | None) -> None:
-        self.stop_requested.set()
+        """Async-signal-safe: no lock is taken here (see the module docstring)."""
+        assert self._signal_pipe is not None  # installed together
+        with contextlib.suppress(BlockingIOError):  # full of earlier signals: the stop is coming
+            os.write(self._signal_pipe[1], b"\0")
+
+    def _relay_signals(self, read_fd: int) -> None:
+        while os.read(read_fd, 64):
+            self.stop_requested.set()
 
     def add_node(self, node: Node) -> Node:
         """Let the executor spin ``node``."""

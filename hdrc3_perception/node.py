@@ -11,10 +11,12 @@ follows the kernel's latched ``ppc/image_processing`` and subscribes the images 
 ``SALIENCY``, so the renderer draws nothing for it otherwise. ``gated`` false processes every
 pair from the start (a camera feed without a PPC).
 
-Publishes ``~/pair_result`` (``std_msgs/String``, JSON: status, reason, per-stage counts) for
-every thermal image, and when the map changed ``~/map`` (``std_msgs/String``, latched: the map as
-GeoJSON) and ``~/markers`` (``visualization_msgs/MarkerArray``, one sphere per location, green
-when confirmed); with ``geojson_path`` set, the file is rewritten on each change.
+Publishes ``~/engaged`` (``std_msgs/Bool``, latched: whether the images are subscribed; once it
+reads false no further pair is processed), ``~/pair_result`` (``std_msgs/String``, JSON: status,
+reason, per-stage counts) for every thermal image, and when the map changed ``~/map``
+(``std_msgs/String``, latched: the map as GeoJSON) and ``~/markers``
+(``visualization_msgs/MarkerArray``, one sphere per location, green when confirmed); with
+``geojson_path`` set, the file is rewritten on each change.
 
 Parameters: ``world`` (shipped name or .toml path: origin and terrain), ``detector``
 (``haar_kruppa`` | ``hog_people``), ``geojson_path`` ("" = no file), ``pair_tolerance_s``,
@@ -37,7 +39,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rclpy.subscription import Subscription
 from sensor_msgs.msg import CameraInfo, Image
-from std_msgs.msg import String, UInt8
+from std_msgs.msg import Bool, String, UInt8
 from visualization_msgs.msg import Marker, MarkerArray
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
@@ -122,10 +124,12 @@ class SaliencyNode(Node):
         self._result_pub = self.create_publisher(String, "~/pair_result", RESULT_QOS)
         self._map_pub = self.create_publisher(String, "~/map", LATCHED)
         self._marker_pub = self.create_publisher(MarkerArray, "~/markers", LATCHED)
+        self._engaged_pub = self.create_publisher(Bool, "~/engaged", LATCHED)
         self._images: list[Subscription] = []
         self.create_subscription(HelicopterState, "helicopter_state", self._on_state, STATE_QOS)
         self.create_subscription(CameraState, "camera_state", self._on_ptu, STATE_QOS)
         if gated:
+            self._engaged_pub.publish(Bool(data=False))
             self.create_subscription(UInt8, IMAGE_PROCESSING_TOPIC, self._on_mode, LATCHED)
         else:
             self._engage(True)
@@ -146,6 +150,7 @@ class SaliencyNode(Node):
                 self.destroy_subscription(sub)
             self._images = []
             self._color = self._thermal = None
+            self._engaged_pub.publish(Bool(data=False))
             self._publish_map()
             return
         for cam in ("color", "thermal"):
@@ -167,6 +172,7 @@ class SaliencyNode(Node):
                 Image, "camera/thermal/image_raw", self._on_thermal, qos_profile_sensor_data
             )
         )
+        self._engaged_pub.publish(Bool(data=True))
 
     def _on_info(self, cam: str, msg: CameraInfo) -> None:
         self._info[cam] = Intrinsics.from_k(int(msg.width), int(msg.height), list(msg.k))
@@ -188,12 +194,14 @@ class SaliencyNode(Node):
         self._ptu = (float(msg.pan), float(msg.tilt))
 
     def _on_color(self, msg: Image) -> None:
-        self._color = (stamp_s(msg), msg)
-        self._try_pair()
+        if self.engaged:  # an image the executor took before the stop is dropped
+            self._color = (stamp_s(msg), msg)
+            self._try_pair()
 
     def _on_thermal(self, msg: Image) -> None:
-        self._thermal = (stamp_s(msg), msg)
-        self._try_pair()
+        if self.engaged:
+            self._thermal = (stamp_s(msg), msg)
+            self._try_pair()
 
     def _try_pair(self) -> None:
         """Process the latest thermal image once a colour image of its stamp is there.

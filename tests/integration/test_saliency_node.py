@@ -32,6 +32,7 @@ class Rig:
     results: list[dict[str, Any]]
     maps: list[str]
     markers: list[Any]
+    engaged: list[bool]
 
     def spin_until(self, done: Callable[[], bool]) -> bool:
         for _ in range(MAX_SPINS):
@@ -60,7 +61,7 @@ def rig(ros_context: object, tmp_path: Path) -> Iterator[Rig]:
     from rclpy.parameter import Parameter
     from rclpy.qos import qos_profile_sensor_data
     from sensor_msgs.msg import CameraInfo, Image
-    from std_msgs.msg import String, UInt8
+    from std_msgs.msg import Bool, String, UInt8
     from visualization_msgs.msg import MarkerArray
 
     from hdrc3_control.perception_kernel_node import IMAGE_PROCESSING_TOPIC
@@ -80,6 +81,10 @@ def rig(ros_context: object, tmp_path: Path) -> Iterator[Rig]:
     results: list[dict[str, Any]] = []
     maps: list[str] = []
     markers: list[Any] = []
+    engaged: list[bool] = []
+    tester.create_subscription(
+        Bool, "/uav0/saliency/engaged", lambda m: engaged.append(m.data), LATCHED
+    )
     tester.create_subscription(
         String,
         "/uav0/saliency/pair_result",
@@ -108,7 +113,7 @@ def rig(ros_context: object, tmp_path: Path) -> Iterator[Rig]:
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
     executor.add_node(tester)
-    rig = Rig(executor, node, pubs, results, maps, markers)
+    rig = Rig(executor, node, pubs, results, maps, markers, engaged)
     set_mode(rig, ImageProcessing.SALIENCY)
     try:
         yield rig
@@ -123,7 +128,8 @@ def set_mode(rig: Rig, mode: ImageProcessing) -> None:
     from std_msgs.msg import UInt8
 
     rig.pubs["mode"].publish(UInt8(data=int(mode)))
-    assert rig.spin_until(lambda: rig.node.engaged is (mode is ImageProcessing.SALIENCY))
+    on = mode is ImageProcessing.SALIENCY
+    assert rig.spin_until(lambda: rig.node.engaged is on and rig.engaged[-1:] == [on])
 
 
 def send_frame(rig: Rig, i: int, broken: bool = False) -> float:
