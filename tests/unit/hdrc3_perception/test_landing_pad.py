@@ -1,0 +1,82 @@
+"""The landing pad's pattern: five triplets that never touch, told apart by their inner circles."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from hdrc3_perception.landing_pad import (
+    BLACK,
+    CIRCLES,
+    CODES,
+    INNER_RATIOS,
+    PAD_HALF_WIDTH_M,
+    TRIPLETS,
+    WHITE,
+    is_black,
+    look_at,
+    render,
+    triplet_of_codes,
+)
+from hdrc3_perception.synthetic import COLOR_K
+
+
+def test_five_triplets_of_the_chapters_sizes() -> None:
+    radii = sorted({c.radius for c in CIRCLES})
+    assert len(CIRCLES) == 3 * TRIPLETS
+    assert radii[0] == pytest.approx(0.02) and radii[-1] == pytest.approx(0.32)  # 2 to 32 cm
+    for k in range(TRIPLETS):
+        corners = [c for c in CIRCLES if c.triplet == k]
+        sides = {
+            round(math.dist((p.x, p.y), (q.x, q.y)), 9)
+            for p, q in itertools.combinations(corners, 2)
+        }
+        assert sides == {round(0.08 * 2**k, 9)}  # 8 to 128 cm, equilateral
+
+
+def test_no_two_circles_touch_and_all_lie_on_the_pad() -> None:
+    for p, q in itertools.combinations(CIRCLES, 2):
+        assert math.dist((p.x, p.y), (q.x, q.y)) > p.radius + q.radius
+    for c in CIRCLES:
+        assert max(abs(c.x), abs(c.y)) + c.radius < PAD_HALF_WIDTH_M
+
+
+def test_codes_tell_triplets_and_corners_apart() -> None:
+    assert len({frozenset(code) for code in CODES}) == TRIPLETS
+    for k, code in enumerate(CODES):
+        assert len(set(code)) == 3
+        assert triplet_of_codes(frozenset(code)) == k
+        mirrored = tuple(reversed(code))  # read clockwise: a different cyclic order
+        assert all(mirrored[i:] + mirrored[:i] != code for i in range(3))
+    assert triplet_of_codes(frozenset({0, 1, 4})) is None
+    assert all(b - a > 0.1 for a, b in itertools.pairwise(INNER_RATIOS))
+
+
+@pytest.mark.parametrize(
+    ("where", "black"),
+    [
+        ("ring", True),  # between the hole and the edge of a circle
+        ("hole", False),  # the white inner circle
+        ("centre", False),  # the pad's centre is white
+    ],
+)
+def test_is_black(where: str, black: bool) -> None:
+    c = CIRCLES[7]
+    point = {
+        "ring": (c.x + c.radius * (1 + c.inner_ratio) / 2, c.y),
+        "hole": (c.x, c.y),
+        "centre": (0.0, 0.0),
+    }[where]
+    assert bool(is_black(np.array(point[0]), np.array(point[1]))) is black
+
+
+def test_a_nadir_view_shows_the_pattern_centred_on_the_ground() -> None:
+    rotation, translation = look_at((0.0, 0.001, 6.0))
+    image = render(COLOR_K, rotation, translation, background=110)
+    assert image.shape == (COLOR_K.height, COLOR_K.width) and image.dtype == np.uint8
+    assert image[0, 0] == 110  # the ground around the pad
+    assert image[COLOR_K.height // 2, COLOR_K.width // 2] == WHITE
+    assert (image == BLACK).any()
