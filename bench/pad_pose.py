@@ -3,7 +3,7 @@
 Draws ``--views`` camera positions uniformly in distance (``--min`` to 20 m from the pad's
 centre) and in elevation (30 to 90 deg) around the pad, aims the colour camera (720 x 576,
 48 deg) at the pad with a pointing error of up to ``--pointing`` deg (the PTU's tracking lag)
-and a random roll, renders the pattern (``landing_pad.render``: exact ray-plane intersection,
+and a random roll, renders the pattern (``pad_view.render``: exact ray-plane intersection,
 2x2 supersampling) with Gaussian image noise of ``--noise`` grey levels, and runs
 ``pad_pose.estimate`` on it. Printed per distance band: the share of views with a pose, the
 median and largest error of the pad's position in the camera frame and of the camera's position
@@ -21,8 +21,8 @@ import time
 
 import numpy as np
 
-from hdrc3_perception.landing_pad import look_at, render
 from hdrc3_perception.pad_pose import PoseStatus, estimate
+from hdrc3_perception.pad_view import look_at, render
 from hdrc3_perception.synthetic import COLOR_K
 
 BANDS = ((0.0, 5.0), (5.0, 10.0), (10.0, 15.0), (15.0, 20.0))

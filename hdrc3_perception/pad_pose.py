@@ -2,7 +2,7 @@
 
 1. Black blobs with one white hole (``cv2.findContours`` two-level hierarchy on an Otsu
    threshold), an ellipse fitted to each boundary (``cv2.fitEllipse``); the hole's size over the
-   blob's gives the inner ratio, which names the circle's code (:mod:`landing_pad`).
+   blob's gives the inner ratio, which names the circle's code (:mod:`sim.landing_pattern`).
 2. Triplets: three blobs of similar size about four radii apart whose codes form one of the
    pattern's code sets; the order in which they appear (counter-clockwise on the pad) names each
    corner, and the opposite order says the pattern is seen mirrored.
@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from hdrc3_perception.camera import Intrinsics
-from hdrc3_perception.landing_pad import CIRCLES, CODES, INNER_RATIOS, PadCircle, triplet_of_codes
+from sim.landing_pattern import CIRCLES, CODES, INNER_RATIOS, PadCircle, triplet_of_codes
 
 MIN_SEMI_AXIS_PX = 4.0
 """Smaller blobs cannot tell their inner ratio (a 1 px error is a quarter of the hole)."""

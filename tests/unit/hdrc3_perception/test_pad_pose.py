@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from functools import cache
+from typing import Any
 
 import numpy as np
 import pytest
 from numpy.typing import NDArray
 
 from hdrc3_perception.camera import Intrinsics
-from hdrc3_perception.landing_pad import look_at, render
 from hdrc3_perception.pad_pose import PoseStatus, estimate
+from hdrc3_perception.pad_view import look_at, render
 from hdrc3_perception.synthetic import COLOR_K
 
 
@@ -87,3 +89,48 @@ def test_refusals_name_their_reason(
     pose = estimate(image, intrinsics)
     assert pose.status is status
     assert pose.reason and pose.rotation is None
+
+
+@pytest.fixture(scope="module")
+def pad_world_renderer() -> Iterator[Any]:
+    """The simulator's renderer on a flat world with one patterned pad (turned 23 deg)."""
+    from sim.geodesy import GeodeticOrigin
+    from sim.render.renderer import Renderer
+    from sim.terrain import Terrain
+    from sim.world import LandingPad, World
+
+    pad = LandingPad("L1", 10.0, 20.0, 3.0, math.radians(23.0), pattern=True)
+    world = World(
+        name="pad",
+        origin=GeodeticOrigin(55.7, 13.47, 95.0),
+        terrain=Terrain.flat(-100.0, -100.0, 100.0, 100.0),
+        pads=(pad,),
+    )
+    renderer = Renderer(world)
+    yield renderer, pad
+    renderer.release()
+
+
+@pytest.mark.parametrize("offset", [(0.3, -0.4, 5.0), (-4.0, 6.0, 9.0), (8.0, 3.0, 14.0)])
+def test_the_pose_is_found_on_the_simulators_renderer(
+    pad_world_renderer: tuple[Any, Any], offset: tuple[float, float, float]
+) -> None:
+    import cv2
+
+    from sim.render.projection import look_at as sim_look_at
+    from sim.render.scene import DRAPE_M, PATTERN_LIFT_M
+    from sim.sensors.camera_model import Intrinsics as SimIntrinsics
+
+    renderer, pad = pad_world_renderer
+    plane = DRAPE_M + 2.0 * PATTERN_LIFT_M  # the black rings' height above the flat ground
+    centre = (pad.east, pad.north, plane)
+    eye = (pad.east + offset[0], pad.north + offset[1], plane + offset[2])
+    k = COLOR_K
+    sim_k = SimIntrinsics(k.width, k.height, k.fx, k.fy, k.cx, k.cy)
+    rgb = renderer.render_color(sim_look_at(eye, centre), sim_k)
+    pose = estimate(cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2GRAY), k)
+    assert pose.status is PoseStatus.OK, pose.reason
+    s, c = math.sin(pad.heading), math.cos(pad.heading)
+    east, north, up = offset  # ENU from the pad's centre -> the pad frame (turned clockwise)
+    truth = np.array([c * east - s * north, s * east + c * north, up])
+    assert np.linalg.norm(pose.camera_in_pad - truth) <= 0.03 * float(np.linalg.norm(truth))

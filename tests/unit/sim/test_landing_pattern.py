@@ -8,20 +8,15 @@ import math
 import numpy as np
 import pytest
 
-from hdrc3_perception.landing_pad import (
-    BLACK,
+from sim.landing_pattern import (
     CIRCLES,
     CODES,
     INNER_RATIOS,
     PAD_HALF_WIDTH_M,
     TRIPLETS,
-    WHITE,
     is_black,
-    look_at,
-    render,
     triplet_of_codes,
 )
-from hdrc3_perception.synthetic import COLOR_K
 
 
 def test_five_triplets_of_the_chapters_sizes() -> None:
@@ -71,12 +66,3 @@ def test_is_black(where: str, black: bool) -> None:
         "centre": (0.0, 0.0),
     }[where]
     assert bool(is_black(np.array(point[0]), np.array(point[1]))) is black
-
-
-def test_a_nadir_view_shows_the_pattern_centred_on_the_ground() -> None:
-    rotation, translation = look_at((0.0, 0.001, 6.0))
-    image = render(COLOR_K, rotation, translation, background=110)
-    assert image.shape == (COLOR_K.height, COLOR_K.width) and image.dtype == np.uint8
-    assert image[0, 0] == 110  # the ground around the pad
-    assert image[COLOR_K.height // 2, COLOR_K.width // 2] == WHITE
-    assert (image == BLACK).any()
