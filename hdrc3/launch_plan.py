@@ -107,6 +107,13 @@ CATALOG: tuple[NodeKind, ...] = (
         default=False,
     ),
     NodeKind(
+        "pad_pose",
+        "hdrc3-pad-pose",
+        Scope.AGENT,
+        "the landing pad's pose from the colour camera while the PPC engages it (5.4)",
+        default=False,
+    ),
+    NodeKind(
         "tst_manager",
         "hdrc3-tst-manager",
         Scope.AGENT,
@@ -154,8 +161,8 @@ CATALOG: tuple[NodeKind, ...] = (
     ),
 )
 ALWAYS_STARTED = frozenset({"system_monitor"})
-CAMERA_NODES = ("world_render", "saliency")
-"""Started by ``--cameras`` in addition to the chosen nodes: the images and the saliency map."""
+CAMERA_NODES = ("world_render", "saliency", "pad_pose")
+"""Started by ``--cameras`` in addition to the chosen nodes: the images and their pipelines."""
 
 
 @dataclass(frozen=True, slots=True)

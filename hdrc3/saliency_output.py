@@ -19,7 +19,7 @@ from rclpy.node import Node
 from std_msgs.msg import String
 
 from hdrc3_base.ros_runtime import RosProcess
-from hdrc3_perception.node import LATCHED
+from hdrc3_perception.image_gate import LATCHED
 from hdrc3_perception.saliency_map import (
     MapError,
     SaliencyMap,

@@ -169,6 +169,8 @@ class PpcKernel:
         ip = self.image_processing
         if flags.is_set("Ip-Saliency-AC"):
             ip = ImageProcessing.SALIENCY
+        if flags.is_set("Ip-State-Est-AC"):
+            ip = ImageProcessing.STATE_ESTIMATION
         if flags.is_set("Ip-Stop-AC"):
             ip = ImageProcessing.IDLE
         if ip is not self.image_processing:

@@ -28,6 +28,8 @@ class ImageProcessing(enum.IntEnum):
     IDLE = 0
     SALIENCY = 1
     """The saliency map pipeline of mission leg I (§11.1.1, Algorithm 4)."""
+    STATE_ESTIMATION = 2
+    """The landing pad's pose from the colour camera (§5.4, ``hdrc3_perception.pad_pose``)."""
 
 
 class PtuMode(enum.Enum):

@@ -36,21 +36,21 @@ import numpy as np
 import pymap3d
 from numpy.typing import NDArray
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rclpy.subscription import Subscription
 from sensor_msgs.msg import CameraInfo, Image
-from std_msgs.msg import Bool, String, UInt8
+from std_msgs.msg import String
 from visualization_msgs.msg import Marker, MarkerArray
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
 from hdrc3_base.ros_env import apply_localhost_default
 from hdrc3_base.ros_runtime import run_node
-from hdrc3_control.perception_kernel_node import IMAGE_PROCESSING_TOPIC
 from hdrc3_control.ppc_modes import ImageProcessing
 from hdrc3_interfaces.msg import CameraState, HelicopterState
 from hdrc3_perception.camera import Intrinsics, NavPose
 from hdrc3_perception.classifier import ClassifierParams, Detector
 from hdrc3_perception.geolocation import Ground
+from hdrc3_perception.image_gate import LATCHED, ImageGate
 from hdrc3_perception.pipeline import (
     CameraImage,
     FramePair,
@@ -62,9 +62,6 @@ from hdrc3_perception.pipeline import (
 from hdrc3_perception.saliency_map import dumps_geojson
 from sim.world_loader import load_world
 
-LATCHED = QoSProfile(
-    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
-)
 RESULT_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
 STATE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 _DTYPES: dict[str, tuple[type[np.uint8] | type[np.uint16], int]] = {
@@ -124,55 +121,36 @@ class SaliencyNode(Node):
         self._result_pub = self.create_publisher(String, "~/pair_result", RESULT_QOS)
         self._map_pub = self.create_publisher(String, "~/map", LATCHED)
         self._marker_pub = self.create_publisher(MarkerArray, "~/markers", LATCHED)
-        self._engaged_pub = self.create_publisher(Bool, "~/engaged", LATCHED)
-        self._images: list[Subscription] = []
         self.create_subscription(HelicopterState, "helicopter_state", self._on_state, STATE_QOS)
         self.create_subscription(CameraState, "camera_state", self._on_ptu, STATE_QOS)
-        if gated:
-            self._engaged_pub.publish(Bool(data=False))
-            self.create_subscription(UInt8, IMAGE_PROCESSING_TOPIC, self._on_mode, LATCHED)
-        else:
-            self._engage(True)
+        self.gate = ImageGate(self, ImageProcessing.SALIENCY, self._subscribe, self._stopped, gated)
 
     @property
     def engaged(self) -> bool:
         """Whether the node subscribes the images (the PPC engaged the pipeline, or not gated)."""
-        return bool(self._images)
+        return self.gate.engaged
 
-    def _on_mode(self, msg: UInt8) -> None:
-        self._engage(msg.data == ImageProcessing.SALIENCY)
-
-    def _engage(self, on: bool) -> None:
-        if on == self.engaged:
-            return
-        if not on:
-            for sub in self._images:
-                self.destroy_subscription(sub)
-            self._images = []
-            self._color = self._thermal = None
-            self._engaged_pub.publish(Bool(data=False))
-            self._publish_map()
-            return
-        for cam in ("color", "thermal"):
-            self._images.append(
+    def _subscribe(self) -> list[Subscription]:
+        subs = [
+            self.create_subscription(
+                CameraInfo,
+                f"camera/{cam}/camera_info",
+                functools.partial(self._on_info, cam),
+                qos_profile_sensor_data,
+            )
+            for cam in ("color", "thermal")
+        ]
+        for cam, callback in (("color", self._on_color), ("thermal", self._on_thermal)):
+            subs.append(
                 self.create_subscription(
-                    CameraInfo,
-                    f"camera/{cam}/camera_info",
-                    functools.partial(self._on_info, cam),
-                    qos_profile_sensor_data,
+                    Image, f"camera/{cam}/image_raw", callback, qos_profile_sensor_data
                 )
             )
-        self._images.append(
-            self.create_subscription(
-                Image, "camera/color/image_raw", self._on_color, qos_profile_sensor_data
-            )
-        )
-        self._images.append(
-            self.create_subscription(
-                Image, "camera/thermal/image_raw", self._on_thermal, qos_profile_sensor_data
-            )
-        )
-        self._engaged_pub.publish(Bool(data=True))
+        return subs
+
+    def _stopped(self) -> None:
+        self._color = self._thermal = None
+        self._publish_map()
 
     def _on_info(self, cam: str, msg: CameraInfo) -> None:
         self._info[cam] = Intrinsics.from_k(int(msg.width), int(msg.height), list(msg.k))

@@ -29,8 +29,8 @@ from hdrc3_platform_server.geo_frame import WorldFrame
 
 LANDING_CONTROLLED = frozenset({Resource.PTU, Resource.CAMERA, Resource.IMAGE_PROCESSING})
 IP_NOT_AVAILABLE = (
-    "colour tracking and vision-based state estimation are not available in this version of the"
-    " PPC (ppcl_ip_saliency is)"
+    "colour tracking is not available in this version of the PPC (ppcl_ip_saliency and"
+    " ppcl_ip_state_estimation are)"
 )
 RESTARTED_PPC = "perception kernel (PPC) restarted: the command was lost"
 """Reason of the terminal event of a PPCL command the PPC forgot in a restart."""
@@ -159,7 +159,7 @@ class PayloadCommandLayer:
                 PpclCode.NOT_ACCEPTED,
                 f"request control of the {name} first (ppcl_request_{name}_control)",
             )
-        if command in (PpclCommand.IP_COLOR_TRACKER, PpclCommand.IP_STATE_ESTIMATION):
+        if command is PpclCommand.IP_COLOR_TRACKER:
             return PpclAnswer(PpclCode.NOT_ACCEPTED, IP_NOT_AVAILABLE)
         if not self.kernel.status.ppc_fresh():
             return PpclAnswer(

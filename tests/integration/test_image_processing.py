@@ -1,8 +1,9 @@
-"""PPCL image processing end to end: `hdrc3 ppcl uav0 ip_saliency` engages the saliency pipeline.
+"""PPCL image processing end to end: `hdrc3 ppcl uav0 ip_saliency` / `ip_state_estimation`.
 
 The real chain: the Platform Server forwards the command to the perception kernel (PPC), whose
-Ip automaton engages the pipeline and publishes its mode; the saliency node then subscribes the
-images world_render draws and processes colour + thermal pairs; `ip_abort` stops it again.
+Ip automaton engages one pipeline and publishes its mode; the saliency node then subscribes the
+images world_render draws and processes colour + thermal pairs; state estimation switches over to
+the pad_pose node (the pad's pose per colour image); `ip_abort` stops it again.
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ from std_msgs.msg import Bool, String, UInt8
 from hdrc3.cli.main import main as hdrc3_main
 from hdrc3_control.perception_kernel_node import IMAGE_PROCESSING_TOPIC
 from hdrc3_control.ppc_modes import ImageProcessing
-from hdrc3_perception.node import LATCHED, RESULT_QOS
+from hdrc3_perception.image_gate import LATCHED
+from hdrc3_perception.node import RESULT_QOS
 from tests.integration.ros_wait import spin_until
 
 pytestmark = pytest.mark.ros
@@ -31,7 +33,7 @@ CLOCK_QOS = QoSProfile(
 )
 
 
-def test_ip_saliency_runs_the_pipeline_until_ip_abort(
+def test_ppcl_image_processing_engages_one_pipeline_at_a_time(
     hdrc3_cli: Any, ros_context: Any, capsys: pytest.CaptureFixture[str]
 ) -> None:
     launch = hdrc3_cli(
@@ -45,6 +47,8 @@ def test_ip_saliency_runs_the_pipeline_until_ip_abort(
     results: list[dict[str, Any]] = []
     modes: list[int] = []
     engaged: list[bool] = []
+    pad_engaged: list[bool] = []
+    pad_results: list[dict[str, Any]] = []
     clock = [0.0]
     node.create_subscription(
         String, "/uav0/saliency/pair_result", lambda m: results.append(json.loads(m.data)),
@@ -56,6 +60,13 @@ def test_ip_saliency_runs_the_pipeline_until_ip_abort(
     node.create_subscription(
         Bool, "/uav0/saliency/engaged", lambda m: engaged.append(m.data), LATCHED
     )
+    node.create_subscription(
+        Bool, "/uav0/pad_pose/engaged", lambda m: pad_engaged.append(m.data), LATCHED
+    )
+    node.create_subscription(
+        String, "/uav0/pad_pose/result", lambda m: pad_results.append(json.loads(m.data)),
+        RESULT_QOS,
+    )  # fmt: skip
     node.create_subscription(
         Clock, "/clock", lambda m: clock.append(m.clock.sec + 1e-9 * m.clock.nanosec), CLOCK_QOS
     )
@@ -73,15 +84,23 @@ def test_ip_saliency_runs_the_pipeline_until_ip_abort(
     assert {r["status"] for r in results} <= {"processed", "no_state"}
     assert any(r["status"] == "processed" for r in results), results
 
-    assert hdrc3_main(["ppcl", "uav0", "ip_abort", "--timeout", "60"]) == 0
-    assert spin_until(executor, lambda: modes[-1] == ImageProcessing.IDLE, 30.0), modes
-    # the node stops when it reads the mode, and may be seconds behind under load (it finishes
-    # the pairs its subscriptions had queued); once it says so, no newer pair is processed
+    # state estimation takes over from the saliency pipeline: the pad's pose on each colour image
+    assert hdrc3_main(["ppcl", "uav0", "ip_state_estimation", "--timeout", "60"]) == 0
+    assert spin_until(executor, lambda: modes[-1] == ImageProcessing.STATE_ESTIMATION, 30.0)
+    assert spin_until(executor, lambda: pad_engaged[-1:] == [True], 60.0), pad_engaged
+    assert spin_until(executor, lambda: len(pad_results) >= 3, 120.0), pad_results
+    assert {r["status"] for r in pad_results} <= {"ok", "no_pattern", "not_converged"}
+    # the saliency node stops when it reads the mode, and may be seconds behind under load (it
+    # finishes the pairs its subscriptions had queued); once it says so, no newer pair is processed
     assert spin_until(executor, lambda: engaged[-2:] == [True, False], 60.0), engaged
     seen = len(clock)  # the clock the test last handled may be stale: take two fresh ones
     assert spin_until(executor, lambda: len(clock) >= seen + 2, 60.0)
     stopped_at = clock[-1] + CLOCK_LAG
     assert spin_until(executor, lambda: clock[-1] > stopped_at + 3.0, 60.0)
     assert all(r["time"] <= stopped_at for r in results), [r["time"] for r in results]
+
+    assert hdrc3_main(["ppcl", "uav0", "ip_abort", "--timeout", "60"]) == 0
+    assert spin_until(executor, lambda: modes[-1] == ImageProcessing.IDLE, 30.0), modes
+    assert spin_until(executor, lambda: pad_engaged[-2:] == [True, False], 60.0), pad_engaged
     node.destroy_node()
     assert launch.interrupt() == 0

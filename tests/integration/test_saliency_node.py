@@ -66,7 +66,8 @@ def rig(ros_context: object, tmp_path: Path) -> Iterator[Rig]:
 
     from hdrc3_control.perception_kernel_node import IMAGE_PROCESSING_TOPIC
     from hdrc3_interfaces.msg import CameraState, HelicopterState
-    from hdrc3_perception.node import LATCHED, RESULT_QOS, STATE_QOS, SaliencyNode
+    from hdrc3_perception.image_gate import LATCHED
+    from hdrc3_perception.node import RESULT_QOS, STATE_QOS, SaliencyNode
 
     node = SaliencyNode(
         context=ros_context,

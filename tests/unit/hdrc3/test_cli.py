@@ -63,7 +63,7 @@ def test_doctor_reports_a_healthy_installation(capsys) -> None:
         (["--nodes", "world_sim", "--live"], ("system_monitor", "world_sim", "live_view")),
         (["--nodes", "live_view", "--live"], ("system_monitor", "live_view")),
         (["--nodes", "world_sim", "--live-port", "9000", "--cameras"],
-         ("system_monitor", "world_sim", "world_render", "saliency", "live_view")),
+         ("system_monitor", "world_sim", "world_render", "saliency", "pad_pose", "live_view")),
     ],
 )  # fmt: skip
 def test_launch_flags_add_their_nodes_once(argv: list[str], expected: tuple[str, ...]) -> None:

@@ -124,7 +124,7 @@ def test_bad_control_requests(resource: int, requesting: bool, owner: str, words
 
 
 # --- mode and parameter rows -----------------------------------------------------------------
-FORWARDED = [c for c in P if c not in (P.IP_COLOR_TRACKER, P.IP_STATE_ESTIMATION)]
+FORWARDED = [c for c in P if c is not P.IP_COLOR_TRACKER]
 
 
 @pytest.mark.parametrize("command", list(P))
@@ -143,8 +143,8 @@ def test_command_with_control_finishes(command: PpclCommand) -> None:
     assert final is not None and final.kind is EventKind.FINISHED
 
 
-@pytest.mark.parametrize("command", [P.IP_COLOR_TRACKER, P.IP_STATE_ESTIMATION])
-def test_image_processing_is_not_available(command: PpclCommand) -> None:
+def test_colour_tracking_is_not_available() -> None:
+    command = P.IP_COLOR_TRACKER
     answer = rig(Resource.IMAGE_PROCESSING).core.ppcl.submit(command, VALID[command], 0.2)
     assert answer.code is PpclCode.NOT_ACCEPTED and answer.reason == IP_NOT_AVAILABLE
 
