@@ -35,6 +35,7 @@ from hdrc3_tst.executor import ActionContext, ActionExecutor, Progress, Status, 
 from hdrc3_tst.finite import SolveStatus
 from hdrc3_tst.goal_planning import (
     GoalPlannerPort,
+    GoalProblem,
     PlanHandle,
     PlannedStep,
     StepsStatus,
@@ -73,6 +74,8 @@ class NodeRecord:
     chosen: str = ""
     rounds: int = 0
     plan: PlanHandle | None = None
+    problem: GoalProblem | None = None
+    """A goal node's planning problem (what recovery changes and plans again)."""
     remote_requested: bool = False
     memory: dict[str, float] = field(default_factory=dict)
     """An action executor's memory across pause and resume (``ActionContext.memory``)."""
@@ -550,7 +553,8 @@ class ExecutionEngine:
             }
             problem = goal_problem(node, self.ctx.agent, position, points)
             self.tst.places.setdefault(here(self.ctx.agent), Place(ParamType.POINT, (position,)))
-            rec.plan = self.ctx.planner.request(domain_text(), problem)
+            rec.problem = problem
+            rec.plan = self.ctx.planner.request(domain_text(), problem.text())
             return
         if not rec.plan.done:
             return
