@@ -554,7 +554,7 @@ class ExecutionEngine:
             problem = goal_problem(node, self.ctx.agent, position, points)
             self.tst.places.setdefault(here(self.ctx.agent), Place(ParamType.POINT, (position,)))
             rec.problem = problem
-            rec.plan = self.ctx.planner.request(domain_text(), problem.text())
+            rec.plan = self.ctx.planner.request(domain_text(), problem.text(), problem.control())
             return
         if not rec.plan.done:
             return

@@ -147,9 +147,9 @@ class FakePlanner:
 
     requests: list[PlanHandle] = field(default_factory=list)
 
-    def request(self, domain: str, problem: str) -> PlanHandle:
+    def request(self, domain: str, problem: str, control: str = "") -> PlanHandle:
         """Record the request."""
-        handle = PlanHandle(problem)
+        handle = PlanHandle(problem, control=control)
         self.requests.append(handle)
         return handle
 

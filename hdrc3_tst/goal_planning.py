@@ -17,9 +17,10 @@ argument (where the helicopter ends up). A plan with any other action fails the 
 that reason before anything flies.
 
 Loads (boxes, carriers) enter the problem as :class:`Load` objects at a location: a box object
-is named like its TST point (the box's tag), so ``pick-up-box(box)`` finds it. The problem is a
-:class:`GoalProblem` value, so recovery (``recovery.py``) can change an assumption (a lift
-capacity, where a lost box lies) and plan again from it.
+is named like its TST point (the box's tag), so ``pick-up-box(box)`` finds it. Goals that move
+loads are planned with the domain's control rules (``control.tal``), which keep TALplanner from
+useless detours. The problem is a :class:`GoalProblem` value, so recovery (``recovery.py``) can
+change an assumption (a lift capacity, where a lost box lies) and plan again from it.
 """
 
 from __future__ import annotations
@@ -46,6 +47,11 @@ HELICOPTER_LIFT = 30.0
 def domain_text() -> str:
     """The UAV logistics domain in TALplanner's language."""
     return files("hdrc3_deliberative.domains.uav_logistics").joinpath("domain.tal").read_text()
+
+
+def control_text() -> str:
+    """The UAV logistics control rules (chapter section 9.2)."""
+    return files("hdrc3_deliberative.domains.uav_logistics").joinpath("control.tal").read_text()
 
 
 def here(agent: str) -> str:
@@ -105,6 +111,14 @@ class GoalProblem:
             lines.append(f"init {where}{size}({load.name}) = {load.weight:g}")
         lines.append(f"goal {self.goal}")
         return "\n".join(lines) + "\n"
+
+    def control(self) -> str:
+        """The control rules to plan with: the domain's when loads move, none otherwise.
+
+        The rules prune flights without a load to fetch or deliver, so a goal that only moves
+        the helicopter (``at(uav0, Square)``) plans without them.
+        """
+        return control_text() if self.loads else ""
 
     def moved(self, agent_at: str, position: tuple[float, float, float]) -> GoalProblem:
         """The same problem with the helicopter at a new location ``agent_at``."""
@@ -276,6 +290,7 @@ class PlanHandle:
     """A planning request in flight; the port fills it when the planner answers."""
 
     problem: str
+    control: str = ""
     done: bool = False
     solved: bool = False
     reason: str = ""
@@ -302,5 +317,5 @@ class PlanHandle:
 class GoalPlannerPort(Protocol):
     """The ``task_planner`` service, as the engine uses it."""
 
-    def request(self, domain: str, problem: str) -> PlanHandle:
-        """Ask for a plan; the handle is filled when the answer arrives."""
+    def request(self, domain: str, problem: str, control: str = "") -> PlanHandle:
+        """Ask for a plan (with TAL control rules, if any); the handle is filled later."""

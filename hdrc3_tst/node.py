@@ -127,12 +127,14 @@ class _Planner:
     def __init__(self, node: Node) -> None:
         self._client = node.create_client(Plan, "plan", qos_profile=SERVICE_QOS)
 
-    def request(self, domain: str, problem: str) -> PlanHandle:
-        handle = PlanHandle(problem)
+    def request(self, domain: str, problem: str, control: str = "") -> PlanHandle:
+        handle = PlanHandle(problem, control=control)
         if not self._client.service_is_ready():
             handle.answer(False, "no task_planner serves this agent (launch it: --nodes ...)")
             return handle
-        request = Plan.Request(domain=domain, problem=problem, timeout=PLAN_TIMEOUT_S)
+        request = Plan.Request(
+            domain=domain, problem=problem, control=control, timeout=PLAN_TIMEOUT_S
+        )
         future = self._client.call_async(request)
 
         def done(f: Any) -> None:

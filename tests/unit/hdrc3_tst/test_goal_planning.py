@@ -12,6 +12,7 @@ from hdrc3_tst.goal_planning import (
     GoalProblem,
     Load,
     StepsStatus,
+    control_text,
     domain_text,
     goal_problem,
     operator_mappings,
@@ -122,7 +123,9 @@ def delivery_problem(lift: float = 30.0) -> GoalProblem:
 def test_a_delivery_goal_plans_pick_up_and_drop_steps() -> None:
     problem = delivery_problem()
     assert "box1" not in problem.locations
-    result = TaskPlanner().plan(PlanRequest(domain_text(), problem.text(), ""), timeout=30.0)
+    assert problem.control() == control_text()
+    request = PlanRequest(domain_text(), problem.text(), problem.control())
+    result = TaskPlanner().plan(request, timeout=30.0)
     assert result.status is PlanStatus.SOLVED, result.reason
     steps = plan_steps(
         [o.label for o in result.plan],
@@ -141,7 +144,8 @@ def test_a_delivery_goal_plans_pick_up_and_drop_steps() -> None:
 
 def test_a_box_heavier_than_the_lift_capacity_has_no_plan() -> None:
     problem = delivery_problem(lift=5.0)
-    result = TaskPlanner().plan(PlanRequest(domain_text(), problem.text(), ""), timeout=30.0)
+    request = PlanRequest(domain_text(), problem.text(), problem.control())
+    result = TaskPlanner().plan(request, timeout=30.0)
     assert result.status is not PlanStatus.SOLVED
 
 
