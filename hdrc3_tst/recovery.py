@@ -17,11 +17,19 @@ from __future__ import annotations
 import enum
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from functools import cache
 from types import MappingProxyType
 
 from hdrc3_tst.actions import ACTIONS
 from hdrc3_tst.goal_planning import GoalProblem, Load, PlannedStep
-from hdrc3_tst.recovery_spec import DEFAULT_ATTEMPTS, EffectKind, RecoveryOperator, RecoverySpec
+from hdrc3_tst.recovery_spec import (
+    DEFAULT_ATTEMPTS,
+    DEFAULT_RECOVERY,
+    EffectKind,
+    RecoveryOperator,
+    RecoverySpec,
+    RecoverySpecParser,
+)
 
 LOAD_PARAMS = ("box", "carrier")
 """Action parameters naming a load; an action with one and no ``place`` takes it onto the hook,
@@ -37,6 +45,8 @@ class RecoveryStep(enum.Enum):
     APPLY_OPERATOR = "apply_operator"
     REPLAN = "replan"
     GIVE_UP = "give_up"
+    IGNORED = "ignored"
+    """Not a recovery: the violation concerns no running planned goal of this agent."""
 
 
 class RecoveryStatus(enum.Enum):
@@ -84,6 +94,21 @@ class RecoveryDecision:
     reason: str = ""
 
 
+@dataclass(frozen=True)
+class RecoveryReport:
+    """One recovery step as carried out, for the record (``RecoveryEvent``)."""
+
+    node_id: str
+    """The goal node recovering ("" when ignored)."""
+    monitor_id: str
+    recovery: str
+    step: RecoveryStep
+    attempt: int = 0
+    changes: tuple[str, ...] = ()
+    plan: tuple[str, ...] = ()
+    reason: str = ""
+
+
 def after(agent: str, attempt: int) -> str:
     """The location name of where ``agent`` hovers when recovery ``attempt`` plans."""
     return f"recover_{agent.replace('-', '_')}_{attempt}"
@@ -106,6 +131,12 @@ def progressed(problem: GoalProblem, done: Sequence[PlannedStep]) -> GoalProblem
     return replace(problem, loads=tuple(loads.values()), holding=holding)
 
 
+@cache
+def default_recovery() -> RecoverySpec:
+    """The packaged recovery operators (``default.recovery``)."""
+    return RecoverySpecParser().parse_file(DEFAULT_RECOVERY)
+
+
 class Recovery:
     """Decides recoveries and counts failures per fault (one instance per goal node)."""
 
@@ -113,6 +144,10 @@ class Recovery:
         """Use the operators of ``spec``."""
         self._spec = spec
         self._failures: dict[tuple[str, ...], int] = {}
+
+    def attempts(self, violation: Violation) -> int:
+        """Failures on the violation's fault so far."""
+        return self._failures.get(violation.fault, 0)
 
     def decide(
         self,
