@@ -26,6 +26,7 @@ change an assumption (a lift capacity, where a lost box lies) and plan again fro
 from __future__ import annotations
 
 import enum
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cache
@@ -156,6 +157,39 @@ def goal_problem(
         f"{goal.action}({', '.join(goal.goal_args)})",
         loads,
     )
+
+
+LOAD_REACH = 30.0
+"""m (horizontal): a stocked box is at the nearest declared point this close to it."""
+
+
+def stocked_loads(
+    boxes: Sequence[tuple[str, str, float]], points: Mapping[str, tuple[float, ...]]
+) -> tuple[Load, ...]:
+    """The boxes a mission declares as points, each at a location among the other points.
+
+    Args:
+        boxes: The world file's boxes as (tag, contents, kg); one the mission does not declare
+            as a point (``point box1 = box1 at 0``) is left out (no executor could find it).
+        points: The mission's points by name (local ENU m).
+
+    A box is at the nearest non-box point within :data:`LOAD_REACH` m (the mission's point
+    above the depot, say); its type is ``<contents>-box`` when the domain has that type.
+    """
+    types = logistics_domain().types
+    names = {tag for tag, _, _ in boxes}
+    sites = {n: p for n, p in points.items() if n not in names}
+    loads: list[Load] = []
+    for tag, contents, kg in boxes:
+        where = points.get(tag)
+        if where is None:
+            continue
+        near = sorted((math.hypot(p[0] - where[0], p[1] - where[1]), n) for n, p in sites.items())
+        if not near or near[0][0] > LOAD_REACH:
+            continue
+        kind = f"{contents}-box" if f"{contents}-box" in types else "box"
+        loads.append(Load(tag, kind, near[0][1], kg))
+    return tuple(loads)
 
 
 def _triple(xyz: Sequence[float]) -> tuple[float, float, float]:

@@ -53,16 +53,19 @@ from hdrc3_interfaces.srv import (
 )
 from hdrc3_navigation.messages import segment_to_msg
 from hdrc3_platform_server.geo_frame import frame_from_world
+from hdrc3_tst.actions import ParamType
 from hdrc3_tst.check import CheckStatus, load_text
 from hdrc3_tst.distribution import involved_agents, parse_fix, parse_value
 from hdrc3_tst.engine import EngineContext, ExecutionEngine, NodeRecord
-from hdrc3_tst.goal_planning import PlanHandle
+from hdrc3_tst.goal_planning import PlanHandle, stocked_loads
 from hdrc3_tst.model import NodeKind, NodeRef, NodeState
 from hdrc3_tst.network import FixStatus
 from hdrc3_tst.recovery import RecoveryReport, RecoveryStep, Violation
 from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
 from hdrc3_tst.ros_navigation import RosNavigation
 from hdrc3_tst.ros_platform import RosPlatform
+from sim.world import ObjectKind
+from sim.world_loader import load_world
 
 TICK_PERIOD_S = 0.05
 PEER_WAIT_S = 10.0
@@ -194,7 +197,14 @@ class TstManagerNode(Node):
             raise ConfigError(
                 f"tst_manager runs in an agent's namespace, not {self.get_namespace()!r}"
             )
-        self.frame = frame_from_world(str(self.get_parameter("world").value))
+        world = str(self.get_parameter("world").value)
+        self.frame = frame_from_world(world)
+        self.boxes = tuple(
+            (o.id, o.contents.value, o.mass)
+            for o in load_world(world).objects
+            if o.kind is ObjectKind.BOX and o.contents is not None and o.mass is not None
+        )
+        """The world file's boxes (tag, contents, kg): the loads goal nodes may deliver."""
         self.platform = RosPlatform(self, self.agent, self.frame, self._tick)
         self.navigation = (
             RosNavigation(self, self.agent, self._tick)
@@ -307,6 +317,7 @@ class TstManagerNode(Node):
                 TstReturn.TST_INVALID,
                 "every node's agent P must be fixed (see hdrc3_tst.distribution)",
             )
+        points = {n: p.coords[0] for n, p in tst.places.items() if p.kind is ParamType.POINT}
         context = EngineContext(
             self.agent,
             self.platform,
@@ -315,6 +326,7 @@ class TstManagerNode(Node):
             self.frame,
             RMAX_EXECUTORS,
             self.navigation,
+            loads=stocked_loads(self.boxes, points),
         )
         engine = ExecutionEngine(mission, tst, context)
         self.engines[mission] = engine

@@ -172,3 +172,52 @@ def test_a_violation_of_no_held_node_is_recorded_as_ignored(chain: Chain) -> Non
     (event,) = chain.events
     assert event.step == chain.RecoveryEvent.STEP_IGNORED
     assert "no mission of uav0 holds node 'nowhere/1'" in event.reason
+
+
+DELIVERY = (
+    "world revinge\nagents uav0\npoint box1 = box1 at 0\n"
+    "point OverDepot = supply_depot at 20\npoint OverField = west_field at 20\n"
+    "d(P, TS, TE) = goal at(box1, OverField) where P = uav0\n"
+)
+
+
+def test_a_delivery_goal_that_cannot_lift_its_box_gives_up_with_the_planners_reason(
+    chain: Chain,
+) -> None:
+    from hdrc3_interfaces.msg import TstReturn
+
+    created = chain.call("create", mission="d", text=DELIVERY, file="d.tst", agents=["uav0"])
+    assert created.result.code == TstReturn.TST_OK, created.result.reason
+    chain.until(lambda: chain.manager.platform.state() is not None, "the helicopter state")
+    assert chain.call("execute", mission="d", node_id="d", epoch=float("nan")).result.code == 0
+    chain.until(lambda: chain.flights == 1, "the flight to the depot")
+    tree = chain.manager.engines["d"].tst.tree
+    assert [tree.node(c.node_id).action for c in tree.node("d").children] == [
+        "fly-to",
+        "pick-up-box",
+        "fly-to",
+        "drop-box",
+    ]
+    v = chain.MonitorViolation
+    chain.violations.publish(
+        v(
+            agent="uav0",
+            monitor_id="lifted@d/1",
+            kind=v.KIND_VIOLATION,
+            node_id="d/1",
+            argument_names=["av", "box"],
+            argument_values=["uav0", "box1"],
+            recovery="lower-lift-capacity",
+        )
+    )
+    e = chain.RecoveryEvent
+    chain.until(lambda: any(ev.step == e.STEP_GAVE_UP for ev in chain.events), "giving up")
+    assert [ev.step for ev in chain.events] == [
+        e.STEP_SUSPENDED,
+        e.STEP_HOVERING,
+        e.STEP_OPERATOR_APPLIED,
+        e.STEP_GAVE_UP,
+    ]
+    assert list(chain.events[2].changes) == ["lift-capacity(uav0) = 4"]
+    assert chain.events[3].reason.startswith("planning at: ")
+    chain.until(lambda: chain.statuses.get("d") == "failed", "the goal's failure")

@@ -17,6 +17,7 @@ from hdrc3_tst.goal_planning import (
     goal_problem,
     operator_mappings,
     plan_steps,
+    stocked_loads,
 )
 from hdrc3_tst.model import Node, NodeKind
 from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
@@ -155,3 +156,24 @@ def test_a_held_box_is_not_at_a_location() -> None:
     assert "holding-box(uav0, box1)" in text
     assert "at(box1, Depot)" not in text
     assert "free(uav0)" not in text
+
+
+SITES = {"Over": (0.0, 0.0, 20.0), "Far": (500.0, 0.0, 20.0), "b1": (10.0, 5.0, 0.0)}
+
+
+@pytest.mark.parametrize(
+    ("boxes", "points", "loads"),
+    [
+        ([("b1", "food", 5.0)], SITES, (Load("b1", "food-box", "Over", 5.0),)),
+        ([("b1", "medicine", 4.0)], SITES, (Load("b1", "medicine-box", "Over", 4.0),)),
+        ([("b1", "water", 6.0)], SITES, (Load("b1", "box", "Over", 6.0),)),
+        ([("b2", "food", 5.0)], SITES, ()),  # not declared as a point
+        ([("b1", "food", 5.0)], {**SITES, "b1": (40.0, 0.0, 0.0)}, ()),  # no point near it
+    ],
+)
+def test_stocked_boxes_are_loads_at_the_nearest_point(
+    boxes: list[tuple[str, str, float]],
+    points: dict[str, tuple[float, ...]],
+    loads: tuple[Load, ...],
+) -> None:
+    assert stocked_loads(boxes, points) == loads
