@@ -706,9 +706,14 @@ class ExecutionEngine:
 
         def report(step: RecoveryStep, why: str, changes: tuple[str, ...] = ()) -> RecoveryReport:
             out = RecoveryReport(
-                goal_id, violation.monitor_id, violation.recovery, step, decision.attempt,
-                changes, (), why,
-            )  # fmt: skip
+                goal_id,
+                violation.monitor_id,
+                violation.recovery,
+                step,
+                decision.attempt,
+                changes=changes,
+                reason=why,
+            )
             self.ctx.sink.recovery(out)
             return out
 
@@ -753,10 +758,15 @@ class ExecutionEngine:
         attempt = 0 if rec.recovery is None else rec.recovery.attempts(violation)
         self.ctx.sink.recovery(
             RecoveryReport(
-                rec.node_id, violation.monitor_id, violation.recovery, step, attempt, (),
-                labels, reason or f"{len(labels)} actions",
+                rec.node_id,
+                violation.monitor_id,
+                violation.recovery,
+                step,
+                attempt,
+                plan=labels,
+                reason=reason or f"{len(labels)} actions",
             )
-        )  # fmt: skip
+        )
 
     # --- endings ------------------------------------------------------------------------
     def _succeed(self, rec: NodeRecord) -> None:
