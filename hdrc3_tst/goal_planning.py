@@ -17,8 +17,8 @@ argument (where the helicopter ends up). A plan with any other action fails the 
 that reason before anything flies.
 
 Loads (boxes, carriers) enter the problem as :class:`Load` objects at a location: a box object
-is named like its TST point (the box's tag), so ``pick-up-box(box)`` finds it. Goals that move
-loads are planned with the domain's control rules (``control.tal``), which keep TALplanner from
+is named like its TST point (the box's tag), so ``pick-up-box(box)`` finds it. Goals that name a
+load are planned with the domain's control rules (``control.tal``), which keep TALplanner from
 useless detours. The problem is a :class:`GoalProblem` value, so recovery (``recovery.py``) can
 change an assumption (a lift capacity, where a lost box lies) and plan again from it.
 """
@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import enum
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cache
@@ -114,12 +115,13 @@ class GoalProblem:
         return "\n".join(lines) + "\n"
 
     def control(self) -> str:
-        """The control rules to plan with: the domain's when loads move, none otherwise.
+        """The control rules to plan with: the domain's when the goal names a load, else none.
 
         The rules prune flights without a load to fetch or deliver, so a goal that only moves
         the helicopter (``at(uav0, Square)``) plans without them.
         """
-        return control_text() if self.loads else ""
+        named = set(re.findall(r"[A-Za-z0-9_-]+", self.goal))
+        return control_text() if any(load.name in named for load in self.loads) else ""
 
     def moved(self, agent_at: str, position: tuple[float, float, float]) -> GoalProblem:
         """The same problem with the helicopter at a new location ``agent_at``."""

@@ -143,6 +143,15 @@ def test_a_delivery_goal_plans_pick_up_and_drop_steps() -> None:
     ]
 
 
+def test_only_goals_naming_a_load_plan_with_the_control_rules() -> None:
+    problem = delivery_problem()
+    assert problem.control() == control_text()
+    flight = replace(problem, goal="at(uav0, Field)")
+    assert flight.control() == ""
+    request = PlanRequest(domain_text(), flight.text(), flight.control())
+    assert TaskPlanner().plan(request, timeout=30.0).status is PlanStatus.SOLVED
+
+
 def test_a_box_heavier_than_the_lift_capacity_has_no_plan() -> None:
     problem = delivery_problem(lift=5.0)
     request = PlanRequest(domain_text(), problem.text(), problem.control())
