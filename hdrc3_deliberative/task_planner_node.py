@@ -29,8 +29,14 @@ _STATUS = {
 class TaskPlannerNode(Node):
     """Answers ``plan`` requests; bad requests get STATUS_INVALID_INPUT and a reason."""
 
-    def __init__(self, context: Context | None = None, planner: TaskPlanner | None = None) -> None:
-        super().__init__("task_planner", context=context)
+    def __init__(
+        self,
+        context: Context | None = None,
+        planner: TaskPlanner | None = None,
+        namespace: str | None = None,
+    ) -> None:
+        """Serve ``plan`` (in ``namespace``, e.g. an agent's, when given)."""
+        super().__init__("task_planner", context=context, namespace=namespace)
         world = str(self.declare_parameter("world", "").value)
         if planner is None:
             motion = None

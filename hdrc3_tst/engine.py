@@ -14,7 +14,11 @@ end passes, and applies the control semantics:
   per answer (``ResolvedTst.expand_foreach``) and then acts as a concurrent node over them (no
   answer: it succeeds); queries go to ``queries.py``;
 - **call** runs the instantiated library tree; **goal** asks the planner, attaches the plan's
-  nodes and then acts as a sequence.
+  nodes and then acts as a sequence. A monitor violation during a goal's plan
+  (:meth:`ExecutionEngine.on_violation`) is recovered from as ``recovery.py`` decides (§9.3.1):
+  the running step is aborted, the aircraft brakes if asked (FCL ``emergency_brake``) and hovers
+  (the PFC hovers between commands), the new problem is planned once the brake has ended, and
+  the goal continues with the new plan's nodes, or fails when recovery gives up.
 
 A child on another agent is started through :class:`EngineSink.start_remote` and followed
 through :meth:`ExecutionEngine.on_remote_status`. ``tick`` is called with the sim time; the
@@ -29,12 +33,15 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from hdrc3_control.path_segment import PathSegment
+from hdrc3_platform_server.codes import FclCommand
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_tst.actions import ACTIONS, ParamSpec, ParamType
 from hdrc3_tst.executor import ActionContext, ActionExecutor, Progress, Status, Stepper
 from hdrc3_tst.finite import SolveStatus
 from hdrc3_tst.goal_planning import (
     GoalPlannerPort,
+    GoalProblem,
+    Load,
     PlanHandle,
     PlannedStep,
     StepsStatus,
@@ -46,8 +53,17 @@ from hdrc3_tst.goal_planning import (
 from hdrc3_tst.model import Node, NodeKind, NodeRef, NodeState
 from hdrc3_tst.navigation_port import NavigationPort
 from hdrc3_tst.network import FixStatus
-from hdrc3_tst.platform_port import PlatformPort
+from hdrc3_tst.platform_port import Command, PlatformPort
 from hdrc3_tst.queries import Answer, QueryDomain, ask, ask_all
+from hdrc3_tst.recovery import (
+    Recovery,
+    RecoveryReport,
+    RecoveryStatus,
+    RecoveryStep,
+    Violation,
+    default_recovery,
+)
+from hdrc3_tst.recovery_spec import RecoverySpec
 from hdrc3_tst.resolver import InstanceStatus, Place, ResolvedTst
 from hdrc3_tst.stn import Inconsistent
 
@@ -73,6 +89,18 @@ class NodeRecord:
     chosen: str = ""
     rounds: int = 0
     plan: PlanHandle | None = None
+    problem: GoalProblem | None = None
+    """A goal node's planning problem (what recovery changes and plans again)."""
+    steps: tuple[PlannedStep, ...] = ()
+    """A goal node's current plan, as its children run it."""
+    plans: int = 0
+    """Plans a goal node has had (recovery plans again)."""
+    recovery: Recovery | None = None
+    """A goal node's failure counts per fault."""
+    brake: Command | None = None
+    """The emergency brake a recovering goal waits for before it plans."""
+    recovering: Violation | None = None
+    """The violation a goal node is planning again for."""
     remote_requested: bool = False
     memory: dict[str, float] = field(default_factory=dict)
     """An action executor's memory across pause and resume (``ActionContext.memory``)."""
@@ -101,6 +129,9 @@ class EngineSink(Protocol):
     def path(self, node_id: str, segments: tuple[PathSegment, ...]) -> None:
         """An executor of a node planned a path (it flies it from now on)."""
 
+    def recovery(self, report: RecoveryReport) -> None:
+        """A step of a recovery from a monitor violation was carried out (§9.3.1)."""
+
 
 @dataclass
 class EngineContext:
@@ -114,6 +145,10 @@ class EngineContext:
     executors: Mapping[str, type[ActionExecutor]]
     navigation: NavigationPort | None = None
     """The agent's path planner for flight executors (None: straight flights)."""
+    recovery: RecoverySpec = field(default_factory=default_recovery)
+    """The recovery operators monitor formulas name."""
+    loads: tuple[Load, ...] = ()
+    """The boxes and carriers goal nodes may move, at locations among the mission's points."""
 
 
 class ExecutionEngine:
@@ -540,27 +575,36 @@ class ExecutionEngine:
 
     # --- goals --------------------------------------------------------------------------
     def _advance_goal(self, node: Node, rec: NodeRecord) -> None:
+        if rec.brake is not None and not rec.brake.state.ended:
+            return
         if rec.plan is None:
-            state = self.ctx.platform.state()
-            if state is None:
-                return
-            position = (state.east, state.north, state.up)
-            points = {
-                n: p.coords[0] for n, p in self.tst.places.items() if p.kind is ParamType.POINT
-            }
-            problem = goal_problem(node, self.ctx.agent, position, points)
-            self.tst.places.setdefault(here(self.ctx.agent), Place(ParamType.POINT, (position,)))
-            rec.plan = self.ctx.planner.request(domain_text(), problem)
+            if rec.problem is None:
+                state = self.ctx.platform.state()
+                if state is None:
+                    return
+                position = (state.east, state.north, state.up)
+                points = {
+                    n: p.coords[0] for n, p in self.tst.places.items() if p.kind is ParamType.POINT
+                }
+                rec.problem = goal_problem(node, self.ctx.agent, position, points, self.ctx.loads)
+                self.tst.places.setdefault(
+                    here(self.ctx.agent), Place(ParamType.POINT, (position,))
+                )
+            problem = rec.problem
+            rec.plan = self.ctx.planner.request(domain_text(), problem.text(), problem.control())
             return
         if not rec.plan.done:
             return
         if not rec.plan.solved:
+            self._replanned(rec, (), f"planning {node.action}: {rec.plan.reason}")
             self._finish(rec, NodeState.FAILED, f"planning {node.action}: {rec.plan.reason}")
             return
         steps = plan_steps(rec.plan.labels, rec.plan.agents, rec.plan.starts, rec.plan.durations)
         if steps.status is not StepsStatus.OK:
+            self._replanned(rec, (), steps.reason)
             self._finish(rec, NodeState.FAILED, steps.reason)
             return
+        self._replanned(rec, rec.plan.labels, "")
         try:
             self._attach(node, steps.steps)
         except Inconsistent as exc:
@@ -571,12 +615,21 @@ class ExecutionEngine:
         self._advance_sequence(node, rec)
 
     def _attach(self, goal: Node, steps: tuple[PlannedStep, ...]) -> None:
-        """Add the plan's steps as this goal's children (a sequence on this agent)."""
+        """Add the plan's steps as this goal's children (a sequence on this agent).
+
+        The first plan's nodes are ``goal/1``, ``goal/2``...; a recovery's plan ``n`` are
+        ``goal/n.1``... (the old plan's nodes stay, as the record of what ran).
+        """
         net = self.tst.network
         refs: list[NodeRef] = []
         previous_te: str | None = None
+        goal_rec = self.records[goal.node_id]
+        goal_rec.plans += 1
+        goal_rec.steps = steps
+        goal_rec.cursor, goal_rec.started_children = 0, set()
+        prefix = f"{goal.node_id}/" if goal_rec.plans == 1 else f"{goal.node_id}/{goal_rec.plans}."
         for index, step in enumerate(steps):
-            node_id = f"{goal.node_id}/{index + 1}"
+            node_id = f"{prefix}{index + 1}"
             params: dict[str, str] = {"P": goal.params["P"]}
             for key in ("TS", "TE"):
                 params[key] = f"{node_id}.{key}"
@@ -611,6 +664,109 @@ class ExecutionEngine:
             refs.append(NodeRef(step.agent, node_id))
             previous_te = params["TE"]
         self.tst.tree.expand(goal.node_id, NodeKind.SEQUENCE, refs)
+
+    # --- recovery (section 9.3.1) ------------------------------------------------------
+    def on_violation(self, violation: Violation, node_id: str) -> RecoveryReport:
+        """Recover the running planned goal that ``node_id`` belongs to ("": any of them).
+
+        Returns the last step carried out (IGNORED when no planned goal of this agent runs).
+        """
+        goal_id = self._goal_of(node_id)
+        if goal_id is None:
+            ignored = RecoveryReport(
+                "",
+                violation.monitor_id,
+                violation.recovery,
+                RecoveryStep.IGNORED,
+                reason=f"no running planned goal of {self.ctx.agent} holds {node_id or 'it'}",
+            )
+            self.ctx.sink.recovery(ignored)
+            return ignored
+        rec, goal = self.records[goal_id], self.tst.tree.node(goal_id)
+        assert rec.problem is not None  # _goal_of only finds planned goals
+        if rec.recovery is None:
+            rec.recovery = Recovery(self.ctx.recovery)
+        state = self.ctx.platform.state()
+        if state is None:
+            position = rec.problem.locations[rec.problem.start]
+        else:
+            position = (state.east, state.north, state.up)
+        children = [self.records[c.node_id] for c in goal.children]
+        done = [
+            s for s, r in zip(rec.steps, children, strict=False) if r.state is NodeState.SUCCEEDED
+        ]
+        decision = rec.recovery.decide(violation, rec.problem, done, position)
+        reason = f"recovering from {violation.monitor_id}"
+        self._stopping.add(goal_id)
+        try:
+            for child in goal.children:
+                self._abort_child(child.node_id, reason)
+        finally:
+            self._stopping.discard(goal_id)
+
+        def report(step: RecoveryStep, why: str, changes: tuple[str, ...] = ()) -> RecoveryReport:
+            out = RecoveryReport(
+                goal_id,
+                violation.monitor_id,
+                violation.recovery,
+                step,
+                decision.attempt,
+                changes=changes,
+                reason=why,
+            )
+            self.ctx.sink.recovery(out)
+            return out
+
+        last = report(RecoveryStep.SUSPEND, reason)
+        if RecoveryStep.BRAKE in decision.steps:
+            rec.brake = self.ctx.platform.send(FclCommand.EMERGENCY_BRAKE)
+            last = report(RecoveryStep.BRAKE, f"{violation.monitor_id} asks for a brake")
+        last = report(RecoveryStep.HOVER, "the flight control hovers between commands")
+        if decision.status is not RecoveryStatus.REPLAN or decision.problem is None:
+            last = report(RecoveryStep.GIVE_UP, decision.reason)
+            self._finish(rec, NodeState.FAILED, decision.reason)
+            return last
+        for name, xyz in decision.places.items():
+            self.tst.places[name] = Place(ParamType.POINT, (xyz,))
+        last = report(RecoveryStep.APPLY_OPERATOR, decision.reason, decision.changes)
+        self.tst.tree.collapse(goal_id)
+        rec.problem, rec.plan, rec.recovering = decision.problem, None, violation
+        self._advance(goal_id)
+        return last
+
+    def _goal_of(self, node_id: str) -> str | None:
+        """The running, planned goal node this agent holds that ``node_id`` is under."""
+        goals = [
+            n
+            for n in self._running
+            if self.tst.tree.nodes[n].kind is NodeKind.GOAL
+            and self.records[n].problem is not None
+            and self.records[n].state is NodeState.RUNNING
+        ]
+        if not node_id:
+            return goals[0] if goals else None
+        if node_id not in self.tst.tree.nodes:
+            return None
+        return next((g for g in goals if self._under(node_id, g)), None)
+
+    def _replanned(self, rec: NodeRecord, labels: tuple[str, ...], reason: str) -> None:
+        """Report a recovering goal's new plan (or why it has none)."""
+        violation, rec.recovering = rec.recovering, None
+        if violation is None:
+            return
+        step = RecoveryStep.REPLAN if not reason else RecoveryStep.GIVE_UP
+        attempt = 0 if rec.recovery is None else rec.recovery.attempts(violation)
+        self.ctx.sink.recovery(
+            RecoveryReport(
+                rec.node_id,
+                violation.monitor_id,
+                violation.recovery,
+                step,
+                attempt,
+                plan=labels,
+                reason=reason or f"{len(labels)} actions",
+            )
+        )
 
     # --- endings ------------------------------------------------------------------------
     def _succeed(self, rec: NodeRecord) -> None:

@@ -13,12 +13,15 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from hdrc3_control.path_segment import PathSegment
+from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
+from hdrc3_deliberative.result import PlanStatus
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
 from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_tst.engine import NodeRecord
 from hdrc3_tst.goal_planning import PlanHandle
 from hdrc3_tst.model import NodeRef, NodeState
 from hdrc3_tst.platform_port import Command, CommandState, PlatformState, Sighting
+from hdrc3_tst.recovery import RecoveryReport
 
 
 @dataclass
@@ -147,9 +150,33 @@ class FakePlanner:
 
     requests: list[PlanHandle] = field(default_factory=list)
 
-    def request(self, domain: str, problem: str) -> PlanHandle:
+    def request(self, domain: str, problem: str, control: str = "") -> PlanHandle:
         """Record the request."""
-        handle = PlanHandle(problem)
+        handle = PlanHandle(problem, control=control)
+        self.requests.append(handle)
+        return handle
+
+
+@dataclass
+class SolvingPlanner:
+    """The real TALplanner core, answering each request at once (no ROS service)."""
+
+    timeout: float = 30.0
+    requests: list[PlanHandle] = field(default_factory=list)
+
+    def request(self, domain: str, problem: str, control: str = "") -> PlanHandle:
+        """Plan now and fill the handle."""
+        handle = PlanHandle(problem, control=control)
+        result = TaskPlanner().plan(PlanRequest(domain, problem, control), timeout=self.timeout)
+        plan = result.plan
+        handle.answer(
+            result.status is PlanStatus.SOLVED,
+            result.reason,
+            [o.label for o in plan],
+            [o.agent or "" for o in plan],
+            [o.start for o in plan],
+            [o.duration for o in plan],
+        )
         self.requests.append(handle)
         return handle
 
@@ -165,6 +192,7 @@ class RecordingSink:
     remote_aborts: list[tuple[NodeRef, str]] = field(default_factory=list)
     notes: list[tuple[str, str]] = field(default_factory=list)
     paths: list[tuple[str, tuple[PathSegment, ...]]] = field(default_factory=list)
+    recoveries: list[RecoveryReport] = field(default_factory=list)
 
     def status(self, record: NodeRecord) -> None:
         """Record a state change."""
@@ -192,3 +220,7 @@ class RecordingSink:
     def path(self, node_id: str, segments: tuple[PathSegment, ...]) -> None:
         """Record a planned path."""
         self.paths.append((node_id, segments))
+
+    def recovery(self, report: RecoveryReport) -> None:
+        """Record a recovery step."""
+        self.recoveries.append(report)

@@ -6,20 +6,40 @@ where the aircraft is now and every point the mission declares are locations wit
 coordinates (TALplanner's motion-plan-info hook turns them into flight times), and the goal
 statement is the problem's goal. The TST manager sends it to the ``task_planner`` service and
 turns the plan's actions into elementary TST nodes (:class:`PlannedStep`) that the goal node
-then executes as a sequence. Only plan actions with an RMAX executor can run: ``fly-to`` today
-(payload handling comes with the payload issue); a plan with any other action fails the goal
-node with that reason before anything flies.
+then executes as a sequence.
+
+Which plan actions can run is derived, not listed: a domain operator is executable when an
+elementary action of the same name (``actions.ACTIONS``) has an RMAX executor
+(``rmax_executors.RMAX_EXECUTORS``: ``fly-to`` and the payload executors). Each of the action's
+point parameters takes the operator argument whose domain type is named like the parameter
+(``box``, ``carrier``); a ``place`` or ``destination`` takes the operator's last ``location``
+argument (where the helicopter ends up). A plan with any other action fails the goal node with
+that reason before anything flies.
+
+Loads (boxes, carriers) enter the problem as :class:`Load` objects at a location: a box object
+is named like its TST point (the box's tag), so ``pick-up-box(box)`` finds it. Goals that name a
+load are planned with the domain's control rules (``control.tal``), which keep TALplanner from
+useless detours. The problem is a :class:`GoalProblem` value, so recovery (``recovery.py``) can
+change an assumption (a lift capacity, where a lost box lies) and plan again from it.
 """
 
 from __future__ import annotations
 
 import enum
+import math
+import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from functools import cache
 from importlib.resources import files
+from types import MappingProxyType
 from typing import Protocol
 
+from hdrc3_deliberative.model import Domain, Operator
+from hdrc3_deliberative.tal_language import TalReader
+from hdrc3_tst.actions import ACTIONS, ParamType
 from hdrc3_tst.model import Node
+from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
 
 DOMAIN = "uav-logistics"
 HELICOPTER_FUEL = 3000.0
@@ -31,9 +51,82 @@ def domain_text() -> str:
     return files("hdrc3_deliberative.domains.uav_logistics").joinpath("domain.tal").read_text()
 
 
+def control_text() -> str:
+    """The UAV logistics control rules (chapter section 9.2)."""
+    return files("hdrc3_deliberative.domains.uav_logistics").joinpath("control.tal").read_text()
+
+
 def here(agent: str) -> str:
     """The location name of where ``agent`` is when the goal is planned."""
     return f"here_{agent.replace('-', '_')}"
+
+
+@dataclass(frozen=True)
+class Load:
+    """A box or carrier the planner may move: its object, domain type, location and weight."""
+
+    name: str
+    """The object, named like the TST point of the load (its tag)."""
+    type: str
+    """Its domain type: ``food-box``, ``medicine-box``, ``box`` or ``carrier``."""
+    location: str
+    """The location object it is at."""
+    weight: float
+    """kg (a carrier's own load, ``load(c)``)."""
+
+
+@dataclass(frozen=True)
+class GoalProblem:
+    """One helicopter's planning problem for a goal, as values recovery can change."""
+
+    name: str
+    agent: str
+    locations: Mapping[str, tuple[float, float, float]]
+    """Location objects by name with their positions (local ENU metres)."""
+    start: str
+    """The location the helicopter is at."""
+    goal: str
+    """The goal formula, e.g. ``at(box1, Field)``."""
+    loads: tuple[Load, ...] = ()
+    lift_capacity: float = HELICOPTER_LIFT
+    fuel: float = HELICOPTER_FUEL
+    holding: str = ""
+    """The box the helicopter holds ("" for none)."""
+
+    def text(self) -> str:
+        """The problem in TALplanner's language."""
+        agent = self.agent
+        lines = [f"problem {self.name} for {DOMAIN}"]
+        lines += [
+            f"object {name}: location @ ({_xyz(xyz)})" for name, xyz in self.locations.items()
+        ]
+        lines.append(f"object {agent}: helicopter")
+        lines += [f"object {load.name}: {load.type}" for load in self.loads]
+        held = f"holding-box({agent}, {self.holding})" if self.holding else f"free({agent})"
+        lines.append(
+            f"init at({agent}, {self.start}), {held}, hovering({agent}), "
+            f"lift-capacity({agent}) = {self.lift_capacity:g}, fuel({agent}) = {self.fuel:g}"
+        )
+        for load in self.loads:
+            size = "load" if load.type == "carrier" else "weight"
+            where = "" if load.name == self.holding else f"at({load.name}, {load.location}), "
+            lines.append(f"init {where}{size}({load.name}) = {load.weight:g}")
+        lines.append(f"goal {self.goal}")
+        return "\n".join(lines) + "\n"
+
+    def control(self) -> str:
+        """The control rules to plan with: the domain's when the goal names a load, else none.
+
+        The rules prune flights without a load to fetch or deliver, so a goal that only moves
+        the helicopter (``at(uav0, Square)``) plans without them.
+        """
+        named = set(re.findall(r"[A-Za-z0-9_-]+", self.goal))
+        return control_text() if any(load.name in named for load in self.loads) else ""
+
+    def moved(self, agent_at: str, position: tuple[float, float, float]) -> GoalProblem:
+        """The same problem with the helicopter at a new location ``agent_at``."""
+        locations = {**self.locations, agent_at: position}
+        return replace(self, locations=MappingProxyType(locations), start=agent_at)
 
 
 def goal_problem(
@@ -41,29 +134,125 @@ def goal_problem(
     agent: str,
     position: tuple[float, float, float],
     points: Mapping[str, tuple[float, ...]],
-) -> str:
+    loads: tuple[Load, ...] = (),
+) -> GoalProblem:
     """The planning problem of a goal node for one helicopter.
 
     Args:
         goal: The goal node (``action`` is the goal predicate, ``goal_args`` its arguments).
         agent: The helicopter (the goal node's agent).
         position: Where it is now (local ENU metres).
-        points: The mission's declared points by name (local ENU metres).
+        points: The mission's declared points by name (local ENU metres); load points are not
+            locations (a load is an object at a location).
+        loads: The boxes and carriers the plan may move.
     """
-    lines = [f"problem goal_{goal.node_id.replace('/', '_')} for {DOMAIN}"]
-    lines.append(f"object {here(agent)}: location @ ({_xyz(position)})")
-    lines += [f"object {name}: location @ ({_xyz(xyz)})" for name, xyz in sorted(points.items())]
-    lines.append(f"object {agent}: helicopter")
-    lines.append(
-        f"init at({agent}, {here(agent)}), free({agent}), hovering({agent}), "
-        f"lift-capacity({agent}) = {HELICOPTER_LIFT:g}, fuel({agent}) = {HELICOPTER_FUEL:g}"
+    names = {load.name for load in loads}
+    locations: dict[str, tuple[float, float, float]] = {here(agent): _triple(position)}
+    locations.update(
+        {name: _triple(xyz) for name, xyz in sorted(points.items()) if name not in names}
     )
-    lines.append(f"goal {goal.action}({', '.join(goal.goal_args)})")
-    return "\n".join(lines) + "\n"
+    return GoalProblem(
+        f"goal_{goal.node_id.replace('/', '_')}",
+        agent,
+        MappingProxyType(locations),
+        here(agent),
+        f"{goal.action}({', '.join(goal.goal_args)})",
+        loads,
+    )
+
+
+LOAD_REACH = 30.0
+"""m (horizontal): a stocked box is at the nearest declared point this close to it."""
+
+
+def stocked_loads(
+    boxes: Sequence[tuple[str, str, float]], points: Mapping[str, tuple[float, ...]]
+) -> tuple[Load, ...]:
+    """The boxes a mission declares as points, each at a location among the other points.
+
+    Args:
+        boxes: The world file's boxes as (tag, contents, kg); one the mission does not declare
+            as a point (``point box1 = box1 at 0``) is left out (no executor could find it).
+        points: The mission's points by name (local ENU m).
+
+    A box is at the nearest non-box point within :data:`LOAD_REACH` m (the mission's point
+    above the depot, say); its type is ``<contents>-box`` when the domain has that type.
+    """
+    types = logistics_domain().types
+    names = {tag for tag, _, _ in boxes}
+    sites = {n: p for n, p in points.items() if n not in names}
+    loads: list[Load] = []
+    for tag, contents, kg in boxes:
+        where = points.get(tag)
+        if where is None:
+            continue
+        near = sorted((math.hypot(p[0] - where[0], p[1] - where[1]), n) for n, p in sites.items())
+        if not near or near[0][0] > LOAD_REACH:
+            continue
+        kind = f"{contents}-box" if f"{contents}-box" in types else "box"
+        loads.append(Load(tag, kind, near[0][1], kg))
+    return tuple(loads)
+
+
+def _triple(xyz: Sequence[float]) -> tuple[float, float, float]:
+    return (float(xyz[0]), float(xyz[1]), float(xyz[2]))
 
 
 def _xyz(xyz: Sequence[float]) -> str:
     return ", ".join(f"{v:.3f}" for v in xyz[:3])
+
+
+@dataclass(frozen=True)
+class OperatorMapping:
+    """How a domain operator becomes an elementary action: which argument goes where."""
+
+    action: str
+    args: Mapping[str, int] = field(default_factory=dict)
+    """Point parameter of the action -> index of the operator argument giving its value."""
+
+
+LOCATION = "location"
+"""The domain type of places (``place``/``destination`` parameters take one)."""
+
+
+@cache
+def logistics_domain() -> Domain:
+    """The UAV logistics domain, parsed."""
+    return TalReader().read_domain(domain_text(), "uav_logistics/domain.tal")
+
+
+def _is_a(domain: Domain, type_name: str, ancestor: str) -> bool:
+    current: str | None = type_name
+    while current:
+        if current == ancestor:
+            return True
+        current = domain.types.get(current)
+    return False
+
+
+def _mapping(domain: Domain, op: Operator) -> OperatorMapping | None:
+    """The operator's mapping onto its elementary action (None: no such action or executor)."""
+    spec = ACTIONS.get(op.name)
+    if spec is None or op.name not in RMAX_EXECUTORS:
+        return None
+    args: dict[str, int] = {}
+    for pspec in spec.params:
+        if pspec.type is not ParamType.POINT:
+            continue
+        typed = [i for i, p in enumerate(op.params) if _is_a(domain, p.type, pspec.name)]
+        if not typed:
+            typed = [i for i, p in enumerate(op.params) if _is_a(domain, p.type, LOCATION)]
+        if not typed:
+            return None
+        args[pspec.name] = typed[-1]
+    return OperatorMapping(op.name, MappingProxyType(args))
+
+
+def operator_mappings(domain: Domain | None = None) -> Mapping[str, OperatorMapping]:
+    """Every executable operator of the domain (default: UAV logistics) by name."""
+    domain = logistics_domain() if domain is None else domain
+    found = ((op.name, _mapping(domain, op)) for op in domain.operators)
+    return MappingProxyType({name: m for name, m in found if m is not None})
 
 
 class StepsStatus(enum.Enum):
@@ -95,19 +284,6 @@ class PlanSteps:
     reason: str = ""
 
 
-@dataclass(frozen=True)
-class _Mapping:
-    """How a domain operator becomes an action: its type and which argument goes where."""
-
-    action: str
-    args: Mapping[str, int] = field(default_factory=dict)
-    """Type-specific parameter -> index of the operator argument giving its value."""
-
-
-_OPERATORS: Mapping[str, _Mapping] = {"fly-to": _Mapping("fly-to", {"destination": 2})}
-"""Domain operators that have an RMAX executor."""
-
-
 def plan_steps(
     labels: Sequence[str],
     agents: Sequence[str],
@@ -122,18 +298,23 @@ def plan_steps(
         starts: Planned start times (s).
         durations: Planned durations (s).
     """
+    operators = operator_mappings()
     steps: list[PlannedStep] = []
     for label, agent, start, duration in zip(labels, agents, starts, durations, strict=True):
         words = label.strip("() ").split()
         if not words:
             return PlanSteps(StepsStatus.NOT_EXECUTABLE, (), f"empty plan action {label!r}")
-        mapping = _OPERATORS.get(words[0])
+        mapping = operators.get(words[0])
         if mapping is None:
             return PlanSteps(
                 StepsStatus.NOT_EXECUTABLE,
                 (),
                 f"the plan needs {label}, and no RMAX executor performs {words[0]} "
-                f"(executable: {', '.join(_OPERATORS)})",
+                f"(executable: {', '.join(operators)})",
+            )
+        if any(1 + i >= len(words) for i in mapping.args.values()):
+            return PlanSteps(
+                StepsStatus.NOT_EXECUTABLE, (), f"plan action {label} has too few arguments"
             )
         args: dict[str, float | str] = {k: words[1 + i] for k, i in mapping.args.items()}
         steps.append(PlannedStep(mapping.action, agent, args, start, duration))
@@ -145,6 +326,7 @@ class PlanHandle:
     """A planning request in flight; the port fills it when the planner answers."""
 
     problem: str
+    control: str = ""
     done: bool = False
     solved: bool = False
     reason: str = ""
@@ -171,5 +353,5 @@ class PlanHandle:
 class GoalPlannerPort(Protocol):
     """The ``task_planner`` service, as the engine uses it."""
 
-    def request(self, domain: str, problem: str) -> PlanHandle:
-        """Ask for a plan; the handle is filled when the answer arrives."""
+    def request(self, domain: str, problem: str, control: str = "") -> PlanHandle:
+        """Ask for a plan (with TAL control rules, if any); the handle is filled later."""

@@ -164,3 +164,15 @@ class TaskTree:
             raise TstError(f"a {node.kind.value} expands as {names}, not {mode.value}")
         node.expanded_as = mode
         node.children = list(children)
+
+    def collapse(self, node_id: str) -> None:
+        """Take a goal node's plan away so it is planned again (recovery, §9.3.1).
+
+        The old plan's nodes stay in the tree (their records are the history); the goal acts
+        as a goal again and expands with the next plan.
+        """
+        node = self.node(node_id)
+        if node.kind is not NodeKind.GOAL:
+            raise TstError(f"{node_id} is a {node.kind.value} node: only goals are replanned")
+        node.expanded_as = None
+        node.children = []

@@ -8,6 +8,9 @@ started through that agent's ``execute`` service and followed on its status topi
 tick on a steady 20 Hz timer and whenever a command's state changes, with the sim time of
 ``/clock``. Fly-to plans its path with ``/<agent>/path_planner`` and replans when that planner's
 world model changes (parameter ``path_planner``, default true; false: fly straight).
+Monitor violations on ``/<agent>/monitor_violations`` (the execution monitor's, §9.3) are
+recovered from in the planned goal node they concern (``engine.on_violation``, §9.3.1); every
+recovery step, and the new plan, goes to ``/<agent>/recovery_events`` (recorded).
 """
 
 from __future__ import annotations
@@ -31,7 +34,14 @@ from std_msgs.msg import Header
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
 from hdrc3_control.path_segment import PathSegment
-from hdrc3_interfaces.msg import ExecutionFlag, Path, TstNodeStatus, TstReturn
+from hdrc3_interfaces.msg import (
+    ExecutionFlag,
+    MonitorViolation,
+    Path,
+    RecoveryEvent,
+    TstNodeStatus,
+    TstReturn,
+)
 from hdrc3_interfaces.srv import (
     Plan,
     TstAbort,
@@ -43,15 +53,19 @@ from hdrc3_interfaces.srv import (
 )
 from hdrc3_navigation.messages import segment_to_msg
 from hdrc3_platform_server.geo_frame import frame_from_world
+from hdrc3_tst.actions import ParamType
 from hdrc3_tst.check import CheckStatus, load_text
 from hdrc3_tst.distribution import involved_agents, parse_fix, parse_value
 from hdrc3_tst.engine import EngineContext, ExecutionEngine, NodeRecord
-from hdrc3_tst.goal_planning import PlanHandle
+from hdrc3_tst.goal_planning import PlanHandle, stocked_loads
 from hdrc3_tst.model import NodeKind, NodeRef, NodeState
 from hdrc3_tst.network import FixStatus
+from hdrc3_tst.recovery import RecoveryReport, RecoveryStep, Violation
 from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
 from hdrc3_tst.ros_navigation import RosNavigation
 from hdrc3_tst.ros_platform import RosPlatform
+from sim.world import ObjectKind
+from sim.world_loader import load_world
 
 TICK_PERIOD_S = 0.05
 PEER_WAIT_S = 10.0
@@ -67,6 +81,22 @@ STATUS_QOS = QoSProfile(
     durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
 """Node statuses: late subscribers (a client that starts following) get the recent ones."""
+VIOLATION_QOS = QoSProfile(
+    reliability=ReliabilityPolicy.RELIABLE,
+    history=HistoryPolicy.KEEP_LAST,
+    depth=50,
+    durability=DurabilityPolicy.VOLATILE,
+)
+"""Violations: only the ones raised while this manager listens (never a past run's)."""
+_STEP_CODES = {
+    RecoveryStep.SUSPEND: RecoveryEvent.STEP_SUSPENDED,
+    RecoveryStep.BRAKE: RecoveryEvent.STEP_BRAKED,
+    RecoveryStep.HOVER: RecoveryEvent.STEP_HOVERING,
+    RecoveryStep.APPLY_OPERATOR: RecoveryEvent.STEP_OPERATOR_APPLIED,
+    RecoveryStep.REPLAN: RecoveryEvent.STEP_REPLANNED,
+    RecoveryStep.GIVE_UP: RecoveryEvent.STEP_GAVE_UP,
+    RecoveryStep.IGNORED: RecoveryEvent.STEP_IGNORED,
+}
 _FIX_CODES = {
     FixStatus.INCONSISTENT: TstReturn.TST_INCONSISTENT,
     FixStatus.UNKNOWN_VARIABLE: TstReturn.TST_UNKNOWN_NODE,
@@ -120,6 +150,9 @@ class _Sink:
     def path(self, node_id: str, segments: tuple[PathSegment, ...]) -> None:
         self._manager.publish_path(segments)
 
+    def recovery(self, report: RecoveryReport) -> None:
+        self._manager.publish_recovery(self._mission, report)
+
 
 class _Planner:
     """The ``task_planner`` service of this agent as the engine's planner port."""
@@ -127,12 +160,14 @@ class _Planner:
     def __init__(self, node: Node) -> None:
         self._client = node.create_client(Plan, "plan", qos_profile=SERVICE_QOS)
 
-    def request(self, domain: str, problem: str) -> PlanHandle:
-        handle = PlanHandle(problem)
+    def request(self, domain: str, problem: str, control: str = "") -> PlanHandle:
+        handle = PlanHandle(problem, control=control)
         if not self._client.service_is_ready():
             handle.answer(False, "no task_planner serves this agent (launch it: --nodes ...)")
             return handle
-        request = Plan.Request(domain=domain, problem=problem, timeout=PLAN_TIMEOUT_S)
+        request = Plan.Request(
+            domain=domain, problem=problem, control=control, timeout=PLAN_TIMEOUT_S
+        )
         future = self._client.call_async(request)
 
         def done(f: Any) -> None:
@@ -162,7 +197,14 @@ class TstManagerNode(Node):
             raise ConfigError(
                 f"tst_manager runs in an agent's namespace, not {self.get_namespace()!r}"
             )
-        self.frame = frame_from_world(str(self.get_parameter("world").value))
+        world = str(self.get_parameter("world").value)
+        self.frame = frame_from_world(world)
+        self.boxes = tuple(
+            (o.id, o.contents.value, o.mass)
+            for o in load_world(world).objects
+            if o.kind is ObjectKind.BOX and o.contents is not None and o.mass is not None
+        )
+        """The world file's boxes (tag, contents, kg): the loads goal nodes may deliver."""
         self.platform = RosPlatform(self, self.agent, self.frame, self._tick)
         self.navigation = (
             RosNavigation(self, self.agent, self._tick)
@@ -174,6 +216,10 @@ class TstManagerNode(Node):
         self._status_pub = self.create_publisher(TstNodeStatus, "tst_status", STATUS_QOS)
         self._flag_pub = self.create_publisher(ExecutionFlag, "execution_flags", STATUS_QOS)
         self._path_pub = self.create_publisher(Path, "planned_path", STATUS_QOS)
+        self._recovery_pub = self.create_publisher(RecoveryEvent, "recovery_events", STATUS_QOS)
+        self.create_subscription(
+            MonitorViolation, "monitor_violations", self._on_violation, VIOLATION_QOS
+        )
         self._followed: set[str] = set()
         self._peers: dict[tuple[str, str], Any] = {}
         self._waiting: list[_PeerCall] = []
@@ -271,6 +317,7 @@ class TstManagerNode(Node):
                 TstReturn.TST_INVALID,
                 "every node's agent P must be fixed (see hdrc3_tst.distribution)",
             )
+        points = {n: p.coords[0] for n, p in tst.places.items() if p.kind is ParamType.POINT}
         context = EngineContext(
             self.agent,
             self.platform,
@@ -279,6 +326,7 @@ class TstManagerNode(Node):
             self.frame,
             RMAX_EXECUTORS,
             self.navigation,
+            loads=stocked_loads(self.boxes, points),
         )
         engine = ExecutionEngine(mission, tst, context)
         self.engines[mission] = engine
@@ -395,6 +443,52 @@ class TstManagerNode(Node):
                 argument_values=[v if isinstance(v, str) else f"{v:g}" for v in args.values()],
             )
         )
+
+    def publish_recovery(self, mission: str, report: RecoveryReport) -> None:
+        """Publish one recovery step (and a new plan's actions)."""
+        self._recovery_pub.publish(
+            RecoveryEvent(
+                header=_header(self.get_clock().now().to_msg()),
+                mission=mission,
+                agent=self.agent,
+                node_id=report.node_id,
+                monitor_id=report.monitor_id,
+                recovery=report.recovery,
+                step=_STEP_CODES[report.step],
+                attempt=report.attempt,
+                changes=list(report.changes),
+                plan=[label.strip("() ") for label in report.plan],
+                reason=report.reason,
+            )
+        )
+
+    def _on_violation(self, msg: Any) -> None:
+        """Recover the planned goal a violation of this agent concerns (§9.3.1)."""
+        if msg.kind != MonitorViolation.KIND_VIOLATION or msg.agent != self.agent:
+            return
+        violation = Violation(
+            str(msg.monitor_id),
+            str(msg.recovery),
+            bool(msg.emergency_brake),
+            dict(zip(msg.argument_names, msg.argument_values, strict=False)),
+        )
+        node_id = str(msg.node_id)
+        engines = [e for e in self.engines.values() if not node_id or node_id in e.records]
+        if not engines:
+            report = RecoveryReport(
+                "",
+                violation.monitor_id,
+                violation.recovery,
+                RecoveryStep.IGNORED,
+                reason=f"no mission of {self.agent} holds node {node_id!r}",
+            )
+            self.publish_recovery("", report)
+            return
+        for engine in engines:
+            try:
+                engine.on_violation(violation, node_id)
+            except Exception as exc:  # a recovery bug must not take the manager down
+                self.get_logger().error(f"recovery from {violation.monitor_id} failed: {exc!r}")
 
     def publish_path(self, segments: tuple[PathSegment, ...]) -> None:
         """Publish a path an executor planned (local ENU of the world's origin)."""

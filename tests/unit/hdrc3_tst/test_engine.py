@@ -218,8 +218,8 @@ def test_a_goal_is_planned_attached_and_flown() -> None:
     [
         ((False, "no plan: unsolvable"), "planning at: no plan: unsolvable"),
         (
-            (True, "", ["(pick-up-box uav0 b1 Sq)"], ["uav0"], [0.0], [20.0]),
-            "the plan needs (pick-up-box uav0 b1 Sq), and no RMAX executor performs pick-up-box",
+            (True, "", ["(land uav0 Sq)"], ["uav0"], [0.0], [20.0]),
+            "the plan needs (land uav0 Sq), and no RMAX executor performs land",
         ),
     ],
 )

@@ -2,19 +2,32 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
 from hdrc3_deliberative.result import PlanStatus
-from hdrc3_tst.goal_planning import StepsStatus, domain_text, goal_problem, plan_steps
+from hdrc3_tst.goal_planning import (
+    GoalProblem,
+    Load,
+    StepsStatus,
+    control_text,
+    domain_text,
+    goal_problem,
+    operator_mappings,
+    plan_steps,
+    stocked_loads,
+)
 from hdrc3_tst.model import Node, NodeKind
+from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
 
 GOAL = Node("g", NodeKind.GOAL, {}, action="at", goal_args=("uav0", "Square"))
 POINTS = {"Square": (100.0, 50.0, 30.0), "Depot": (10.0, 20.0, 25.0)}
 
 
 def test_the_problem_names_where_the_aircraft_is_and_every_point() -> None:
-    problem = goal_problem(GOAL, "uav0", (-150.0, 0.0, 30.0), POINTS)
+    problem = goal_problem(GOAL, "uav0", (-150.0, 0.0, 30.0), POINTS).text()
     assert problem.splitlines() == [
         "problem goal_g for uav-logistics",
         "object here_uav0: location @ (-150.000, 0.000, 30.000)",
@@ -28,7 +41,7 @@ def test_the_problem_names_where_the_aircraft_is_and_every_point() -> None:
 
 
 def test_talplanner_solves_it_with_one_fly_to() -> None:
-    problem = goal_problem(GOAL, "uav0", (-150.0, 0.0, 30.0), POINTS)
+    problem = goal_problem(GOAL, "uav0", (-150.0, 0.0, 30.0), POINTS).text()
     result = TaskPlanner().plan(PlanRequest(domain_text(), problem, ""), timeout=30.0)
     assert result.status is PlanStatus.SOLVED
     steps = plan_steps(
@@ -46,7 +59,8 @@ def test_talplanner_solves_it_with_one_fly_to() -> None:
 @pytest.mark.parametrize(
     ("label", "reason"),
     [
-        ("(drop-box uav0 b1 Sq)", "the plan needs (drop-box uav0 b1 Sq), and no RMAX executor"),
+        ("(land uav0 Sq)", "the plan needs (land uav0 Sq), and no RMAX executor"),
+        ("(drop-box uav0 b1)", "plan action (drop-box uav0 b1) has too few arguments"),
         ("()", "empty plan action '()'"),
     ],
 )
@@ -54,3 +68,121 @@ def test_plans_with_actions_nobody_executes_are_refused(label: str, reason: str)
     steps = plan_steps([label], ["uav0"], [0.0], [1.0])
     assert steps.status is StepsStatus.NOT_EXECUTABLE
     assert steps.reason.startswith(reason)
+
+
+def test_every_operator_with_an_executor_maps_onto_its_action() -> None:
+    mappings = operator_mappings()
+    assert {n: dict(m.args) for n, m in mappings.items()} == {
+        "fly-to": {"destination": 2},
+        "pick-up-box": {"box": 1},
+        "drop-box": {"box": 1, "place": 2},
+        "put-on-carrier": {"box": 1, "place": 3},
+        "take-from-carrier": {"box": 1},
+        "attach-carrier": {"carrier": 1},
+        "detach-carrier": {"carrier": 1, "place": 2},
+    }
+    assert set(mappings) <= set(RMAX_EXECUTORS)
+
+
+@pytest.mark.parametrize(
+    ("label", "action", "args"),
+    [
+        ("(fly-to uav0 here_uav0 Field)", "fly-to", {"destination": "Field"}),
+        ("(pick-up-box uav0 box1 Depot)", "pick-up-box", {"box": "box1"}),
+        ("(drop-box uav0 box1 Field)", "drop-box", {"box": "box1", "place": "Field"}),
+        ("(put-on-carrier uav0 box1 c1 Lot)", "put-on-carrier", {"box": "box1", "place": "Lot"}),
+        ("(take-from-carrier uav0 box1 c1 Lot)", "take-from-carrier", {"box": "box1"}),
+        ("(attach-carrier uav0 c1 Lot)", "attach-carrier", {"carrier": "c1"}),
+        ("(detach-carrier uav0 c1 Field)", "detach-carrier", {"carrier": "c1", "place": "Field"}),
+    ],
+)
+def test_plan_actions_become_steps(label: str, action: str, args: dict[str, str]) -> None:
+    steps = plan_steps([label], ["uav0"], [0.0], [1.0])
+    assert steps.status is StepsStatus.OK
+    assert [(s.action, dict(s.args)) for s in steps.steps] == [(action, args)]
+
+
+BOX_GOAL = Node("d", NodeKind.GOAL, {}, action="at", goal_args=("box1", "Field"))
+DELIVERY_POINTS = {
+    "Depot": (0.0, 0.0, 20.0),
+    "Field": (200.0, 0.0, 20.0),
+    "box1": (0.0, 1.0, 0.0),
+}
+
+
+def delivery_problem(lift: float = 30.0) -> GoalProblem:
+    problem = goal_problem(
+        BOX_GOAL,
+        "uav0",
+        (-100.0, 0.0, 20.0),
+        DELIVERY_POINTS,
+        (Load("box1", "food-box", "Depot", 6.0),),
+    )
+    return replace(problem, lift_capacity=lift)
+
+
+def test_a_delivery_goal_plans_pick_up_and_drop_steps() -> None:
+    problem = delivery_problem()
+    assert "box1" not in problem.locations
+    assert problem.control() == control_text()
+    request = PlanRequest(domain_text(), problem.text(), problem.control())
+    result = TaskPlanner().plan(request, timeout=30.0)
+    assert result.status is PlanStatus.SOLVED, result.reason
+    steps = plan_steps(
+        [o.label for o in result.plan],
+        [o.agent or "" for o in result.plan],
+        [o.start for o in result.plan],
+        [o.duration for o in result.plan],
+    )
+    assert steps.status is StepsStatus.OK
+    assert [(s.action, dict(s.args)) for s in steps.steps] == [
+        ("fly-to", {"destination": "Depot"}),
+        ("pick-up-box", {"box": "box1"}),
+        ("fly-to", {"destination": "Field"}),
+        ("drop-box", {"box": "box1", "place": "Field"}),
+    ]
+
+
+def test_only_goals_naming_a_load_plan_with_the_control_rules() -> None:
+    problem = delivery_problem()
+    assert problem.control() == control_text()
+    flight = replace(problem, goal="at(uav0, Field)")
+    assert flight.control() == ""
+    request = PlanRequest(domain_text(), flight.text(), flight.control())
+    assert TaskPlanner().plan(request, timeout=30.0).status is PlanStatus.SOLVED
+
+
+def test_a_box_heavier_than_the_lift_capacity_has_no_plan() -> None:
+    problem = delivery_problem(lift=5.0)
+    request = PlanRequest(domain_text(), problem.text(), problem.control())
+    result = TaskPlanner().plan(request, timeout=30.0)
+    assert result.status is not PlanStatus.SOLVED
+
+
+def test_a_held_box_is_not_at_a_location() -> None:
+    problem = replace(delivery_problem(), holding="box1")
+    text = problem.text()
+    assert "holding-box(uav0, box1)" in text
+    assert "at(box1, Depot)" not in text
+    assert "free(uav0)" not in text
+
+
+SITES = {"Over": (0.0, 0.0, 20.0), "Far": (500.0, 0.0, 20.0), "b1": (10.0, 5.0, 0.0)}
+
+
+@pytest.mark.parametrize(
+    ("boxes", "points", "loads"),
+    [
+        ([("b1", "food", 5.0)], SITES, (Load("b1", "food-box", "Over", 5.0),)),
+        ([("b1", "medicine", 4.0)], SITES, (Load("b1", "medicine-box", "Over", 4.0),)),
+        ([("b1", "water", 6.0)], SITES, (Load("b1", "box", "Over", 6.0),)),
+        ([("b2", "food", 5.0)], SITES, ()),  # not declared as a point
+        ([("b1", "food", 5.0)], {**SITES, "b1": (40.0, 0.0, 0.0)}, ()),  # no point near it
+    ],
+)
+def test_stocked_boxes_are_loads_at_the_nearest_point(
+    boxes: list[tuple[str, str, float]],
+    points: dict[str, tuple[float, ...]],
+    loads: tuple[Load, ...],
+) -> None:
+    assert stocked_loads(boxes, points) == loads

@@ -1,0 +1,146 @@
+"""Recovery in a planned goal node (chapter 9.3.1) on the fake platform with real TALplanner."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from hdrc3_platform_server.codes import FclCommand
+from hdrc3_platform_server.geo_frame import frame_from_world
+from hdrc3_tst.check import CheckStatus, load_text
+from hdrc3_tst.distribution import bind_open_agents
+from hdrc3_tst.engine import EngineContext, ExecutionEngine
+from hdrc3_tst.fake_platform import FakePlatform, RecordingSink, SolvingPlanner
+from hdrc3_tst.goal_planning import Load
+from hdrc3_tst.model import NodeState
+from hdrc3_tst.platform_port import Command, PlatformState, Sighting
+from hdrc3_tst.recovery import RecoveryStep, Violation
+from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
+
+FRAME = frame_from_world("revinge")
+MISSION = """world revinge
+agents uav0
+point box1 = box1 at 0
+point Depot = supply_depot at 20
+point Field = west_field at 20
+m(P, TS, TE) = goal at(box1, Field) where P = uav0
+"""
+LOADS = (Load("box1", "food-box", "Depot", 5.0),)
+BOX_LOST = Violation("held@m/3", "box-lost", True, {"av": "uav0", "box": "box1"})
+
+
+class Rig:
+    """One engine on the fake platform; the planner is TALplanner itself."""
+
+    def __init__(self) -> None:
+        loaded = load_text(MISSION)
+        assert loaded.status is CheckStatus.OK, loaded.diagnostics
+        assert loaded.tst is not None
+        bind_open_agents(loaded.tst, "uav0")
+        self.platform, self.planner, self.sink = FakePlatform(), SolvingPlanner(), RecordingSink()
+        self.platform.sample = PlatformState(-50.0, 0.0, 20.0, on_ground=False, autonomous=True)
+        ctx = EngineContext(
+            "uav0", self.platform, self.planner, self.sink, FRAME, RMAX_EXECUTORS, loads=LOADS
+        )
+        self.engine = ExecutionEngine("m", loaded.tst, ctx)
+        self.t = 1000.0
+        assert self.engine.execute("m", self.t, self.t) == ""
+        self.run_until(lambda: bool(self.engine.tst.tree.node("m").children))
+
+    def run_until(self, done: Callable[[], bool], limit: int = 600) -> None:
+        """Tick once a second, completing every command (the hook camera sees box1 below)."""
+        for _ in range(limit):
+            if done():
+                return
+            self.t += 1.0
+            self.platform.sightings["box1"] = Sighting((0.0, 0.0, -5.0), self.t)
+            self.engine.tick(self.t)
+            for command in self.platform.running():
+                self.complete(command)
+        raise AssertionError(f"not done after {limit} s: {self.sink.statuses[-3:]}")
+
+    def complete(self, command: Command) -> None:
+        if command.command is FclCommand.TRAJ3D and not command.segment_requested:
+            command.segment_requested = True
+            return
+        self.platform.complete(command)
+
+    def state(self, node: str) -> NodeState:
+        return self.engine.records[node].state
+
+    def steps(self) -> list[RecoveryStep]:
+        return [r.step for r in self.sink.recoveries]
+
+    def running_step(self) -> str:
+        """The planned step running now ("" for none)."""
+        running = (
+            r.node_id
+            for r in self.engine.records.values()
+            if r.node_id.startswith("m/") and r.state is NodeState.RUNNING
+        )
+        return next(running, "")
+
+
+def actions(rig: Rig, prefix: str) -> list[str]:
+    goal = rig.engine.tst.tree.node("m")
+    tree = rig.engine.tst.tree
+    return [tree.node(c.node_id).action for c in goal.children if c.node_id.startswith(prefix)]
+
+
+def test_a_lost_box_is_picked_up_again_and_delivered() -> None:
+    rig = Rig()
+    assert actions(rig, "m/") == ["fly-to", "pick-up-box", "fly-to", "drop-box"]
+    assert rig.planner.requests[0].control  # load goals plan with the control rules
+    rig.run_until(lambda: rig.state("m/3") is NodeState.RUNNING)
+    rig.platform.move_to((10.0, 5.0, 20.0))  # where the aircraft's estimate is at the drop
+    report = rig.engine.on_violation(BOX_LOST, "m/3")
+    assert report.step is RecoveryStep.APPLY_OPERATOR
+    assert report.changes == ("at(box1, recover_uav0_1)",)
+    assert rig.state("m/3") is NodeState.ABORTED
+    assert rig.state("m") is NodeState.RUNNING
+    brake = rig.platform.sent[-1]
+    assert brake.command is FclCommand.EMERGENCY_BRAKE
+    assert len(rig.planner.requests) == 1  # planning waits for the brake to end
+    rig.run_until(lambda: len(rig.planner.requests) == 2)
+    assert "init at(box1, recover_uav0_1)" in rig.planner.requests[1].problem
+    rig.run_until(lambda: rig.steps()[-1] is RecoveryStep.REPLAN)
+    assert rig.steps() == [
+        RecoveryStep.SUSPEND,
+        RecoveryStep.BRAKE,
+        RecoveryStep.HOVER,
+        RecoveryStep.APPLY_OPERATOR,
+        RecoveryStep.REPLAN,
+    ]
+    assert rig.sink.recoveries[-1].plan == (
+        "(pick-up-box uav0 box1 recover_uav0_1)",
+        "(fly-to uav0 recover_uav0_1 Field)",
+        "(drop-box uav0 box1 Field)",
+    )
+    assert actions(rig, "m/2.") == ["pick-up-box", "fly-to", "drop-box"]
+    assert rig.engine.tst.places["box1"].coords == ((10.0, 5.0, 20.0),)
+    rig.run_until(lambda: rig.state("m").finished)
+    assert rig.state("m") is NodeState.SUCCEEDED, rig.engine.records["m"].reason
+    assert rig.state("m/2.3") is NodeState.SUCCEEDED
+
+
+def test_the_goal_gives_up_after_repeated_failures_on_the_same_fault() -> None:
+    rig = Rig()
+    rig.run_until(lambda: rig.state("m/3") is NodeState.RUNNING)
+    for attempt in range(1, 4):
+        report = rig.engine.on_violation(BOX_LOST, rig.running_step())
+        assert (report.step, report.attempt) == (RecoveryStep.APPLY_OPERATOR, attempt)
+        rig.run_until(lambda: rig.steps()[-1] is RecoveryStep.REPLAN)
+        rig.run_until(lambda: bool(rig.running_step()))
+    report = rig.engine.on_violation(BOX_LOST, "")
+    assert report.step is RecoveryStep.GIVE_UP
+    assert rig.state("m") is NodeState.FAILED
+    reason = rig.engine.records["m"].reason
+    assert "failed 4 times on the same fault (box-lost recovers from 3)" in reason
+
+
+def test_a_violation_outside_any_planned_goal_is_ignored() -> None:
+    rig = Rig()
+    report = rig.engine.on_violation(BOX_LOST, "elsewhere")
+    assert report.step is RecoveryStep.IGNORED
+    assert rig.state("m") is NodeState.RUNNING
+    assert all(c.command is not FclCommand.EMERGENCY_BRAKE for c in rig.platform.sent)
+    assert rig.sink.recoveries == [report]
