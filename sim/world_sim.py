@@ -75,7 +75,7 @@ EXTRA_SPACING = 10.0
 
 
 def start_pads(world: World, agents: tuple[str, ...]) -> tuple[LandingPad, ...]:
-    """Pads the agents start on, in order (H1, H2, ...).
+    """Pads the agents start on, in order (H1, H2, ...); a pad with the landing pattern is none.
 
     Agents beyond the number of pads start beside a pad: agent ``i`` uses pad ``i mod n``,
     ``EXTRA_SPACING`` m further east for each round (``H1+1`` is 10 m east of H1); the spot must
@@ -86,13 +86,14 @@ def start_pads(world: World, agents: tuple[str, ...]) -> tuple[LandingPad, ...]:
         raise ConfigError("world_sim needs at least one agent")
     if len(set(agents)) != len(agents):
         raise ConfigError(f"agent listed twice in {', '.join(agents)}")
-    if not world.pads:
-        raise ConfigError(f"world '{world.name}' has no start pads")
-    pads = list(world.pads[: len(agents)])
+    starts = [pad for pad in world.pads if not pad.pattern]  # the vision pad is kept clear
+    if not starts:
+        raise ConfigError(f"world '{world.name}' has no start pads (pads without a pattern)")
+    pads = starts[: len(agents)]
     geometry: WorldGeometry | None = None
-    for i in range(len(world.pads), len(agents)):
-        base = world.pads[i % len(world.pads)]
-        rounds = i // len(world.pads)
+    for i in range(len(starts), len(agents)):
+        base = starts[i % len(starts)]
+        rounds = i // len(starts)
         east = base.east + EXTRA_SPACING * rounds
         geometry = geometry or WorldGeometry(world)
         problem = _spot_problem(world, geometry, pads, east, base.north)

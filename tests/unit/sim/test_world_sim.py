@@ -61,6 +61,15 @@ def test_extra_agents_start_beside_the_pads() -> None:
     assert (pads[3].east, pads[3].north) == (h2.east + 10.0, h2.north)
 
 
+def test_the_vision_landing_pad_is_no_start_pad() -> None:
+    assert WORLD.pad("L1").pattern and "L1" not in {
+        p.name for p in start_pads(WORLD, ("a", "b", "c"))
+    }
+    only_vision = replace(WORLD, pads=(WORLD.pad("L1"),))
+    with pytest.raises(ConfigError, match="has no start pads"):
+        start_pads(only_vision, ("a",))
+
+
 def test_no_spot_beside_the_pads_is_a_clear_error() -> None:
     # H1+3 would be 30 m east of H1, which is where H2 is
     with pytest.raises(ConfigError, match="agent a6: 30 m east of pad H1 is too close to H2"):
