@@ -51,6 +51,7 @@ from hdrc3_deliberative.pruning import (
     NumberState,
     Trigger,
 )
+from hdrc3_deliberative.steps import with_steps
 from hdrc3_deliberative.task import Task
 
 Args = tuple[str, ...]
@@ -138,6 +139,7 @@ class ControlCompiler:
     """Compiles the rules of a ControlSpec against a ground task (validating names)."""
 
     def __init__(self, task: Task, spec: ControlSpec) -> None:
+        task = with_steps(task, spec.steps)
         self.task = task
         self.spec = spec
         self._types = {ROOT_TYPE, *task.domain.types}

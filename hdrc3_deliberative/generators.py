@@ -23,6 +23,10 @@ DEPOTS_CONTROL = DOMAINS_DIR / "depots" / "control.tal"
 SATELLITE_DOMAIN = DOMAINS_DIR / "satellite" / "domain.pddl"
 SATELLITE_CONTROL = DOMAINS_DIR / "satellite" / "control.tal"
 SATELLITE_MODES = ("image", "spectrograph", "thermograph", "infrared")
+DRIVERLOG_DOMAIN = DOMAINS_DIR / "driverlog" / "domain.pddl"
+DRIVERLOG_CONTROL = DOMAINS_DIR / "driverlog" / "control.tal"
+ROVERS_DOMAIN = DOMAINS_DIR / "rovers" / "domain.pddl"
+ROVERS_CONTROL = DOMAINS_DIR / "rovers" / "control.tal"
 ZENO_FUEL_LEVELS = 7  # f0 .. f6 as in the IPC-2002 STRIPS problems
 
 
@@ -360,6 +364,68 @@ def satellite_problem(size: SatelliteSize, seed: int, name: str = "") -> str:
         f"{size.observations}-{seed}"
     )
     return _pddl_problem(pname, "satellite", objects, init, goals)
+
+
+def _random_map(nodes: list[str], extra: int, rng: random.Random) -> list[tuple[str, str]]:
+    """Undirected edges of a random connected map: a random spanning tree plus ``extra``."""
+    edges = [(nodes[rng.randrange(i)], node) for i, node in enumerate(nodes) if i]
+    others = [(a, b) for i, a in enumerate(nodes) for b in nodes[i + 1 :]]
+    chosen = set(edges) | {(b, a) for a, b in edges}
+    spare = [e for e in others if e not in chosen]
+    return edges + rng.sample(spare, min(extra, len(spare)))
+
+
+@dataclass(frozen=True)
+class DriverLogSize:
+    """Parameters of the IPC-2002 DriverLog generator: junctions, drivers, packages, trucks."""
+
+    junctions: int
+    drivers: int
+    packages: int
+    trucks: int
+
+
+def driverlog_problem(size: DriverLogSize, seed: int, name: str = "") -> str:
+    """A STRIPS DriverLog problem as the IPC-2002 generator lays it out.
+
+    Junctions ``s0..`` are joined by two-way road links (a random connected map with about
+    half as many extra links as junctions); footpaths run along the spanning tree's links
+    through path points ``p<i>-<j>``. Drivers, empty trucks and packages start at random
+    junctions; every package, and each driver and truck with probability 1/2, gets a random
+    goal junction.
+    """
+    if min(size.junctions, size.drivers, size.packages, size.trucks) < 1:
+        raise ValueError("need at least one junction, driver, package and truck")
+    rng = random.Random(seed)
+    junctions = [f"s{i}" for i in range(size.junctions)]
+    roads = _random_map(junctions, size.junctions // 2, rng)
+    tree = roads[: size.junctions - 1]
+    points = [f"p{a[1:]}-{b[1:]}" for a, b in tree]
+    drivers = [f"driver{i + 1}" for i in range(size.drivers)]
+    trucks = [f"truck{i + 1}" for i in range(size.trucks)]
+    packages = [f"package{i + 1}" for i in range(size.packages)]
+    init = [f"(at {d} {rng.choice(junctions)})" for d in drivers]
+    init += [f"(at {t} {rng.choice(junctions)})" for t in trucks]
+    init += [f"(empty {t})" for t in trucks]
+    init += [f"(at {p} {rng.choice(junctions)})" for p in packages]
+    for a, b in roads:
+        init += [f"(link {a} {b})", f"(link {b} {a})"]
+    for (a, b), point in zip(tree, points, strict=True):
+        init += [f"(path {a} {point})", f"(path {point} {a})"]
+        init += [f"(path {b} {point})", f"(path {point} {b})"]
+    goals = [f"(at {d} {rng.choice(junctions)})" for d in drivers if rng.random() < 0.5]
+    goals += [f"(at {t} {rng.choice(junctions)})" for t in trucks if rng.random() < 0.5]
+    goals += [f"(at {p} {rng.choice(junctions)})" for p in packages]
+    objects = [
+        " ".join(drivers) + " - driver",
+        " ".join(trucks) + " - truck",
+        " ".join(packages) + " - obj",
+        " ".join(junctions + points) + " - location",
+    ]
+    pname = name or (
+        f"driverlog-{size.junctions}-{size.drivers}-{size.packages}-{size.trucks}-{seed}"
+    )
+    return _pddl_problem(pname, "driverlog", objects, init, goals)
 
 
 def distance(a: tuple[float, float, float], b: tuple[float, float, float]) -> float:
