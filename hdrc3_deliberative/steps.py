@@ -1,27 +1,29 @@
 """Map relations for control rules (``step|nearer NAME by REL`` in a control file).
 
 Control formulas see only ``[t]``, ``[t+1]`` and the goal, so a rule cannot say "drive towards
-the package" on a road map where the destination is several links away. TALplanner in IPC-2002
-(Kvarnström & Magnusson, JAIR 20) solved this for Rovers and DriverLog with relations computed
-from the problem's static map. Here ``step toward by link`` defines the static predicate
+the package" on a road map where the destination is several links away. Such relations are
+computed from the problem's static map: ``step toward by link`` defines the static predicate
 ``toward(k.., x, y, g)``: ``link(k.., x, y)`` is a static fact and ``y`` is one link closer to
 ``g`` than ``x`` along a shortest ``link`` path (breadth-first search per key ``k..``, e.g.
 per rover for ``can_traverse``). ``nearer closer by link`` defines ``closer(k.., x, a, b)``:
 ``a`` is strictly fewer links from ``x`` than ``b`` (rules use it to head for the nearest of
 several targets, which makes every step shrink the distance to the nearest one). The
-relations are added to a copy of the ground task before the
-rules are compiled, so rules use it like any static predicate. Written here (a few lines of
-breadth-first search over the task's own static facts; no graph library needed).
+relations are declared in a copy of the ground task and tested from breadth-first distances
+computed on first use (listing them would take cubic memory on large maps), so a rule may
+use them only where its other atoms bind every argument (they never serve as a quantifier's
+guard). Written here: a few lines of breadth-first search over the task's own static facts
+need no graph library.
 """
 
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Callable
 from dataclasses import replace
 
 from hdrc3_deliberative.errors import PlanningInputError
 from hdrc3_deliberative.model import MapRelation, StepDecl
-from hdrc3_deliberative.task import GroundAtom, Task
+from hdrc3_deliberative.task import Task
 
 Args = tuple[str, ...]
 
@@ -59,47 +61,62 @@ def _distances(start: str, adjacent: dict[str, list[str]]) -> dict[str, int]:
     return dist
 
 
-def _map_facts(decl: StepDecl, edges: list[Args]) -> set[GroundAtom]:
-    """Facts of ``decl`` over the edges ``(k.., x, y)``, one map per key ``k..``."""
-    maps: dict[Args, tuple[dict[str, list[str]], dict[str, list[str]]]] = {}
-    for args in edges:
-        out, incoming = maps.setdefault(args[:-2], ({}, {}))
-        out.setdefault(args[-2], []).append(args[-1])
-        incoming.setdefault(args[-1], []).append(args[-2])
-    facts: set[GroundAtom] = set()
-    name = decl.name
-    for key, (out, incoming) in maps.items():
-        if decl.kind is MapRelation.NEARER:
-            for x in out:
-                dist = _distances(x, out)
-                facts.update(
-                    (name, (*key, x, a, b)) for a, da in dist.items() for b, db in dist.items()
-                    if da < db
-                )
-            continue
-        for goal in incoming:
-            dist = _distances(goal, incoming)  # links from each place to goal
-            for x, d in dist.items():
-                facts.update(
-                    (name, (*key, x, y, goal)) for y in out.get(x, ()) if dist.get(y) == d - 1
-                )
-    return facts
+class MapDistances:
+    """Link counts over one static map ``REL(k.., x, y)``, computed per key on first use."""
+
+    def __init__(self, edges: list[Args]) -> None:
+        self._out: dict[Args, dict[str, list[str]]] = {}
+        for args in edges:
+            self._out.setdefault(args[:-2], {}).setdefault(args[-2], []).append(args[-1])
+        self._edges = frozenset(edges)
+        self._dist: dict[tuple[Args, str], dict[str, int]] = {}
+
+    def between(self, key: Args, x: str, g: str) -> int | None:
+        """Links from ``x`` to ``g`` on the map of ``key`` (None when unreachable)."""
+        table = self._dist.get((key, x))
+        if table is None:
+            table = self._dist[(key, x)] = _distances(x, self._out.get(key, {}))
+        return table.get(g)
+
+    def step(self, args: Args) -> bool:
+        """``(k.., x, y, g)``: the edge x->y lies on a shortest path from x to g."""
+        key, x, y, g = args[:-3], args[-3], args[-2], args[-1]
+        if (*key, x, y) not in self._edges:
+            return False
+        dx, dy = self.between(key, x, g), self.between(key, y, g)
+        return dx is not None and dy is not None and dy == dx - 1
+
+    def nearer(self, args: Args) -> bool:
+        """``(k.., x, a, b)``: a is reachable from x in fewer links than b."""
+        key, x, a, b = args[:-3], args[-3], args[-2], args[-1]
+        da, db = self.between(key, x, a), self.between(key, x, b)
+        return da is not None and (db is None or da < db)
 
 
-def with_steps(task: Task, steps: tuple[StepDecl, ...]) -> Task:
-    """A copy of ``task`` where every declared map relation is a static predicate."""
+MapTest = Callable[[Args], bool]
+
+
+def map_relations(task: Task, steps: tuple[StepDecl, ...]) -> tuple[Task, dict[str, MapTest]]:
+    """The declared relations as membership tests, and a copy of ``task`` that declares them.
+
+    The relations are static predicates of the copy without listed facts: the compiler tests
+    them only with all arguments bound and never enumerates them.
+    """
     if not steps:
-        return task
+        return task, {}
     predicates = dict(task.domain.predicates)
-    facts = set(task.static_facts)
+    tests: dict[str, MapTest] = {}
+    maps: dict[str, MapDistances] = {}
     for decl in steps:
         predicates[decl.name] = _check(task, predicates, decl)
-        edges = [args for pred, args in task.static_facts if pred == decl.relation]
-        facts |= _map_facts(decl, edges)
-    names = frozenset(d.name for d in steps)
-    return replace(
+        if decl.relation not in maps:
+            edges = [args for pred, args in task.static_facts if pred == decl.relation]
+            maps[decl.relation] = MapDistances(edges)
+        graph = maps[decl.relation]
+        tests[decl.name] = graph.step if decl.kind is MapRelation.STEP else graph.nearer
+    copy = replace(
         task,
         domain=replace(task.domain, predicates=predicates),
-        static_facts=frozenset(facts),
-        static_preds=task.static_preds | names,
+        static_preds=task.static_preds | frozenset(tests),
     )
+    return copy, tests
