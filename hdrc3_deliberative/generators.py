@@ -428,6 +428,93 @@ def driverlog_problem(size: DriverLogSize, seed: int, name: str = "") -> str:
     return _pddl_problem(pname, "driverlog", objects, init, goals)
 
 
+@dataclass(frozen=True)
+class RoversSize:
+    """Parameters of the IPC-2002 Rovers generator: rovers, waypoints, objectives, cameras,
+    goals."""
+
+    rovers: int
+    waypoints: int
+    objectives: int
+    cameras: int
+    goals: int
+
+
+def rovers_problem(size: RoversSize, seed: int, name: str = "") -> str:
+    """A STRIPS Rovers problem as the IPC-2002 generator lays it out.
+
+    Waypoints see each other along a random connected map; each rover traverses a connected
+    part of it (a spanning tree plus random visible links), has one store and is equipped
+    for soil, rock and imaging analysis with probability 1/2 each (rovers 0, 1, 2 modulo the
+    rover count are sure to have one kind each). Soil and rock samples lie at random
+    waypoints, cameras sit on imaging rovers with 1-3 modes and a calibration objective,
+    objectives are visible from random waypoints, the lander at a random waypoint. Goals:
+    ``goals`` distinct data to communicate, drawn from the soil and rock samples and the
+    (objective, mode) images some camera can take.
+    """
+    if min(size.rovers, size.waypoints, size.objectives, size.cameras, size.goals) < 1:
+        raise ValueError("need at least one rover, waypoint, objective, camera and goal")
+    if size.waypoints < 2:
+        raise ValueError("need two waypoints (the lander's and one that sees it)")
+    rng = random.Random(seed)
+    waypoints = [f"waypoint{i}" for i in range(size.waypoints)]
+    rovers = [f"rover{i}" for i in range(size.rovers)]
+    objectives = [f"objective{i}" for i in range(size.objectives)]
+    modes = ("colour", "high_res", "low_res")
+    visible = _random_map(waypoints, size.waypoints, rng)
+    tree = visible[: size.waypoints - 1]
+    init = [f"(visible {a} {b})" for x, y in visible for a, b in ((x, y), (y, x))]
+    init += ["(at_lander general " + rng.choice(waypoints) + ")", "(channel_free general)"]
+    kinds = ("soil", "rock", "imaging")
+    equipped = {kind: set() for kind in kinds}
+    for i, rover in enumerate(rovers):
+        init += [f"(at {rover} {rng.choice(waypoints)})", f"(available {rover})"]
+        init += [f"(store_of {rover}store {rover})", f"(empty {rover}store)"]
+        for k, kind in enumerate(kinds):
+            if i == k % size.rovers or rng.random() < 0.5:
+                equipped[kind].add(rover)
+                analysis = "imaging" if kind == "imaging" else f"{kind}_analysis"
+                init.append(f"(equipped_for_{analysis} {rover})")
+        roads = tree + [e for e in visible[len(tree) :] if rng.random() < 0.5]
+        init += [f"(can_traverse {rover} {a} {b})" for x, y in roads for a, b in ((x, y), (y, x))]
+    candidates: list[str] = []
+    for kind in ("soil", "rock"):
+        for w in waypoints:
+            if rng.random() < 0.5:
+                init.append(f"(at_{kind}_sample {w})")
+                candidates.append(f"(communicated_{kind}_data {w})")
+    imaging = sorted(equipped["imaging"])
+    supported: set[str] = set()
+    for c in range(size.cameras):
+        camera = f"camera{c}"
+        init.append(f"(on_board {camera} {rng.choice(imaging)})")
+        init.append(f"(calibration_target {camera} {rng.choice(objectives)})")
+        for mode in rng.sample(modes, rng.randint(1, 3)):
+            init.append(f"(supports {camera} {mode})")
+            supported.add(mode)
+    for objective in objectives:
+        for w in rng.sample(waypoints, rng.randint(1, max(1, size.waypoints // 4))):
+            init.append(f"(visible_from {objective} {w})")
+    candidates += [
+        f"(communicated_image_data {o} {m})" for o in objectives for m in sorted(supported)
+    ]
+    goals = rng.sample(candidates, min(size.goals, len(candidates)))
+    objects = [
+        "general - lander",
+        " ".join(modes) + " - mode",
+        " ".join(rovers) + " - rover",
+        " ".join(f"{r}store" for r in rovers) + " - store",
+        " ".join(waypoints) + " - waypoint",
+        " ".join(f"camera{c}" for c in range(size.cameras)) + " - camera",
+        " ".join(objectives) + " - objective",
+    ]
+    pname = name or (
+        f"rovers-{size.rovers}-{size.waypoints}-{size.objectives}-{size.cameras}-"
+        f"{size.goals}-{seed}"
+    )
+    return _pddl_problem(pname, "rover", objects, init, goals)
+
+
 def distance(a: tuple[float, float, float], b: tuple[float, float, float]) -> float:
     """Euclidean distance (m)."""
     return math.dist(a, b)
