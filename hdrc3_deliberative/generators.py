@@ -25,6 +25,7 @@ SATELLITE_CONTROL = DOMAINS_DIR / "satellite" / "control.tal"
 SATELLITE_MODES = ("image", "spectrograph", "thermograph", "infrared")
 DRIVERLOG_DOMAIN = DOMAINS_DIR / "driverlog" / "domain.pddl"
 DRIVERLOG_CONTROL = DOMAINS_DIR / "driverlog" / "control.tal"
+DRIVERLOG_NUMERIC_DOMAIN = DOMAINS_DIR / "driverlog_numeric" / "domain.pddl"
 ROVERS_DOMAIN = DOMAINS_DIR / "rovers" / "domain.pddl"
 ROVERS_CONTROL = DOMAINS_DIR / "rovers" / "control.tal"
 ZENO_FUEL_LEVELS = 7  # f0 .. f6 as in the IPC-2002 STRIPS problems
@@ -150,14 +151,20 @@ class ZenoSize:
 
 
 def _pddl_problem(
-    name: str, domain: str, objects: list[str], init: list[str], goals: list[str]
+    name: str,
+    domain: str,
+    objects: list[str],
+    init: list[str],
+    goals: list[str],
+    metric: str = "",
 ) -> str:
     body = "\n    ".join(o for o in objects if o)
     lines = "\n    ".join(init)
     goal_lines = "\n           ".join(goals)
+    metric_line = f"\n  (:metric {metric})" if metric else ""
     return (
         f"(define (problem {name})\n  (:domain {domain})\n  (:objects\n    {body})\n"
-        f"  (:init\n    {lines})\n  (:goal (and {goal_lines})))\n"
+        f"  (:init\n    {lines})\n  (:goal (and {goal_lines})){metric_line})\n"
     )
 
 
@@ -385,14 +392,15 @@ class DriverLogSize:
     trucks: int
 
 
-def driverlog_problem(size: DriverLogSize, seed: int, name: str = "") -> str:
-    """A STRIPS DriverLog problem as the IPC-2002 generator lays it out.
+def driverlog_problem(size: DriverLogSize, seed: int, name: str = "", numeric: bool = False) -> str:
+    """A DriverLog problem as the IPC-2002 generator lays it out (STRIPS, or ``numeric``).
 
     Junctions ``s0..`` are joined by two-way road links (a random connected map with about
     half as many extra links as junctions); footpaths run along the spanning tree's links
     through path points ``p<i>-<j>``. Drivers, empty trucks and packages start at random
     junctions; every package, and each driver and truck with probability 1/2, gets a random
-    goal junction.
+    goal junction. The numeric version adds random driving (1-100) and walking (5-50) times
+    per two-way road link and footpath and minimises their sums ``(driven)`` + ``(walked)``.
     """
     if min(size.junctions, size.drivers, size.packages, size.trucks) < 1:
         raise ValueError("need at least one junction, driver, package and truck")
@@ -422,10 +430,22 @@ def driverlog_problem(size: DriverLogSize, seed: int, name: str = "") -> str:
         " ".join(packages) + " - obj",
         " ".join(junctions + points) + " - location",
     ]
+    metric = ""
+    if numeric:
+        init += ["(= (driven) 0)", "(= (walked) 0)"]
+        for a, b in roads:
+            cost = rng.randint(1, 100)
+            init += [f"(= (time-to-drive {a} {b}) {cost})", f"(= (time-to-drive {b} {a}) {cost})"]
+        for a, b in tree:
+            for end in (a, b):
+                point, cost = f"p{a[1:]}-{b[1:]}", rng.randint(5, 50)
+                init.append(f"(= (time-to-walk {end} {point}) {cost})")
+                init.append(f"(= (time-to-walk {point} {end}) {cost})")
+        metric = "minimize (+ (driven) (walked))"
     pname = name or (
         f"driverlog-{size.junctions}-{size.drivers}-{size.packages}-{size.trucks}-{seed}"
     )
-    return _pddl_problem(pname, "driverlog", objects, init, goals)
+    return _pddl_problem(pname, "driverlog", objects, init, goals, metric)
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ from hdrc3_deliberative.generators import (
     DEPOTS_DOMAIN,
     DRIVERLOG_CONTROL,
     DRIVERLOG_DOMAIN,
+    DRIVERLOG_NUMERIC_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
     ROVERS_CONTROL,
@@ -291,3 +292,27 @@ def test_map_domain_rules_prune_wandering(
     assert ruled.status is blind.status is PlanStatus.SOLVED
     assert 5 * len(ruled.plan) < len(blind.plan)
     assert 5 * ruled.stats.nodes_expanded < blind.stats.nodes_expanded
+
+
+@pytest.mark.parametrize(
+    ("size", "seed"), [(DriverLogSize(3, 1, 2, 1), 1), (DriverLogSize(8, 3, 6, 2), 2)]
+)
+def test_numeric_driverlog_solves_with_the_strips_rules(
+    planner: TaskPlanner, size: DriverLogSize, seed: int
+) -> None:
+    """The numeric domain adds only metric sums: its plans are checked on the STRIPS twin.
+
+    unified-planning's validator refuses the numeric problem (times are defined only for
+    linked places: UNDEFINED_INITIAL_NUMERIC); the generator draws the STRIPS problem from
+    the same random stream, so the same plan must be valid there.
+    """
+    problem = driverlog_problem(size, seed, numeric=True)
+    request = PlanRequest(
+        DRIVERLOG_NUMERIC_DOMAIN.read_text(), problem, DRIVERLOG_CONTROL.read_text()
+    )
+    result = planner.plan(request, timeout=30)
+    assert result.status is PlanStatus.SOLVED, result.reason
+    assert "(time-to-drive " in problem and "(:metric minimize" in problem
+    strips = driverlog_problem(size, seed)
+    outcome = validate_pddl_plan(DRIVERLOG_DOMAIN.read_text(), strips, result.plan)
+    assert outcome.valid, outcome.reason

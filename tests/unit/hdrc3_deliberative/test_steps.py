@@ -134,7 +134,9 @@ STATIC_UNARY_DOMAIN = DOMAIN.replace(
 
 def test_map_relation_needs_an_edge_predicate_and_names_its_line() -> None:
     tp = TaskPlanner()
-    request = PlanRequest(STATIC_UNARY_DOMAIN, PROBLEM, "\n\nstep s by dock", control_source="c.tal")
+    request = PlanRequest(
+        STATIC_UNARY_DOMAIN, PROBLEM, "\n\nstep s by dock", control_source="c.tal"
+    )
     d, p, spec = tp.read(request)
     with pytest.raises(PlanningInputError, match="must end with two arguments of one type") as err:
         ControlCompiler(tp.ground(d, p), spec).compile()
