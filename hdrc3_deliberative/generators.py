@@ -450,8 +450,10 @@ def driverlog_problem(size: DriverLogSize, seed: int, name: str = "", numeric: b
 
 @dataclass(frozen=True)
 class RoversSize:
-    """Parameters of the IPC-2002 Rovers generator: rovers, waypoints, objectives, cameras,
-    goals."""
+    """Parameters of the IPC-2002 Rovers generator.
+
+    Rovers, waypoints, objectives, cameras and goals.
+    """
 
     rovers: int
     waypoints: int
@@ -486,7 +488,7 @@ def rovers_problem(size: RoversSize, seed: int, name: str = "") -> str:
     init = [f"(visible {a} {b})" for x, y in visible for a, b in ((x, y), (y, x))]
     init += ["(at_lander general " + rng.choice(waypoints) + ")", "(channel_free general)"]
     kinds = ("soil", "rock", "imaging")
-    equipped = {kind: set() for kind in kinds}
+    equipped: dict[str, set[str]] = {kind: set() for kind in kinds}
     for i, rover in enumerate(rovers):
         init += [f"(at {rover} {rng.choice(waypoints)})", f"(available {rover})"]
         init += [f"(store_of {rover}store {rover})", f"(empty {rover}store)"]

@@ -506,7 +506,9 @@ class TalReader:
         )
         prefer = tuple(n for s in stmts if s.kind == "prefer" for n in s.data)
         agents = tuple(n for s in stmts if s.kind == "agents" for n in s.data)
-        steps = tuple(StepDecl(*s.data, s.pos) for s in stmts if s.kind == "step")
+        steps = tuple(
+            StepDecl(s.data[0], s.data[1], s.data[2], s.pos) for s in stmts if s.kind == "step"
+        )
         return ControlSpec(rules, prefer, agents, source, steps)
 
 
