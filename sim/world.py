@@ -110,6 +110,8 @@ class LandingPad:
     radius: float
     heading: float
     """Preferred heading on the pad, rad clockwise from north."""
+    pattern: bool = False
+    """Whether the pad carries the vision landing pattern (``sim.landing_pattern``, §5.4)."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -18,6 +18,7 @@ from typing import Any, TypeVar
 
 from hdrc3_base.errors import DataError
 from sim.geodesy import GeodeticOrigin
+from sim.landing_pattern import PAD_HALF_WIDTH_M
 from sim.terrain import Terrain
 from sim.world import (
     BoxContents,
@@ -62,7 +63,7 @@ _ARRAY_KEYS: dict[str, frozenset[str]] = {
     "vegetation": frozenset({"name", "polygon", "height"}),
     "no_fly_zone": frozenset({"name", "polygon", "floor", "ceiling"}),
     "place": frozenset({"name", "position"}),
-    "pad": frozenset({"name", "position", "radius", "heading_deg"}),
+    "pad": frozenset({"name", "position", "radius", "heading_deg", "pattern"}),
     "depot": frozenset({"name", "type", "position", "radius"}),
     "object": frozenset(
         {
@@ -444,7 +445,18 @@ class _Reader:
         east, north = self._point(value, "pad", entry)
         radius = self._number(value, "pad", entry, "radius", minimum=0.0, exclusive=True)
         heading = self._number(value, "pad", entry, "heading_deg", default=0.0)
-        return LandingPad(name, east, north, radius, math.radians(heading) % math.tau)
+        pattern = value.get("pattern", False)
+        if not isinstance(pattern, bool):
+            raise self.fail("pad", entry, "pattern", "pad pattern must be true or false")
+        if pattern and radius < PAD_HALF_WIDTH_M * math.sqrt(2.0):
+            raise self.fail(
+                "pad",
+                entry,
+                "radius",
+                f"a pad with the landing pattern needs radius >= "
+                f"{PAD_HALF_WIDTH_M * math.sqrt(2.0):.2f} m (the pattern's plate)",
+            )
+        return LandingPad(name, east, north, radius, math.radians(heading) % math.tau, pattern)
 
     def _depot(self, value: dict[str, Any], entry: int) -> Depot:
         name = self._string(value, "depot", entry, "name")

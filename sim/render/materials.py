@@ -44,6 +44,9 @@ class Material(enum.Enum):
     TRUNK = Surface((0.30, 0.22, 0.14), -1.0)
     CROWN = Surface((0.14, 0.30, 0.10), -3.0)
     PAD = Surface((0.70, 0.70, 0.68), 4.0)
+    PATTERN_WHITE = Surface((0.85, 0.85, 0.84), 2.0)
+    """The landing pattern's plate (sim.landing_pattern)."""
+    PATTERN_BLACK = Surface((0.03, 0.03, 0.03), 9.0)
 
     @property
     def surface(self) -> Surface:

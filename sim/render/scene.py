@@ -16,10 +16,11 @@ import numpy as np
 from numpy.typing import NDArray
 from shapely.geometry import Point, Polygon
 
+from sim.landing_pattern import CIRCLES, PAD_HALF_WIDTH_M
 from sim.render.bodies import add_object
 from sim.render.materials import Material, ThermalEnvironment
 from sim.render.meshes import MeshBuilder
-from sim.world import DynamicObject, World
+from sim.world import DynamicObject, LandingPad, World
 
 TERRAIN_STEP_M = 10.0
 """Terrain mesh spacing (the heightfield is bilinear on a much coarser grid)."""
@@ -31,6 +32,10 @@ ROAD_PIECE_M = 10.0
 """Roads are draped over the terrain in pieces at most this long."""
 DRAPE_M = 0.05
 """Roads and pads lie this far above the terrain (no depth fighting)."""
+PATTERN_LIFT_M = 0.01
+"""The landing pattern's plate lies this far above its pad, its black rings twice as far."""
+RING_SEGMENTS = 64
+"""Straight pieces per circle of the landing pattern (0.1 % radius error)."""
 TREE_SPACING_M = 7.0
 
 
@@ -126,6 +131,36 @@ def _roads(mesh: MeshBuilder, world: World, env: ThermalEnvironment) -> None:
         disc = Point(landing.east, landing.north).buffer(landing.radius, quad_segs=6)
         up = world.terrain.height(landing.east, landing.north) + DRAPE_M
         mesh.flat_polygon(list(disc.exterior.coords), up, pad.albedo, env.ambient + pad.warmth)
+        if landing.pattern:
+            _landing_pattern(mesh, landing, up, env)
+
+
+def _landing_pattern(
+    mesh: MeshBuilder, pad: LandingPad, up: float, env: ThermalEnvironment
+) -> None:
+    """The §5.4 pattern on a pad: a white plate and the black rings of ``sim.landing_pattern``."""
+    white, black = Material.PATTERN_WHITE.surface, Material.PATTERN_BLACK.surface
+    s, c = math.sin(pad.heading), math.cos(pad.heading)
+
+    def enu(x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.float64]:
+        # the pad frame turns clockwise with the heading: x east and y north at heading 0
+        return np.column_stack([pad.east + c * x + s * y, pad.north - s * x + c * y])
+
+    h = PAD_HALF_WIDTH_M
+    corners = enu(np.array([-h, h, h, -h]), np.array([-h, -h, h, h]))
+    mesh.flat_polygon([tuple(p) for p in corners], up + PATTERN_LIFT_M, white.albedo,
+                      env.ambient + white.warmth)  # fmt: skip
+    angles = np.linspace(0.0, math.tau, RING_SEGMENTS + 1)
+    for circle in CIRCLES:
+        ring = []
+        for radius in (circle.radius, circle.inner_ratio * circle.radius):
+            ring.append(enu(circle.x + radius * np.cos(angles), circle.y + radius * np.sin(angles)))
+        outer, inner = ring
+        quads = [(outer[i], outer[i + 1], inner[i + 1], outer[i], inner[i + 1], inner[i])
+                 for i in range(RING_SEGMENTS)]  # fmt: skip
+        positions = np.array([(e, n, up + 2.0 * PATTERN_LIFT_M) for q in quads for e, n in q])
+        normals = np.tile([0.0, 0.0, 1.0], (positions.shape[0], 1))
+        mesh.add(positions, normals, black.albedo, env.ambient + black.warmth)
 
 
 def _buildings(mesh: MeshBuilder, world: World, env: ThermalEnvironment) -> None:

@@ -47,14 +47,14 @@ def test_ip_saliency_runs_the_pipeline_until_ip_abort(
     engaged: list[bool] = []
     clock = [0.0]
     node.create_subscription(
-        String, "/uav0/saliency/pair_result", lambda m: (results.append(json.loads(m.data)), print("RES", results[-1]["time"], clock[-1], flush=True)),
+        String, "/uav0/saliency/pair_result", lambda m: results.append(json.loads(m.data)),
         RESULT_QOS,
     )  # fmt: skip
     node.create_subscription(
-        UInt8, f"/uav0/{IMAGE_PROCESSING_TOPIC}", lambda m: (modes.append(m.data), print("MODE", m.data, clock[-1], len(results), flush=True)), LATCHED
+        UInt8, f"/uav0/{IMAGE_PROCESSING_TOPIC}", lambda m: modes.append(m.data), LATCHED
     )
     node.create_subscription(
-        Bool, "/uav0/saliency/engaged", lambda m: (engaged.append(m.data), print("ENGAGED", m.data, clock[-1], len(results), flush=True)), LATCHED
+        Bool, "/uav0/saliency/engaged", lambda m: engaged.append(m.data), LATCHED
     )
     node.create_subscription(
         Clock, "/clock", lambda m: clock.append(m.clock.sec + 1e-9 * m.clock.nanosec), CLOCK_QOS

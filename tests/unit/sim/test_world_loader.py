@@ -66,6 +66,18 @@ BAD_WORLDS = {
         + '[[pad]]\nname = "H2"\nposition = [-42.0, -50.0]  # <-- error\nradius = 5.0\n',
         "pad 'H2' overlaps pad 'H1'",
     ),
+    "pad pattern not a flag": (
+        BASE
+        + '[[pad]]\nname = "L1"\nposition = [-50.0, -50.0]\nradius = 3.0\n'
+        + 'pattern = "yes"  # <-- error\n',
+        "pad pattern must be true or false",
+    ),
+    "pad too small for the pattern": (
+        BASE
+        + '[[pad]]\nname = "L1"\nposition = [-50.0, -50.0]\nradius = 1.0  # <-- error\n'
+        + "pattern = true\n",
+        "needs radius >= 1.56 m",
+    ),
     "pad inside building": (
         BASE
         + BUILDING
@@ -209,7 +221,8 @@ def test_revinge_is_shipped_and_meets_the_brief() -> None:
     assert all(3.0 <= b.height <= 15.0 for b in world.buildings)
     e0, n0, e1, n1 = world.bounds
     assert e1 - e0 == pytest.approx(600.0, rel=0.1) and n1 - n0 == pytest.approx(400.0, rel=0.1)
-    assert {p.name for p in world.pads} >= {"H1", "H2"}
+    assert {p.name for p in world.pads} >= {"H1", "H2", "L1"}
+    assert [p.name for p in world.pads if p.pattern] == ["L1"]
     assert {d.kind for d in world.depots} == {DepotKind.SUPPLY, DepotKind.CARRIER}
     assert len(world.roads) >= 3 and world.vegetation and world.no_fly_zones and world.places
     persons = world.objects_of(ObjectKind.PERSON)
