@@ -1,4 +1,4 @@
-"""Benchmark TALplanner on generated Logistics, Blocks and ZenoTravel problems.
+"""Benchmark TALplanner on generated problems of the shipped domains.
 
 Logistics table, for every instance: concurrent TALplanner with control rules (plan validated
 by unified-planning), the same in sequential mode, TALplanner without control rules (small
@@ -12,7 +12,7 @@ instances in a child process with a hard time limit. The peak memory (max RSS) o
 benchmark process is printed after each domain.
 
 Usage: .venv/bin/python bench/talplanner.py [--quick] [--domains-only | --no-domains]
-       [--seeds N] [--fd-limit S] [--png out/talplanner.png]
+       [--only DOMAIN ...] [--seeds N] [--fd-limit S] [--png out/talplanner.png]
 """
 
 from __future__ import annotations
@@ -34,8 +34,12 @@ from hdrc3_deliberative.generators import (
     BLOCKS_DOMAIN,
     DEPOTS_CONTROL,
     DEPOTS_DOMAIN,
+    DRIVERLOG_CONTROL,
+    DRIVERLOG_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
+    ROVERS_CONTROL,
+    ROVERS_DOMAIN,
     SATELLITE_CONTROL,
     SATELLITE_DOMAIN,
     UAV_CONTROL,
@@ -44,13 +48,17 @@ from hdrc3_deliberative.generators import (
     ZENOTRAVEL_CONTROL,
     ZENOTRAVEL_DOMAIN,
     DepotsSize,
+    DriverLogSize,
     LogisticsSize,
+    RoversSize,
     SatelliteSize,
     UavSize,
     ZenoSize,
     blocks_problem,
     depots_problem,
+    driverlog_problem,
     logistics_problem,
+    rovers_problem,
     satellite_problem,
     uav_problem,
     zenotravel_problem,
@@ -97,15 +105,16 @@ def planner_worker(planner_name: str, domain_path: str, problem_path: str, cpu_l
     warnings.simplefilter("ignore")
     get_environment().credits_stream = None
     text = Path(domain_path).read_text()
+    engine, params = PLANNERS[planner_name]
     with tempfile.TemporaryDirectory() as tmp:  # unified-planning cannot read (either ...)
         widened = Path(tmp) / "domain.pddl"
         widened.write_text(widen_either(text))
-        problem = PDDLReader().parse_problem(str(widened), problem_path)
-    engine, params = PLANNERS[planner_name]
-    start = _cpu_seconds()
-    with OneshotPlanner(name=engine, params=params) as planner:
-        result = planner.solve(problem)
-    elapsed = _cpu_seconds() - start
+        problem = PDDLReader().parse_problem(str(widened), str(Path(problem_path).resolve()))
+        os.chdir(tmp)  # Fast Downward writes its translation (output.sas) to the working dir
+        start = _cpu_seconds()
+        with OneshotPlanner(name=engine, params=params) as planner:
+            result = planner.solve(problem)
+        elapsed = _cpu_seconds() - start
     length = len(result.plan.actions) if result.plan is not None else -1
     print(json.dumps({"status": result.status.name, "seconds": elapsed, "length": length}))
 
@@ -205,7 +214,36 @@ def domain_runs(quick: bool, seeds: int, only: list[str] | None = None) -> list[
     satellite = [SatelliteSize(1, 1, 3, 3, 3), SatelliteSize(3, 2, 3, 10, 10)]
     if not quick:
         satellite += [SatelliteSize(5, 3, 5, 20, 30), SatelliteSize(10, 3, 5, 50, 100)]
+    driverlog = [DriverLogSize(3, 1, 2, 1), DriverLogSize(8, 3, 6, 2)]
+    if not quick:
+        driverlog += [DriverLogSize(15, 5, 15, 4), DriverLogSize(30, 8, 30, 6)]
+    rovers = [RoversSize(1, 4, 2, 1, 3), RoversSize(2, 8, 3, 2, 6)]
+    if not quick:
+        rovers += [RoversSize(4, 20, 6, 5, 15), RoversSize(14, 100, 11, 13, 40)]
     runs = [
+        DomainRun(
+            "driverlog",
+            DRIVERLOG_DOMAIN,
+            DRIVERLOG_CONTROL,
+            [
+                (f"{d.junctions}/{d.drivers}/{d.packages}/{d.trucks}", driverlog_problem(d, s))
+                for d in driverlog
+                for s in seed_list
+            ],
+        ),
+        DomainRun(
+            "rovers",
+            ROVERS_DOMAIN,
+            ROVERS_CONTROL,
+            [
+                (
+                    f"{r.rovers}/{r.waypoints}/{r.objectives}/{r.cameras}/{r.goals}",
+                    rovers_problem(r, s),
+                )
+                for r in rovers
+                for s in seed_list
+            ],
+        ),
         DomainRun(
             "depots",
             DEPOTS_DOMAIN,

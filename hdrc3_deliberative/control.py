@@ -51,6 +51,7 @@ from hdrc3_deliberative.pruning import (
     NumberState,
     Trigger,
 )
+from hdrc3_deliberative.steps import map_relations
 from hdrc3_deliberative.task import Task
 
 Args = tuple[str, ...]
@@ -138,6 +139,7 @@ class ControlCompiler:
     """Compiles the rules of a ControlSpec against a ground task (validating names)."""
 
     def __init__(self, task: Task, spec: ControlSpec) -> None:
+        task, self._maps = map_relations(task, spec.steps)
         self.task = task
         self.spec = spec
         self._types = {ROOT_TYPE, *task.domain.types}
@@ -370,6 +372,9 @@ class ControlCompiler:
         if pred in self._types and pred not in self.task.domain.predicates:
             members = self._type_sets.get(pred, frozenset())
             return lambda env, s0, s1: args_fn(env)[0] in members
+        test = self._maps.get(pred)
+        if test is not None:
+            return lambda env, s0, s1: test(args_fn(env))
         if pred in self.task.static_preds:
             facts = self.task.static_facts
             return lambda env, s0, s1: (pred, args_fn(env)) in facts
@@ -423,7 +428,9 @@ class ControlCompiler:
                 (
                     c
                     for c in _conjuncts(source)
-                    if isinstance(c, FAtom | FGoal) and any(t.name in names for t in c.atom.args)
+                    if isinstance(c, FAtom | FGoal)
+                    and any(t.name in names for t in c.atom.args)
+                    and c.atom.pred not in self._maps
                 ),
                 None,
             )

@@ -23,6 +23,11 @@ DEPOTS_CONTROL = DOMAINS_DIR / "depots" / "control.tal"
 SATELLITE_DOMAIN = DOMAINS_DIR / "satellite" / "domain.pddl"
 SATELLITE_CONTROL = DOMAINS_DIR / "satellite" / "control.tal"
 SATELLITE_MODES = ("image", "spectrograph", "thermograph", "infrared")
+DRIVERLOG_DOMAIN = DOMAINS_DIR / "driverlog" / "domain.pddl"
+DRIVERLOG_CONTROL = DOMAINS_DIR / "driverlog" / "control.tal"
+DRIVERLOG_NUMERIC_DOMAIN = DOMAINS_DIR / "driverlog_numeric" / "domain.pddl"
+ROVERS_DOMAIN = DOMAINS_DIR / "rovers" / "domain.pddl"
+ROVERS_CONTROL = DOMAINS_DIR / "rovers" / "control.tal"
 ZENO_FUEL_LEVELS = 7  # f0 .. f6 as in the IPC-2002 STRIPS problems
 
 
@@ -146,14 +151,20 @@ class ZenoSize:
 
 
 def _pddl_problem(
-    name: str, domain: str, objects: list[str], init: list[str], goals: list[str]
+    name: str,
+    domain: str,
+    objects: list[str],
+    init: list[str],
+    goals: list[str],
+    metric: str = "",
 ) -> str:
     body = "\n    ".join(o for o in objects if o)
     lines = "\n    ".join(init)
     goal_lines = "\n           ".join(goals)
+    metric_line = f"\n  (:metric {metric})" if metric else ""
     return (
         f"(define (problem {name})\n  (:domain {domain})\n  (:objects\n    {body})\n"
-        f"  (:init\n    {lines})\n  (:goal (and {goal_lines})))\n"
+        f"  (:init\n    {lines})\n  (:goal (and {goal_lines})){metric_line})\n"
     )
 
 
@@ -360,6 +371,170 @@ def satellite_problem(size: SatelliteSize, seed: int, name: str = "") -> str:
         f"{size.observations}-{seed}"
     )
     return _pddl_problem(pname, "satellite", objects, init, goals)
+
+
+def _random_map(nodes: list[str], extra: int, rng: random.Random) -> list[tuple[str, str]]:
+    """Undirected edges of a random connected map: a random spanning tree plus ``extra``."""
+    edges = [(nodes[rng.randrange(i)], node) for i, node in enumerate(nodes) if i]
+    others = [(a, b) for i, a in enumerate(nodes) for b in nodes[i + 1 :]]
+    chosen = set(edges) | {(b, a) for a, b in edges}
+    spare = [e for e in others if e not in chosen]
+    return edges + rng.sample(spare, min(extra, len(spare)))
+
+
+@dataclass(frozen=True)
+class DriverLogSize:
+    """Parameters of the IPC-2002 DriverLog generator: junctions, drivers, packages, trucks."""
+
+    junctions: int
+    drivers: int
+    packages: int
+    trucks: int
+
+
+def driverlog_problem(size: DriverLogSize, seed: int, name: str = "", numeric: bool = False) -> str:
+    """A DriverLog problem as the IPC-2002 generator lays it out (STRIPS, or ``numeric``).
+
+    Junctions ``s0..`` are joined by two-way road links (a random connected map with about
+    half as many extra links as junctions); footpaths run along the spanning tree's links
+    through path points ``p<i>-<j>``. Drivers, empty trucks and packages start at random
+    junctions; every package, and each driver and truck with probability 1/2, gets a random
+    goal junction. The numeric version adds random driving (1-100) and walking (5-50) times
+    per two-way road link and footpath and minimises their sums ``(driven)`` + ``(walked)``.
+    """
+    if min(size.junctions, size.drivers, size.packages, size.trucks) < 1:
+        raise ValueError("need at least one junction, driver, package and truck")
+    rng = random.Random(seed)
+    junctions = [f"s{i}" for i in range(size.junctions)]
+    roads = _random_map(junctions, size.junctions // 2, rng)
+    tree = roads[: size.junctions - 1]
+    points = [f"p{a[1:]}-{b[1:]}" for a, b in tree]
+    drivers = [f"driver{i + 1}" for i in range(size.drivers)]
+    trucks = [f"truck{i + 1}" for i in range(size.trucks)]
+    packages = [f"package{i + 1}" for i in range(size.packages)]
+    init = [f"(at {d} {rng.choice(junctions)})" for d in drivers]
+    init += [f"(at {t} {rng.choice(junctions)})" for t in trucks]
+    init += [f"(empty {t})" for t in trucks]
+    init += [f"(at {p} {rng.choice(junctions)})" for p in packages]
+    for a, b in roads:
+        init += [f"(link {a} {b})", f"(link {b} {a})"]
+    for (a, b), point in zip(tree, points, strict=True):
+        init += [f"(path {a} {point})", f"(path {point} {a})"]
+        init += [f"(path {b} {point})", f"(path {point} {b})"]
+    goals = [f"(at {d} {rng.choice(junctions)})" for d in drivers if rng.random() < 0.5]
+    goals += [f"(at {t} {rng.choice(junctions)})" for t in trucks if rng.random() < 0.5]
+    goals += [f"(at {p} {rng.choice(junctions)})" for p in packages]
+    objects = [
+        " ".join(drivers) + " - driver",
+        " ".join(trucks) + " - truck",
+        " ".join(packages) + " - obj",
+        " ".join(junctions + points) + " - location",
+    ]
+    metric = ""
+    if numeric:
+        init += ["(= (driven) 0)", "(= (walked) 0)"]
+        for a, b in roads:
+            cost = rng.randint(1, 100)
+            init += [f"(= (time-to-drive {a} {b}) {cost})", f"(= (time-to-drive {b} {a}) {cost})"]
+        for a, b in tree:
+            for end in (a, b):
+                point, cost = f"p{a[1:]}-{b[1:]}", rng.randint(5, 50)
+                init.append(f"(= (time-to-walk {end} {point}) {cost})")
+                init.append(f"(= (time-to-walk {point} {end}) {cost})")
+        metric = "minimize (+ (driven) (walked))"
+    pname = name or (
+        f"driverlog-{size.junctions}-{size.drivers}-{size.packages}-{size.trucks}-{seed}"
+    )
+    return _pddl_problem(pname, "driverlog", objects, init, goals, metric)
+
+
+@dataclass(frozen=True)
+class RoversSize:
+    """Parameters of the IPC-2002 Rovers generator.
+
+    Rovers, waypoints, objectives, cameras and goals.
+    """
+
+    rovers: int
+    waypoints: int
+    objectives: int
+    cameras: int
+    goals: int
+
+
+def rovers_problem(size: RoversSize, seed: int, name: str = "") -> str:
+    """A STRIPS Rovers problem as the IPC-2002 generator lays it out.
+
+    Waypoints see each other along a random connected map; each rover traverses a connected
+    part of it (a spanning tree plus random visible links), has one store and is equipped
+    for soil, rock and imaging analysis with probability 1/2 each (rovers 0, 1, 2 modulo the
+    rover count are sure to have one kind each). Soil and rock samples lie at random
+    waypoints, cameras sit on imaging rovers with 1-3 modes and a calibration objective,
+    objectives are visible from random waypoints, the lander at a random waypoint. Goals:
+    ``goals`` distinct data to communicate, drawn from the soil and rock samples and the
+    (objective, mode) images some camera can take.
+    """
+    if min(size.rovers, size.waypoints, size.objectives, size.cameras, size.goals) < 1:
+        raise ValueError("need at least one rover, waypoint, objective, camera and goal")
+    if size.waypoints < 2:
+        raise ValueError("need two waypoints (the lander's and one that sees it)")
+    rng = random.Random(seed)
+    waypoints = [f"waypoint{i}" for i in range(size.waypoints)]
+    rovers = [f"rover{i}" for i in range(size.rovers)]
+    objectives = [f"objective{i}" for i in range(size.objectives)]
+    modes = ("colour", "high_res", "low_res")
+    visible = _random_map(waypoints, size.waypoints, rng)
+    tree = visible[: size.waypoints - 1]
+    init = [f"(visible {a} {b})" for x, y in visible for a, b in ((x, y), (y, x))]
+    init += ["(at_lander general " + rng.choice(waypoints) + ")", "(channel_free general)"]
+    kinds = ("soil", "rock", "imaging")
+    equipped: dict[str, set[str]] = {kind: set() for kind in kinds}
+    for i, rover in enumerate(rovers):
+        init += [f"(at {rover} {rng.choice(waypoints)})", f"(available {rover})"]
+        init += [f"(store_of {rover}store {rover})", f"(empty {rover}store)"]
+        for k, kind in enumerate(kinds):
+            if i == k % size.rovers or rng.random() < 0.5:
+                equipped[kind].add(rover)
+                analysis = "imaging" if kind == "imaging" else f"{kind}_analysis"
+                init.append(f"(equipped_for_{analysis} {rover})")
+        roads = tree + [e for e in visible[len(tree) :] if rng.random() < 0.5]
+        init += [f"(can_traverse {rover} {a} {b})" for x, y in roads for a, b in ((x, y), (y, x))]
+    candidates: list[str] = []
+    for kind in ("soil", "rock"):
+        for w in waypoints:
+            if rng.random() < 0.5:
+                init.append(f"(at_{kind}_sample {w})")
+                candidates.append(f"(communicated_{kind}_data {w})")
+    imaging = sorted(equipped["imaging"])
+    supported: set[str] = set()
+    for c in range(size.cameras):
+        camera = f"camera{c}"
+        init.append(f"(on_board {camera} {rng.choice(imaging)})")
+        init.append(f"(calibration_target {camera} {rng.choice(objectives)})")
+        for mode in rng.sample(modes, rng.randint(1, 3)):
+            init.append(f"(supports {camera} {mode})")
+            supported.add(mode)
+    for objective in objectives:
+        for w in rng.sample(waypoints, rng.randint(1, max(1, size.waypoints // 4))):
+            init.append(f"(visible_from {objective} {w})")
+    candidates += [
+        f"(communicated_image_data {o} {m})" for o in objectives for m in sorted(supported)
+    ]
+    goals = rng.sample(candidates, min(size.goals, len(candidates)))
+    objects = [
+        "general - lander",
+        " ".join(modes) + " - mode",
+        " ".join(rovers) + " - rover",
+        " ".join(f"{r}store" for r in rovers) + " - store",
+        " ".join(waypoints) + " - waypoint",
+        " ".join(f"camera{c}" for c in range(size.cameras)) + " - camera",
+        " ".join(objectives) + " - objective",
+    ]
+    pname = name or (
+        f"rovers-{size.rovers}-{size.waypoints}-{size.objectives}-{size.cameras}-"
+        f"{size.goals}-{seed}"
+    )
+    return _pddl_problem(pname, "rover", objects, init, goals)
 
 
 def distance(a: tuple[float, float, float], b: tuple[float, float, float]) -> float:

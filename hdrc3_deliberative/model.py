@@ -294,6 +294,23 @@ class ControlRule:
     pos: Pos = NOWHERE
 
 
+class MapRelation(Enum):
+    """Kinds of relations a control file derives from a static map (``REL(k.., x, y)`` edges)."""
+
+    STEP = "step"  # NAME(k.., x, y, g): edge x->y lies on a shortest path from x to g
+    NEARER = "nearer"  # NAME(k.., x, a, b): a is strictly closer to x than b
+
+
+@dataclass(frozen=True)
+class StepDecl:
+    """``step|nearer NAME by REL``: a static relation derived from the map ``REL``."""
+
+    kind: MapRelation
+    name: str
+    relation: str
+    pos: Pos = NOWHERE
+
+
 @dataclass(frozen=True)
 class ControlSpec:
     """Contents of a control file: rules, successor preference and agent types."""
@@ -302,3 +319,4 @@ class ControlSpec:
     prefer: tuple[str, ...] = ()
     agent_types: tuple[str, ...] = ()
     source: str = ""
+    steps: tuple[StepDecl, ...] = ()

@@ -42,6 +42,7 @@ from hdrc3_deliberative.model import (
     FQuant,
     FuncTerm,
     Literal,
+    MapRelation,
     Num,
     NumEffect,
     NumExpr,
@@ -50,6 +51,7 @@ from hdrc3_deliberative.model import (
     Pos,
     Problem,
     RuleKind,
+    StepDecl,
     Term,
     TimeRef,
 )
@@ -353,6 +355,11 @@ class _ToModel(Transformer[Token, list[_Stmt]]):
     def agents_decl(self, meta: Meta, items: list[Any]) -> _Stmt:
         return _Stmt("agents", self._pos(meta), items[0])
 
+    @v_args(meta=True)
+    def step_decl(self, meta: Meta, items: list[Any]) -> _Stmt:
+        kind = MapRelation(str(items[0]))
+        return _Stmt("step", self._pos(meta), (kind, str(items[1]), str(items[2])))
+
 
 def _num(value: Any) -> NumExpr:
     """A bare name inside arithmetic is a 0-ary function term."""
@@ -491,15 +498,18 @@ class TalReader:
         )
 
     def read_control(self, text: str, source: str = "<control>") -> ControlSpec:
-        """Parse a control file: rules, final rules, ``prefer`` and ``agents``."""
+        """Parse a control file: rules, final rules, ``prefer``, ``agents`` and ``step``."""
         stmts = self._statements(text, source)
-        self._reject(stmts, {"rule", "prefer", "agents"}, "control")
+        self._reject(stmts, {"rule", "prefer", "agents", "step"}, "control")
         rules = tuple(
             ControlRule(s.data[0], s.data[1], s.data[2], s.pos) for s in stmts if s.kind == "rule"
         )
         prefer = tuple(n for s in stmts if s.kind == "prefer" for n in s.data)
         agents = tuple(n for s in stmts if s.kind == "agents" for n in s.data)
-        return ControlSpec(rules, prefer, agents, source)
+        steps = tuple(
+            StepDecl(s.data[0], s.data[1], s.data[2], s.pos) for s in stmts if s.kind == "step"
+        )
+        return ControlSpec(rules, prefer, agents, source, steps)
 
 
 def _syntax_error(exc: UnexpectedInput, source: str, lark: Lark, text: str) -> PlanningInputError:

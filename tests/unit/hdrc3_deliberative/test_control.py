@@ -10,12 +10,20 @@ from hdrc3_deliberative.errors import PlanningInputError
 from hdrc3_deliberative.generators import (
     DEPOTS_CONTROL,
     DEPOTS_DOMAIN,
+    DRIVERLOG_CONTROL,
+    DRIVERLOG_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
+    ROVERS_CONTROL,
+    ROVERS_DOMAIN,
     DepotsSize,
+    DriverLogSize,
     LogisticsSize,
+    RoversSize,
     depots_problem,
+    driverlog_problem,
     logistics_problem,
+    rovers_problem,
 )
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
 from hdrc3_deliberative.pruning import ControlProgram
@@ -211,6 +219,8 @@ def test_control_error_position() -> None:
     [
         (LOGISTICS_DOMAIN, LOGISTICS_CONTROL, logistics_problem(LogisticsSize(4, 2, 1), seed=5)),
         (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(1, 2, 2, 4, 3, 6), seed=3)),
+        (DRIVERLOG_DOMAIN, DRIVERLOG_CONTROL, driverlog_problem(DriverLogSize(5, 2, 4, 2), 3)),
+        (ROVERS_DOMAIN, ROVERS_CONTROL, rovers_problem(RoversSize(2, 6, 3, 2, 5), seed=3)),
     ],
 )
 def test_incremental_constraints_agree_with_full_evaluation(

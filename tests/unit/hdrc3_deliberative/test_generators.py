@@ -6,13 +6,17 @@ import pytest
 
 from hdrc3_deliberative.generators import (
     DepotsSize,
+    DriverLogSize,
     LogisticsSize,
+    RoversSize,
     SatelliteSize,
     UavSize,
     ZenoSize,
     blocks_problem,
     depots_problem,
+    driverlog_problem,
     logistics_problem,
+    rovers_problem,
     satellite_problem,
     uav_problem,
     zenotravel_problem,
@@ -110,3 +114,65 @@ def test_satellite_generator_follows_the_ipc_layout(size: SatelliteSize, seed: i
 def test_satellite_generator_rejects_empty_sizes() -> None:
     with pytest.raises(ValueError, match="at least one satellite"):
         satellite_problem(SatelliteSize(0, 1, 1, 1, 1), 1)
+
+
+def _reachable(edges: list[tuple[str, str]], start: str) -> set[str]:
+    seen, todo = {start}, [start]
+    while todo:
+        node = todo.pop()
+        for a, b in edges:
+            if a == node and b not in seen:
+                seen.add(b)
+                todo.append(b)
+    return seen
+
+
+@pytest.mark.parametrize(
+    ("size", "seed"), [(DriverLogSize(3, 1, 2, 1), 1), (DriverLogSize(12, 4, 10, 3), 2)]
+)
+def test_driverlog_generator_follows_the_ipc_layout(size: DriverLogSize, seed: int) -> None:
+    text = driverlog_problem(size, seed)
+    assert text == driverlog_problem(size, seed)
+    init, goal = text.split("(:goal")
+    links = re.findall(r"\(link (\S+) ([^\s()]+)\)", init)
+    paths = re.findall(r"\(path (\S+) ([^\s()]+)\)", init)
+    junctions = {f"s{i}" for i in range(size.junctions)}
+    assert {a for a, _ in links} <= junctions
+    assert all((b, a) in links for a, b in links)  # two-way roads
+    assert junctions <= _reachable(links, "s0")  # roads connect every junction
+    assert junctions <= _reachable(paths, "s0")  # and so do footpaths
+    assert init.count("(empty ") == size.trucks
+    assert len(re.findall(r"\(at package", goal)) == size.packages
+    assert len(re.findall(r"\(at (driver|truck)", goal)) <= size.drivers + size.trucks
+
+
+def test_driverlog_generator_rejects_empty_sizes() -> None:
+    with pytest.raises(ValueError, match="at least one junction"):
+        driverlog_problem(DriverLogSize(3, 0, 1, 1), 1)
+
+
+@pytest.mark.parametrize(
+    ("size", "seed"), [(RoversSize(1, 4, 2, 1, 3), 1), (RoversSize(4, 20, 6, 5, 15), 2)]
+)
+def test_rovers_generator_follows_the_ipc_layout(size: RoversSize, seed: int) -> None:
+    text = rovers_problem(size, seed)
+    assert text == rovers_problem(size, seed)
+    init, goal = text.split("(:goal")
+    visible = set(re.findall(r"\(visible (\S+) ([^\s()]+)\)", init))
+    waypoints = {f"waypoint{i}" for i in range(size.waypoints)}
+    for r in range(size.rovers):
+        edges = re.findall(rf"\(can_traverse rover{r} (\S+) ([^\s()]+)\)", init)
+        assert set(edges) <= visible  # rovers traverse only visible links
+        assert waypoints <= _reachable(edges, "waypoint0")  # each rover reaches everything
+    for kind in ("soil_analysis", "rock_analysis", "imaging"):
+        assert f"(equipped_for_{kind} " in init
+    assert init.count("(on_board ") == size.cameras
+    goals = re.findall(r"\(communicated_\w+ [^()]+\)", goal)
+    assert len(goals) == len(set(goals)) <= size.goals
+    for w in re.findall(r"\(communicated_soil_data ([^\s()]+)\)", goal):
+        assert f"(at_soil_sample {w})" in init  # every wanted sample exists
+
+
+def test_rovers_generator_rejects_a_single_waypoint() -> None:
+    with pytest.raises(ValueError, match="two waypoints"):
+        rovers_problem(RoversSize(1, 1, 1, 1, 1), 1)

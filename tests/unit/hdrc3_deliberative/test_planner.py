@@ -9,21 +9,30 @@ from hdrc3_deliberative.generators import (
     BLOCKS_DOMAIN,
     DEPOTS_CONTROL,
     DEPOTS_DOMAIN,
+    DRIVERLOG_CONTROL,
+    DRIVERLOG_DOMAIN,
+    DRIVERLOG_NUMERIC_DOMAIN,
     LOGISTICS_CONTROL,
     LOGISTICS_DOMAIN,
+    ROVERS_CONTROL,
+    ROVERS_DOMAIN,
     UAV_CONTROL,
     UAV_DOMAIN,
     UAV_SCENARIO,
     ZENOTRAVEL_CONTROL,
     ZENOTRAVEL_DOMAIN,
     DepotsSize,
+    DriverLogSize,
     LogisticsSize,
+    RoversSize,
     SatelliteSize,
     UavSize,
     ZenoSize,
     blocks_problem,
     depots_problem,
+    driverlog_problem,
     logistics_problem,
+    rovers_problem,
     satellite_problem,
     uav_problem,
     zenotravel_problem,
@@ -202,6 +211,10 @@ def test_domain_problem_mismatch_is_named(planner: TaskPlanner) -> None:
         (DEPOTS_DOMAIN, DEPOTS_CONTROL, depots_problem(DepotsSize(2, 2, 3, 5, 5, 10), 2), 60),
         (SAT_DOMAIN, SAT_CONTROL, satellite_problem(SatelliteSize(1, 1, 3, 3, 3), 1), 20),
         (SAT_DOMAIN, SAT_CONTROL, satellite_problem(SatelliteSize(3, 2, 3, 8, 8), 2), 40),
+        (DRIVERLOG_DOMAIN, DRIVERLOG_CONTROL, driverlog_problem(DriverLogSize(3, 1, 2, 1), 1), 30),
+        (DRIVERLOG_DOMAIN, DRIVERLOG_CONTROL, driverlog_problem(DriverLogSize(8, 3, 6, 2), 2), 80),
+        (ROVERS_DOMAIN, ROVERS_CONTROL, rovers_problem(RoversSize(1, 4, 2, 1, 3), 1), 30),
+        (ROVERS_DOMAIN, ROVERS_CONTROL, rovers_problem(RoversSize(3, 10, 4, 3, 8), 2), 120),
     ],
 )
 def test_shipped_domains_solve_with_their_control_rules(
@@ -261,3 +274,45 @@ def test_depots_rules_read_the_competition_layout(planner: TaskPlanner) -> None:
     assert result.status is PlanStatus.SOLVED, result.reason
     assert result.stats.nodes_expanded == len(result.plan)  # no backtracking
     assert validate_pddl_plan(domain, IPC_LAYOUT_DEPOT, result.plan).valid
+
+
+@pytest.mark.parametrize(
+    ("domain", "control", "problem"),
+    [
+        (DRIVERLOG_DOMAIN, DRIVERLOG_CONTROL, driverlog_problem(DriverLogSize(4, 2, 3, 2), 1)),
+        (ROVERS_DOMAIN, ROVERS_CONTROL, rovers_problem(RoversSize(2, 6, 3, 2, 5), 1)),
+    ],
+)
+def test_map_domain_rules_prune_wandering(
+    planner: TaskPlanner, domain: Path, control: Path, problem: str
+) -> None:
+    """Without rules the depth-first search wanders the map; with them it heads for targets."""
+    ruled = planner.plan(PlanRequest(domain.read_text(), problem, control.read_text()), 20)
+    blind = planner.plan(PlanRequest(domain.read_text(), problem), 20)
+    assert ruled.status is blind.status is PlanStatus.SOLVED
+    assert 5 * len(ruled.plan) < len(blind.plan)
+    assert 5 * ruled.stats.nodes_expanded < blind.stats.nodes_expanded
+
+
+@pytest.mark.parametrize(
+    ("size", "seed"), [(DriverLogSize(3, 1, 2, 1), 1), (DriverLogSize(8, 3, 6, 2), 2)]
+)
+def test_numeric_driverlog_solves_with_the_strips_rules(
+    planner: TaskPlanner, size: DriverLogSize, seed: int
+) -> None:
+    """The numeric domain adds only metric sums: its plans are checked on the STRIPS twin.
+
+    unified-planning's validator refuses the numeric problem (times are defined only for
+    linked places: UNDEFINED_INITIAL_NUMERIC); the generator draws the STRIPS problem from
+    the same random stream, so the same plan must be valid there.
+    """
+    problem = driverlog_problem(size, seed, numeric=True)
+    request = PlanRequest(
+        DRIVERLOG_NUMERIC_DOMAIN.read_text(), problem, DRIVERLOG_CONTROL.read_text()
+    )
+    result = planner.plan(request, timeout=30)
+    assert result.status is PlanStatus.SOLVED, result.reason
+    assert "(time-to-drive " in problem and "(:metric minimize" in problem
+    strips = driverlog_problem(size, seed)
+    outcome = validate_pddl_plan(DRIVERLOG_DOMAIN.read_text(), strips, result.plan)
+    assert outcome.valid, outcome.reason

@@ -1,0 +1,1 @@
+"""DriverLog (IPC-2002, STRIPS): domain and TALplanner control rules."""

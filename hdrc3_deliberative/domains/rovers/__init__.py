@@ -1,0 +1,1 @@
+"""Rovers (IPC-2002, STRIPS): domain and TALplanner control rules."""
