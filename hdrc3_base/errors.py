@@ -11,3 +11,15 @@ class ConfigError(Hdrc3Error):
 
 class DataError(Hdrc3Error):
     """A data file (recording, world, model) is missing, unreadable or corrupt."""
+
+
+class SourceError(ConfigError):
+    """A text in one of the stack's languages is malformed: ``source:line:column: reason``."""
+
+    def __init__(self, reason: str, source: str, line: int, column: int) -> None:
+        """Keep the parts; the message is ``source:line:column: reason``."""
+        self.reason = reason
+        self.source = source
+        self.line = line
+        self.column = column
+        super().__init__(f"{source}:{line}:{column}: {reason}")

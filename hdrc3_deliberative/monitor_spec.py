@@ -32,7 +32,7 @@ import lark
 from lark import Token, Tree
 from lark.exceptions import UnexpectedInput
 
-from hdrc3_base.errors import ConfigError
+from hdrc3_base.errors import SourceError
 from hdrc3_dyknow.formula import Formula
 from hdrc3_dyknow.formula_parser import FormulaParser, FormulaSyntaxError
 
@@ -41,15 +41,8 @@ DEFAULT_SPEC = Path(__file__).with_name("default.monitors")
 """The packaged specification (robust speed limit, Example 9.3)."""
 
 
-class MonitorSpecError(ConfigError):
+class MonitorSpecError(SourceError):
     """A monitor specification is malformed; the message starts with ``source:line:column``."""
-
-    def __init__(self, reason: str, source: str, line: int, column: int) -> None:
-        self.reason = reason
-        self.source = source
-        self.line = line
-        self.column = column
-        super().__init__(f"{source}:{line}:{column}: {reason}")
 
 
 class Generated(enum.Enum):

@@ -27,7 +27,7 @@ import lark
 from lark import Token, Tree
 from lark.exceptions import UnexpectedInput
 
-from hdrc3_base.errors import ConfigError
+from hdrc3_base.errors import SourceError
 
 GRAMMAR_PATH = Path(__file__).with_name("recovery.lark")
 DEFAULT_RECOVERY = Path(__file__).with_name("default.recovery")
@@ -36,15 +36,8 @@ DEFAULT_ATTEMPTS = 3
 """Failures on one fault before the goal gives up, unless the operator says otherwise."""
 
 
-class RecoverySpecError(ConfigError):
+class RecoverySpecError(SourceError):
     """A recovery specification is malformed; the message starts with ``source:line:column``."""
-
-    def __init__(self, reason: str, source: str, line: int, column: int) -> None:
-        self.reason = reason
-        self.source = source
-        self.line = line
-        self.column = column
-        super().__init__(f"{source}:{line}:{column}: {reason}")
 
 
 class EffectKind(enum.Enum):
