@@ -22,6 +22,7 @@ MAX_DOMAIN_ID = 101  # highest id whose DDS ports are valid on Linux with defaul
 RECORDER = "recorder"
 LIVE_VIEW = "live_view"
 EXECUTION_MONITOR = "execution_monitor"
+GATEWAY = "gateway"
 
 
 class Scope(enum.Enum):
@@ -152,6 +153,14 @@ CATALOG: tuple[NodeKind, ...] = (
         default=False,
     ),
     NodeKind(
+        GATEWAY,
+        "hdrc3-gateway",
+        Scope.AGENT,
+        "gateway: signed FIPA ACL speech acts, delegation and the constraint server (chapter 10)",
+        world_params=True,
+        default=False,
+    ),
+    NodeKind(
         LIVE_VIEW,
         "hdrc3-live-view",
         Scope.GLOBAL,
@@ -184,6 +193,10 @@ class LaunchOptions:
     """WebSocket port of the live view (None: its default), when ``live_view`` is started."""
     monitor_spec: Path | None = None
     """Monitor specification of the ``execution_monitor`` nodes (None: the packaged default)."""
+    keystore: Path | None = None
+    """Agent keys of the ``gateway`` nodes (required when they run)."""
+    capabilities: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    """(agent, capability names) of agents whose gateway offers less than every capability."""
 
 
 def parse_nodes(
@@ -274,6 +287,41 @@ def check_monitor_spec(path: str | None) -> Path | None:
     return spec.resolve()
 
 
+def check_keystore(path: str | None) -> Path | None:
+    """Check that a keystore file exists; return its absolute path."""
+    if path is None:
+        return None
+    keystore = Path(path)
+    if not keystore.is_file():
+        raise ConfigError(f"keystore {keystore} is not a file (create one: hdrc3 keys generate)")
+    return keystore.resolve()
+
+
+def parse_capabilities(
+    items: Sequence[str] | None, agents: Sequence[str]
+) -> tuple[tuple[str, tuple[str, ...]], ...]:
+    """``AGENT=cap+cap`` items (e.g. ``uav2=flight+hook``) -> (agent, names); ConfigError if bad."""
+    from hdrc3_tst.actions import Capability  # the registry's capabilities are the names
+
+    known = {c.value for c in Capability}
+    out: dict[str, tuple[str, ...]] = {}
+    for item in items or ():
+        agent, sep, caps = item.partition("=")
+        names = tuple(c.strip() for c in caps.split("+") if c.strip())
+        if not sep or agent not in agents:
+            raise ConfigError(
+                f"--capabilities {item!r}: expected AGENT=cap+cap, AGENT one of {list(agents)}"
+            )
+        unknown = [n for n in names if n not in known]
+        if unknown:
+            raise ConfigError(
+                f"--capabilities {item!r}: unknown {unknown[0]!r}; "
+                f"known: {', '.join(sorted(known))}"
+            )
+        out[agent] = names
+    return tuple(out.items())
+
+
 def check_record_path(path: str | None) -> Path | None:
     """Check that a recording can be created at ``path``."""
     if path is None:
@@ -319,6 +367,10 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             args += ["-p", f"port:={options.live_port}"]
         if kind.name == EXECUTION_MONITOR and options.monitor_spec is not None:
             args += ["-p", f"monitor_spec:={options.monitor_spec}"]
+        if kind.name == GATEWAY:
+            if options.keystore is None:
+                raise ConfigError("the gateway nodes need a keystore: give --keystore FILE")
+            args += ["-p", f"keystore:={options.keystore}"]
         if kind.scope is Scope.GLOBAL:
             if kind.checkpoint and options.run_dir is not None:
                 args += ["-p", f"checkpoint:={options.run_dir / kind.name}.checkpoint"]
@@ -335,6 +387,9 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             own = list(args)
             if kind.checkpoint and options.run_dir is not None:
                 own += ["-p", f"checkpoint:={options.run_dir / agent}.{kind.name}.checkpoint"]
+            caps = dict(options.capabilities).get(agent)
+            if kind.name == GATEWAY and caps is not None:
+                own += ["-p", "capabilities:=[" + ",".join(f"'{c}'" for c in caps) + "]"]
             specs.append(
                 ProcessSpec(
                     f"{agent}/{kind.name}",

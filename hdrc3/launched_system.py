@@ -34,8 +34,12 @@ class LaunchedSystem:
         nodes: Sequence[str] = (),
         log: Callable[[str], None] = print,
         seed: int = 0,
+        extra: Sequence[str] = (),
     ) -> None:
-        """Prepare the command line (``nodes`` empty: the launcher's default nodes)."""
+        """Prepare the command line (``nodes`` empty: the launcher's default nodes).
+
+        ``extra``: more ``hdrc3 launch`` arguments (e.g. ``--keystore FILE``).
+        """
         hdrc3 = str(Path(sys.executable).parent / "hdrc3")
         self.command = [hdrc3, "launch", "--agents", ",".join(agents), "--world", world]
         self.command += ["--speed", speed, "--domain-id", str(domain_id), "--seed", str(seed)]
@@ -43,6 +47,7 @@ class LaunchedSystem:
             self.command += ["--record", str(record)]
         if nodes:
             self.command += ["--nodes", ",".join(nodes)]
+        self.command += list(extra)
         self.domain_id = domain_id
         self.returncode: int | None = None
         self._log = log

@@ -54,6 +54,18 @@ class ParamSpec:
     """The value an executor binds an open parameter to when the network allows it."""
 
 
+class Capability(enum.Enum):
+    """What a platform must have to run an action (a delegation contractor checks it, §10)."""
+
+    FLIGHT = "flight"
+    CAMERA = "camera"
+    PTU = "ptu"
+    HOOK = "hook"
+
+
+_FLY = frozenset({Capability.FLIGHT})
+
+
 @dataclass(frozen=True)
 class ActionSpec:
     """One elementary action type."""
@@ -65,6 +77,8 @@ class ActionSpec:
     """Name of a DURATION parameter that fixes ``TE - TS`` (hover, wait)."""
     fcl_or_ppcl: str = ""
     """The Platform Server command the RMAX executor issues (documentation for executors)."""
+    needs: frozenset[Capability] = _FLY
+    """The platform capabilities the action uses."""
 
     def param(self, name: str) -> ParamSpec | None:
         """The parameter called ``name``, if any."""
@@ -86,6 +100,7 @@ _BOX = ParamSpec("box", ParamType.POINT, "point named by the box's tag, where th
 _CARRIER = ParamSpec("carrier", ParamType.POINT, "point named by the carrier's tag, where it is")
 _PLACE = ParamSpec("place", ParamType.POINT, "point where the load goes down")
 _HOOK = "ppcl hook (lower, attach, raise, release)"
+_LIFT = frozenset({Capability.FLIGHT, Capability.HOOK})
 
 ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
     {
@@ -129,6 +144,7 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
                 ),
                 None,
                 "traj3d",
+                frozenset({Capability.FLIGHT, Capability.CAMERA, Capability.PTU}),
             ),
             ActionSpec(
                 "look-at",
@@ -136,6 +152,7 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
                 (ParamSpec("target", ParamType.POINT, "point"),),
                 None,
                 "ppcl look_at",
+                frozenset({Capability.PTU}),
             ),
             ActionSpec(
                 "ptu-turn-to",
@@ -160,6 +177,7 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
                 ),
                 None,
                 "ppcl turn_to",
+                frozenset({Capability.PTU}),
             ),
             ActionSpec(
                 "camera-zoom",
@@ -170,19 +188,32 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
                 ),
                 None,
                 "ppcl zoom",
+                frozenset({Capability.CAMERA}),
             ),
-            ActionSpec("wait", "do nothing for a while", (_DURATION,), "duration", ""),
-            ActionSpec("pick-up-box", "pick a box up onto the hook", (_BOX,), None, _HOOK),
-            ActionSpec("drop-box", "put the held box down", (_BOX, _PLACE), None, _HOOK),
+            ActionSpec("wait", "do nothing for a while", (_DURATION,), "duration", "", frozenset()),
+            ActionSpec("pick-up-box", "pick a box up onto the hook", (_BOX,), None, _HOOK, _LIFT),
+            ActionSpec("drop-box", "put the held box down", (_BOX, _PLACE), None, _HOOK, _LIFT),
             ActionSpec(
-                "put-on-carrier", "put the held box onto a carrier", (_BOX, _PLACE), None, _HOOK
+                "put-on-carrier",
+                "put the held box onto a carrier",
+                (_BOX, _PLACE),
+                None,
+                _HOOK,
+                _LIFT,
             ),
-            ActionSpec("take-from-carrier", "pick a box up from a carrier", (_BOX,), None, _HOOK),
             ActionSpec(
-                "attach-carrier", "pick a carrier up onto the hook", (_CARRIER,), None, _HOOK
+                "take-from-carrier", "pick a box up from a carrier", (_BOX,), None, _HOOK, _LIFT
             ),
             ActionSpec(
-                "detach-carrier", "put the held carrier down", (_CARRIER, _PLACE), None, _HOOK
+                "attach-carrier", "pick a carrier up onto the hook", (_CARRIER,), None, _HOOK, _LIFT
+            ),
+            ActionSpec(
+                "detach-carrier",
+                "put the held carrier down",
+                (_CARRIER, _PLACE),
+                None,
+                _HOOK,
+                _LIFT,
             ),
         )
     }

@@ -13,15 +13,18 @@ from pathlib import Path
 from hdrc3.launch_plan import (
     CAMERA_NODES,
     CATALOG,
+    GATEWAY,
     LIVE_VIEW,
     LaunchOptions,
     build_plan,
     check_domain_id,
+    check_keystore,
     check_live_port,
     check_monitor_spec,
     check_record_path,
     check_seed,
     check_world,
+    parse_capabilities,
     parse_nodes,
     parse_speed,
 )
@@ -68,6 +71,17 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         "each agent's saliency node (Algorithm 4 while the PPC engages it: ppcl ip_saliency)",
     )
     parser.add_argument(
+        "--keystore",
+        metavar="FILE",
+        help="agent keys (hdrc3 keys generate); also starts each agent's gateway (delegation)",
+    )
+    parser.add_argument(
+        "--capabilities",
+        metavar="AGENT=CAP+CAP",
+        action="append",
+        help="what an agent's gateway offers, e.g. uav2=flight+hook (default: everything)",
+    )
+    parser.add_argument(
         "--seed", type=int, default=0, help="simulation seed: sensor noise, outages (default 0)"
     )
     parser.add_argument(
@@ -94,13 +108,16 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
             args.live_port if args.live_port is not None else DEFAULT_PORT if args.live else None
         ),
         monitor_spec=check_monitor_spec(args.monitor_spec),
+        keystore=check_keystore(args.keystore),
+        capabilities=parse_capabilities(args.capabilities, parse_agents(args.agents)),
     )
 
 
 def _extra_nodes(args: argparse.Namespace) -> tuple[str, ...]:
     """The nodes the flags add: the renderer (``--cameras``), the live view (``--live``)."""
     live = args.live or args.live_port is not None
-    return CAMERA_NODES * bool(args.cameras) + (LIVE_VIEW,) * bool(live)
+    gateway = (GATEWAY,) * bool(args.keystore)
+    return CAMERA_NODES * bool(args.cameras) + (LIVE_VIEW,) * bool(live) + gateway
 
 
 def run(args: argparse.Namespace) -> int:

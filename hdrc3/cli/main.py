@@ -29,6 +29,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "hdrc3.cli.plan",
     "hdrc3.cli.path",
     "hdrc3.cli.tst",
+    "hdrc3.cli.keys",
+    "hdrc3.cli.delegate",
     "hdrc3.cli.monitor",
     "hdrc3.cli.fcl",
     "hdrc3.cli.ppcl",

@@ -25,6 +25,7 @@ LAYERS: dict[str, int] = {
     "hdrc3_navigation": 3,  # path planning needs the PFC's segment type and limits (layer 2)
     "hdrc3_deliberative": 4,
     "hdrc3_tst": 5,  # executors call the Platform Server; goal nodes use TALplanner's domains
+    "hdrc3_delegation": 6,  # contractors price TST nodes and hand them to the TST manager
     "hdrc3": 9,  # the CLI, launcher and demo: the top, imported by nobody
 }
 """Layer of each top-level package; the architecture of ../shared/DESIGN.md, bottom up."""

@@ -1,0 +1,223 @@
+"""The delegation protocol end to end on an in-memory bus: auctions, awards, partitions."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from hdrc3_delegation.acl import AclMessage, Performative
+from hdrc3_delegation.authentication import Authenticator, Verdict
+from hdrc3_delegation.constraint_server import AgentProfile, ConstraintServer
+from hdrc3_delegation.contract_net import (
+    LANGUAGE,
+    PROTOCOL,
+    Contractor,
+    Delegation,
+    Phase,
+    Timing,
+    content,
+)
+from hdrc3_delegation.fakes import FakeManager, LocalBus, StraightLineMotion
+from hdrc3_delegation.keystore import Keystore
+from hdrc3_delegation.task_cost import TaskCoster
+from hdrc3_tst.actions import Capability
+from hdrc3_tst.check import load_text
+
+MISSION = (Path(__file__).parents[3] / "examples" / "tst" / "example_6_1_delegated.tst").read_text()
+KEYS = Keystore({a: bytes([i]) * 32 for i, a in enumerate(["gcs", "uav0", "uav1", "uav2"])})
+POSITIONS = {"uav0": (-200.0, -100.0, 0.0), "uav1": (-100.0, -150.0, 0.0), "uav2": (0.0, 0.0, 0.0)}
+TIMING = Timing(answer_s=5.0, award_s=10.0, start_s=5.0, execution_s=100.0)
+
+
+def fleet(no_camera: tuple[str, ...] = ("uav2",), max_agents: int | None = 2) -> LocalBus:
+    contractors = {}
+    for agent, position in POSITIONS.items():
+        caps = frozenset({Capability.FLIGHT}) if agent in no_camera else frozenset(Capability)
+        cs = ConstraintServer(AgentProfile(agent, caps), TaskCoster(StraightLineMotion()), position)
+        contractors[agent] = (
+            Contractor(agent, cs, FakeManager(), TIMING),
+            Authenticator(agent, KEYS),
+        )
+    bus = LocalBus(Authenticator("gcs", KEYS), contractors)
+    tst = load_text(MISSION).tst
+    assert tst is not None
+    bus.delegation = Delegation("gcs", "c1", "m", MISSION, tst, list(POSITIONS), max_agents, TIMING)
+    return bus
+
+
+def manager(bus: LocalBus, agent: str) -> FakeManager:
+    port = bus.contractors[agent][0].port
+    assert isinstance(port, FakeManager)
+    return port
+
+
+def start(bus: LocalBus) -> Delegation:
+    assert bus.delegation is not None
+    bus.send(bus.delegator_auth, bus.delegation.start(bus.now))
+    return bus.delegation
+
+
+def finish_all(bus: LocalBus, state: str = "succeeded") -> None:
+    """Every contractor's manager reports its nodes finished; the contractors tick."""
+    delegation = bus.delegation
+    assert delegation is not None
+    for node, agent in delegation.assignment.items():
+        manager(bus, agent).states.setdefault(delegation.instance, {})[node] = state
+    bus.tick(bus.now + 1.0)
+
+
+def test_example_6_1_goes_to_two_capable_agents_and_runs_once() -> None:
+    bus = fleet()
+    delegation = start(bus)
+    assert delegation.phase is Phase.EXECUTING, delegation.events
+    assignment = delegation.assignment
+    assert set(assignment.values()) == {"uav0", "uav1"}
+    assert assignment["tau2"] != assignment["tau3"], "concurrent scans on two aircraft"
+    root_agent = assignment["tau0"]
+    assert manager(bus, root_agent).executed == [("m", "tau0")]
+    for agent in ("uav0", "uav1"):
+        (created,) = manager(bus, agent).created
+        assert created[0] == "m" and set(created[1]) == set(delegation.fixes)
+    assert manager(bus, "uav2").created == []
+    assert any("uav2 has no camera" in e for e in delegation.events)
+    finish_all(bus)
+    assert delegation.phase is Phase.DONE
+    assert all(check.accepted for _, _, check in bus.log)
+
+
+def test_without_a_limit_the_cheapest_bidder_wins_each_node() -> None:
+    bus = fleet(no_camera=(), max_agents=None)
+    delegation = start(bus)
+    assert delegation.phase is Phase.EXECUTING
+    assert len(set(delegation.assignment.values())) >= 2
+
+
+def test_a_winner_partitioned_before_its_award_is_replaced_and_never_executes() -> None:
+    bus = fleet(no_camera=())
+    bus.cut = (Performative.ACCEPT_PROPOSAL, "uav0")
+    delegation = start(bus)
+    assert delegation.phase is Phase.AWARD and "uav0" in bus.partitioned
+    bus.tick(TIMING.award_s + 1.0)
+    assert delegation.phase is Phase.EXECUTING, delegation.events
+    assert delegation.round == 1 and "uav0" in delegation.excluded
+    assignment = delegation.assignment
+    assert {assignment["tau2"], assignment["tau3"]} == {"uav1", "uav2"}
+    assert manager(bus, "uav1").aborted, "round 0's replica is aborted on cancel"
+    root_agent = assignment["tau0"]
+    assert manager(bus, root_agent).executed == [("m-r1", "tau0")]
+    bus.now += 5.0
+    before = len(bus.log)
+    bus.heal()
+    late = [m for m, r, _ in bus.log[before:] if r == "gcs" and m.sender == "uav0"]
+    assert [m.performative for m in late] == [Performative.FAILURE]
+    assert "after its reply-by" in late[0].content
+    assert manager(bus, "uav0").created == [] and manager(bus, "uav0").executed == []
+    finish_all(bus)
+    assert delegation.phase is Phase.DONE
+
+
+def test_an_agent_silent_during_the_auction_is_excluded() -> None:
+    bus = fleet(no_camera=())
+    bus.partitioned.add("uav1")
+    delegation = start(bus)
+    assert delegation.phase is Phase.AUCTION
+    bus.tick(TIMING.answer_s + 1.0)
+    assert delegation.excluded == {"uav1": "did not answer a cfp by reply-by"}
+    assert delegation.phase is Phase.EXECUTING
+    assert "uav1" not in delegation.assignment.values()
+
+
+def test_nobody_capable_fails_with_every_reason() -> None:
+    bus = fleet(no_camera=("uav0", "uav1", "uav2"))
+    delegation = start(bus)
+    assert delegation.phase is Phase.FAILED
+    assert "nobody can take tau2" in delegation.reason
+    assert delegation.reason.count("has no camera") == 3
+
+
+def test_a_failed_node_fails_the_delegation_and_cancels_the_rest() -> None:
+    bus = fleet()
+    delegation = start(bus)
+    finish_all(bus, state="failed")
+    assert delegation.phase is Phase.FAILED
+    assert "failed" in delegation.reason
+    cancels = [m for m, _, _ in bus.log if m.performative is Performative.CANCEL]
+    assert cancels
+
+
+def test_the_execution_deadline_fails_the_delegation() -> None:
+    bus = fleet()
+    delegation = start(bus)
+    bus.tick(TIMING.execution_s + 10.0)
+    assert delegation.phase is Phase.FAILED and "in time" in delegation.reason
+
+
+def contractor() -> Contractor:
+    cs = ConstraintServer(AgentProfile("uav0"), TaskCoster(StraightLineMotion()), (0.0, 0.0, 0.0))
+    return Contractor("uav0", cs, FakeManager(), TIMING)
+
+
+def ask(
+    performative: Performative, body: str, language: str = LANGUAGE, reply_by: float = 0.0
+) -> AclMessage:
+    return AclMessage(
+        performative, "gcs", ("uav0",), body, language, "", PROTOCOL, "c", "t", reply_by=reply_by
+    )
+
+
+@pytest.mark.parametrize(
+    ("msg", "performative", "reason"),
+    [
+        (ask(Performative.CFP, "{"), Performative.NOT_UNDERSTOOD, "not JSON"),
+        (ask(Performative.CFP, "[]"), Performative.NOT_UNDERSTOOD, "not a JSON object"),
+        (ask(Performative.CFP, "{}", language="fipa-sl"), Performative.NOT_UNDERSTOOD, "language"),
+        (ask(Performative.CFP, content(mission="m")), Performative.NOT_UNDERSTOOD, "tst text"),
+        (
+            ask(Performative.CFP, content(mission="m", tst="x(", fixes=[], nodes=["x"])),
+            Performative.NOT_UNDERSTOOD,
+            "does not load",
+        ),
+        (
+            ask(
+                Performative.CFP,
+                content(mission="m", tst=MISSION, fixes=[], nodes=["tau2"]),
+                reply_by=-1.0 + 1e-9,
+            ),
+            Performative.REFUSE,
+            "reply-by has passed",
+        ),
+        (ask(Performative.SUBSCRIBE, "{}"), Performative.NOT_UNDERSTOOD, "not part of"),
+        (
+            ask(Performative.REQUEST, content(mission="m", execute="tau0")),
+            Performative.REFUSE,
+            "no commitment",
+        ),
+        (
+            ask(
+                Performative.ACCEPT_PROPOSAL,
+                content(mission="m", tst=MISSION, fixes=[], nodes=["tau2"]),
+                reply_by=0.5,
+            ),
+            Performative.FAILURE,
+            "after its reply-by",
+        ),
+    ],
+)
+def test_bad_requests_are_answered_with_a_reason(
+    msg: AclMessage, performative: Performative, reason: str
+) -> None:
+    (answer,) = contractor().handle(msg, 1.0)
+    assert answer.performative is performative
+    assert reason in answer.content
+    assert (answer.sender, answer.receivers, answer.in_reply_to) == ("uav0", ("gcs",), "t")
+
+
+def test_the_bus_refuses_forged_messages() -> None:
+    bus = fleet()
+    forged = Authenticator("gcs", Keystore({"gcs": b"x" * 32})).sign(
+        ask(Performative.CFP, content(mission="m", tst=MISSION, fixes=[], nodes=["tau2"])), 0.0
+    )
+    bus.route([forged])
+    ((_, _, check),) = bus.log
+    assert check.verdict is Verdict.BAD_SIGNATURE
