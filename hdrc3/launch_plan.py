@@ -17,8 +17,8 @@ from pathlib import Path
 
 from hdrc3.supervisor import ProcessSpec
 from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_env import DISCOVERY_RANGES, MAX_DOMAIN_ID
 
-MAX_DOMAIN_ID = 101  # highest id whose DDS ports are valid on Linux with default port mapping
 RECORDER = "recorder"
 LIVE_VIEW = "live_view"
 EXECUTION_MONITOR = "execution_monitor"
@@ -197,6 +197,10 @@ class LaunchOptions:
     """Agent keys of the ``gateway`` nodes (required when they run)."""
     capabilities: tuple[tuple[str, tuple[str, ...]], ...] = ()
     """(agent, capability names) of agents whose gateway offers less than every capability."""
+    acl_domain: int | None = None
+    """ROS domain of the gateways' speech acts (None: the launch's own domain)."""
+    acl_discovery: str = ""
+    """Discovery range of that domain only ("": the environment's, loopback by default)."""
 
 
 def parse_nodes(
@@ -252,6 +256,15 @@ def check_seed(seed: int) -> int:
     if seed < 0:
         raise ConfigError(f"seed must be an integer >= 0, got {seed}")
     return seed
+
+
+def check_discovery(text: str | None) -> str:
+    """A discovery range name (or "" for the environment's)."""
+    if not text:
+        return ""
+    if text.upper() not in DISCOVERY_RANGES:
+        raise ConfigError(f"invalid discovery range {text!r}: one of {', '.join(DISCOVERY_RANGES)}")
+    return text.upper()
 
 
 def check_domain_id(domain_id: int | None) -> int | None:
@@ -371,6 +384,11 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             if options.keystore is None:
                 raise ConfigError("the gateway nodes need a keystore: give --keystore FILE")
             args += ["-p", f"keystore:={options.keystore}"]
+            if options.acl_domain is not None:
+                args += ["-p", f"acl_domain:={options.acl_domain}"]
+                args += ["-p", f"acl_discovery:={options.acl_discovery}"] * bool(
+                    options.acl_discovery
+                )
         if kind.scope is Scope.GLOBAL:
             if kind.checkpoint and options.run_dir is not None:
                 args += ["-p", f"checkpoint:={options.run_dir / kind.name}.checkpoint"]

@@ -7,6 +7,10 @@ from collections.abc import MutableMapping
 
 DISCOVERY_RANGE_VAR = "ROS_AUTOMATIC_DISCOVERY_RANGE"
 LOCALHOST = "LOCALHOST"
+DISCOVERY_RANGES = ("LOCALHOST", "SUBNET", "OFF", "SYSTEM_DEFAULT")
+"""The values ROS 2 accepts for ``ROS_AUTOMATIC_DISCOVERY_RANGE``."""
+MAX_DOMAIN_ID = 101
+"""Highest ROS domain id whose DDS ports are valid on Linux with the default port mapping."""
 
 
 def apply_localhost_default(environ: MutableMapping[str, str] | None = None) -> str:

@@ -21,7 +21,7 @@ with the final bindings and books the nodes; :meth:`release` gives them back.
 
 from __future__ import annotations
 
-import copy
+import dataclasses
 import enum
 import math
 from collections.abc import Sequence
@@ -152,7 +152,10 @@ class ConstraintServer:
                 first = result.diagnostics[0] if result.diagnostics else result.status.value
                 self._loaded[key] = f"the mission does not load: {first}"
         loaded = self._loaded[key]
-        return loaded if isinstance(loaded, str) else copy.deepcopy(loaded)
+        if isinstance(loaded, str):
+            return loaded
+        # only the network changes (bindings, this agent's schedule): the tree is shared
+        return dataclasses.replace(loaded, network=loaded.network.copy())
 
     def _plan(
         self, mission: str, text: str, fixes: Sequence[str], nodes: Sequence[str], now: float

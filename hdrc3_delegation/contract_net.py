@@ -37,6 +37,9 @@ from hdrc3_delegation.constraint_server import Bid, ConstraintServer, Evaluation
 from hdrc3_tst.model import NodeKind, NodeState
 from hdrc3_tst.resolver import ResolvedTst
 
+_COORDINATED = (NodeKind.SEQUENCE, NodeKind.CONCURRENT)
+"""Composite nodes the delegator itself runs when their children are on several agents."""
+_ENDED_BADLY = (NodeState.FAILED.value, NodeState.ABORTED.value)
 _REFUSALS = (Performative.REFUSE, Performative.FAILURE, Performative.NOT_UNDERSTOOD)
 ANSWERS = frozenset(
     {
@@ -160,6 +163,10 @@ class Delegation:
         self.node_states: dict[str, str] = {}
         self._auction: _Auction | None = None
         self._deadline = math.inf
+        self._held_by: dict[str, str] = {}
+        """Roots of subtrees one agent holds and runs -> the agent."""
+        self._requested: dict[str, float] = {}
+        """Subtree roots requested -> deadline of their agree (inf once agreed)."""
 
     # --- the mission's units ---------------------------------------------------------------
     def _units(self) -> list[_Unit]:
@@ -207,7 +214,7 @@ class Delegation:
                 [msg.reply(self.me, Performative.NOT_UNDERSTOOD, content(reason=body))]
             )
         if msg.performative is Performative.INFORM and "node" in body:
-            return self._on_progress(msg, body)
+            return self._on_progress(msg, body, now)
         auction = self._auction
         if self.phase is Phase.AUCTION and auction is not None and msg.in_reply_to == auction.tag:
             return self._on_bid(auction, msg, body, now)
@@ -226,8 +233,9 @@ class Delegation:
             silent = sorted(set(self._award_agents()) - self.agreed)
             reason = "did not agree by reply-by"
             return self._reallocate({a: reason for a in silent}, now)
-        if self.phase is Phase.STARTING and now > self._deadline:
-            return self._fail_and_cancel("the root's agent did not start it by reply-by")
+        late = sorted(n for n, deadline in self._requested.items() if now > deadline)
+        if self.phase in (Phase.STARTING, Phase.EXECUTING) and late:
+            return self._fail_and_cancel(f"{', '.join(late)} not started by reply-by")
         if self.phase is Phase.EXECUTING and now > self._deadline:
             return self._fail_and_cancel("the contractors did not finish in time")
         return []
@@ -331,6 +339,9 @@ class Delegation:
                 self.fixes.append(f"{node.node_id}.P={self.winners[var]}")
 
     def _award(self, now: float) -> list[AclMessage]:
+        lost = sorted(set(self.winners.values()) & set(self.excluded))
+        if lost:  # a winner went silent in a later auction: no award to an unreachable agent
+            return self._reallocate({}, now)
         self._bind_composites()
         self.phase = Phase.AWARD
         self._deadline = now + self.timing.award_s
@@ -422,59 +433,115 @@ class Delegation:
 
     # --- execution --------------------------------------------------------------------------
     def _start(self, now: float) -> list[AclMessage]:
-        root = self.tst.tree.root
-        agent = self._root_agent()
+        """Run the nodes no single agent holds; ask each agent to run its own subtrees."""
         self.phase = Phase.STARTING
         self._deadline = now + self.timing.start_s
-        self.events.append(f"request {agent}: execute {root}")
-        return self._send(
-            [
-                AclMessage(
-                    Performative.REQUEST,
-                    self.me,
-                    (agent,),
-                    content(mission=self.instance, execute=root),
-                    LANGUAGE,
-                    ONTOLOGY,
-                    PROTOCOL,
-                    self.conversation,
-                    "execute",
-                    reply_by=self._deadline,
-                )
-            ]
-        )
+        self._held_by = self._subtree_holders()
+        mixed = [
+            n
+            for _, n in self.tst.tree.walk()
+            if n.node_id not in self._held_by
+            and n.kind not in _COORDINATED
+            and not any(self._under_held(n.node_id, r) for r in self._held_by)
+        ]
+        if mixed:
+            kind = mixed[0].kind.value
+            return self._fail_and_cancel(
+                f"{mixed[0].node_id} ({kind}) spans agents: only a sequence or concurrent node may"
+            )
+        return self._drive(now)
 
-    def _root_agent(self) -> str:
-        root = self.tst.tree.root
-        for fix in self.fixes:
-            if fix.startswith(f"{root}.P="):
-                return fix.split("=", 1)[1]
-        value = self.tst.network.values.get(self.tst.tree.nodes[root].params["P"])
-        return str(value) if value else self.assignment[next(iter(self.assignment))]
+    def _subtree_holders(self) -> dict[str, str]:
+        """Roots of the largest subtrees whose nodes all one agent holds -> that agent."""
+        assignment = self.assignment
+        out: dict[str, str] = {}
+
+        def visit(node_id: str) -> None:
+            agents = {assignment.get(n.node_id) for _, n in self.tst.tree.walk(node_id)}
+            if len(agents) == 1 and None not in agents:
+                out[node_id] = assignment[node_id]
+                return
+            for child in self.tst.tree.nodes[node_id].children:
+                visit(child.node_id)
+
+        visit(self.tst.tree.root)
+        return out
+
+    def _under_held(self, node_id: str, root: str) -> bool:
+        return any(n.node_id == node_id for _, n in self.tst.tree.walk(root))
+
+    def _drive(self, now: float) -> list[AclMessage]:
+        """Advance the delegator's own nodes; request held subtrees as they become due."""
+        out: list[AclMessage] = []
+        state = self._advance(self.tst.tree.root, now, out)
+        if state == NodeState.SUCCEEDED.value:
+            self.phase = Phase.DONE
+            self.events.append("delegation done")
+        elif state in _ENDED_BADLY:
+            failed = [n for n, s in self.node_states.items() if s in _ENDED_BADLY]
+            return self._send(out) + self._fail_and_cancel(
+                f"{', '.join(failed) or self.tst.tree.root} {state}"
+            )
+        return self._send(out)
+
+    def _advance(self, node_id: str, now: float, out: list[AclMessage]) -> str:
+        """The node's state, after starting what is due (sequence and concurrent semantics)."""
+        agent = self._held_by.get(node_id)
+        if agent is not None:
+            if node_id not in self._requested:
+                self._requested[node_id] = now + self.timing.start_s
+                self.events.append(f"request {agent}: execute {node_id}")
+                out.append(
+                    AclMessage(
+                        Performative.REQUEST,
+                        self.me,
+                        (agent,),
+                        content(mission=self.instance, execute=node_id),
+                        LANGUAGE,
+                        ONTOLOGY,
+                        PROTOCOL,
+                        self.conversation,
+                        f"execute-{node_id}",
+                        reply_by=self._requested[node_id],
+                    )
+                )
+            state = self.node_states.get(node_id, NodeState.RUNNING.value)
+            return NodeState.RUNNING.value if state == NodeState.CREATED.value else state
+        children = [c.node_id for c in self.tst.tree.nodes[node_id].children]
+        if self.tst.tree.nodes[node_id].kind is NodeKind.SEQUENCE:
+            for child in children:
+                state = self._advance(child, now, out)
+                if state != NodeState.SUCCEEDED.value:
+                    return state
+            return NodeState.SUCCEEDED.value
+        states = [self._advance(child, now, out) for child in children]
+        bad = [s for s in states if s in _ENDED_BADLY]
+        if bad:
+            return bad[0]
+        done = all(s == NodeState.SUCCEEDED.value for s in states)
+        return NodeState.SUCCEEDED.value if done else NodeState.RUNNING.value
 
     def _on_execution(self, msg: AclMessage, body: dict[str, Any], now: float) -> list[AclMessage]:
         if msg.sender not in self._award_agents():
             return []
-        if msg.performative is Performative.AGREE and msg.in_reply_to == "execute":
+        if msg.performative is Performative.AGREE and msg.in_reply_to.startswith("execute-"):
+            self._requested[msg.in_reply_to.removeprefix("execute-")] = math.inf
             self.phase = Phase.EXECUTING
             self._deadline = now + self.timing.execution_s
-            self.events.append(f"started by {msg.sender}")
+            self.events.append(f"started by {msg.sender}: {body.get('execute', '')}")
             return []
         if msg.performative is Performative.INFORM and body.get("done"):
             self.done[msg.sender] = str(body.get("outcome", ""))
             self.events.append(f"done {msg.sender}: {self.done[msg.sender]}")
             if self.done[msg.sender] != NodeState.SUCCEEDED.value:
                 return self._fail_and_cancel(f"{msg.sender}'s nodes {self.done[msg.sender]}")
-            if set(self.done) >= set(self._award_agents()):
-                self.phase = Phase.DONE
-                self.events.append("delegation done")
             return []
         if msg.performative in _REFUSALS:
             reason = str(body.get("reason", msg.performative.value))
             return self._fail_and_cancel(f"{msg.sender}: {reason}")
         return []
 
-    def _on_progress(self, msg: AclMessage, body: dict[str, Any]) -> list[AclMessage]:
+    def _on_progress(self, msg: AclMessage, body: dict[str, Any], now: float) -> list[AclMessage]:
         """A contractor's node changed state (only this round's mission counts)."""
         if body.get("mission") != self.instance or msg.sender not in self._award_agents():
             return []
@@ -482,6 +549,8 @@ class Delegation:
         self.node_states[node] = state
         reason = f": {body['reason']}" if body.get("reason") else ""
         self.events.append(f"{msg.sender}: {node} {state}{reason}")
+        if self.phase in (Phase.STARTING, Phase.EXECUTING):
+            return self._drive(now)
         return []
 
     # --- endings ----------------------------------------------------------------------------
@@ -533,6 +602,8 @@ class _Contract:
     conversation: str
     mission: str
     nodes: tuple[str, ...]
+    actions: tuple[str, ...]
+    """The elementary nodes among them: the contract is done when these are."""
     template: AclMessage
     reported: dict[str, str] = field(default_factory=dict)
     executing: bool = False
@@ -592,7 +663,7 @@ class Contractor:
                 if state and contract.reported.get(node) != state:
                     contract.reported[node] = state
                     out.append(_inform(contract, content(mission=mission, node=node, state=state)))
-            finished = [contract.reported.get(n, "") for n in contract.nodes]
+            finished = [contract.reported.get(n, "") for n in contract.actions]
             if all(s and NodeState(s).finished for s in finished):
                 failed = [s for s in finished if s != NodeState.SUCCEEDED.value]
                 outcome = failed[0] if failed else NodeState.SUCCEEDED.value
@@ -680,7 +751,7 @@ class Contractor:
             ]
         template = msg.reply(self.me, Performative.INFORM)
         self.contracts[mission] = _Contract(
-            msg.sender, msg.conversation_id, mission, tuple(nodes), template
+            msg.sender, msg.conversation_id, mission, tuple(nodes), tuple(actions), template
         )
         self.events.append(f"{mission}: committed to {', '.join(nodes)}")
         return [msg.reply(self.me, Performative.AGREE, content(mission=mission, nodes=nodes))]

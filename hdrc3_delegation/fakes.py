@@ -75,8 +75,8 @@ class LocalBus:
     log: list[tuple[AclMessage, str, Check]] = field(default_factory=list)
     """Every delivery: message, receiver, the receiver's verdict."""
     delegation: Delegation | None = None
-    cut: tuple[Performative, str] | None = None
-    """Partition this agent just before a message of this performative would reach it."""
+    cut: tuple[Performative, str, int] | None = None
+    """(performative, agent, n): partition the agent just before the (n+1)-th such message."""
 
     def send(self, sender: Authenticator, messages: Sequence[AclMessage]) -> None:
         """Sign and deliver every message (held across a partition), then their answers."""
@@ -88,8 +88,10 @@ class LocalBus:
         while queue:
             msg, receiver = queue.pop(0)
             if self.cut and msg.performative is self.cut[0] and self.cut[1] == receiver:
-                self.partitioned.add(receiver)
-                self.cut = None
+                performative, agent, passing = self.cut
+                self.cut = (performative, agent, passing - 1) if passing else None
+                if not passing:
+                    self.partitioned.add(receiver)
             if {msg.sender, receiver} & self.partitioned:
                 self.held.append((msg, receiver))
                 continue

@@ -17,6 +17,7 @@ the executor thread only queues messages and stores states.
 from __future__ import annotations
 
 import math
+import os
 import queue
 import sys
 import threading
@@ -24,11 +25,15 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
+import rclpy
 from rclpy.context import Context
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_base.ros_env import DISCOVERY_RANGE_VAR, DISCOVERY_RANGES, MAX_DOMAIN_ID
 from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
 from hdrc3_delegation.acl import AclMessage, Performative
 from hdrc3_delegation.authentication import Authenticator
@@ -57,6 +62,8 @@ STATUS_QOS = QoSProfile(
     durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
 CALL_TIMEOUT_S = 10.0
+MATCH_WAIT_S = 2.0
+"""Longest wait for a new inbox publisher to match its receiver (an absent one: no match)."""
 TICK_S = 0.2
 
 
@@ -66,27 +73,47 @@ def inbox(agent: str) -> str:
 
 
 class Outbox:
-    """Signs and publishes speech acts on their receivers' inboxes."""
+    """Signs and publishes speech acts on their receivers' inboxes.
+
+    A receiver's publisher is made on the first act to it, and that act waits (bounded) until
+    the publisher has matched a subscriber: a volatile writer drops what it publishes before
+    discovery matched it, and the act would be lost on a quiet network, not on a partitioned one.
+    """
 
     def __init__(self, node: Node, auth: Authenticator) -> None:
         self.node = node
         self.auth = auth
         self._publishers: dict[str, Any] = {}
         self._lock = threading.Lock()
+        self._pause = threading.Event()
         self.sent = 0
 
     def send(self, messages: Sequence[AclMessage]) -> None:
         """Sign each with the wall clock and publish it to every receiver."""
         with self._lock:
             for msg in messages:
+                for receiver in msg.receivers:
+                    self._publisher(receiver)
                 ros = to_msg(self.auth.sign(msg, time.time()))
                 for receiver in msg.receivers:
-                    if receiver not in self._publishers:
-                        self._publishers[receiver] = self.node.create_publisher(
-                            AclMessageMsg, inbox(receiver), ACL_QOS
-                        )
                     self._publishers[receiver].publish(ros)
                     self.sent += 1
+
+    def connect(self, receivers: Sequence[str]) -> None:
+        """Make the publishers to these receivers now and wait (bounded) until they match."""
+        with self._lock:
+            for receiver in receivers:
+                self._publisher(receiver)
+
+    def _publisher(self, receiver: str) -> Any:
+        publisher = self._publishers.get(receiver)
+        if publisher is None:
+            publisher = self.node.create_publisher(AclMessageMsg, inbox(receiver), ACL_QOS)
+            self._publishers[receiver] = publisher
+            deadline = time.monotonic() + MATCH_WAIT_S
+            while not publisher.get_subscription_count() and time.monotonic() < deadline:
+                self._pause.wait(0.005)  # discovery runs in DDS threads, not in this one
+        return publisher
 
 
 class Caller:
@@ -182,6 +209,54 @@ class TstManagerPort:
             return dict(self.states.get(mission, {}))
 
 
+class AclBus:
+    """The speech-act side of a gateway on its own DDS domain (Figure 30's agent layer).
+
+    The agent's platform (simulator, control, TST manager) stays on its own domain and on
+    loopback; only this context, with its own domain and discovery range, meets other agents.
+    The RMW reads the discovery range when a context starts, so it is set for that moment only.
+    """
+
+    def __init__(self, agent: str, domain: int, discovery: str) -> None:
+        if not 0 <= domain <= MAX_DOMAIN_ID:
+            raise ConfigError(f"acl_domain {domain} is outside 0..{MAX_DOMAIN_ID}")
+        if discovery and discovery.upper() not in DISCOVERY_RANGES:
+            raise ConfigError(f"acl_discovery {discovery!r}: one of {', '.join(DISCOVERY_RANGES)}")
+        self.context = Context()
+        previous = os.environ.get(DISCOVERY_RANGE_VAR)
+        if discovery:
+            os.environ[DISCOVERY_RANGE_VAR] = discovery.upper()
+        try:
+            rclpy.init(
+                context=self.context,
+                domain_id=domain,
+                signal_handler_options=SignalHandlerOptions.NO,
+            )
+        finally:
+            if previous is None:
+                os.environ.pop(DISCOVERY_RANGE_VAR, None)
+            else:
+                os.environ[DISCOVERY_RANGE_VAR] = previous
+        self.node = Node("gateway", namespace=f"/{agent}", context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self._thread = threading.Thread(target=self._spin, name="acl-bus", daemon=True)
+        self._thread.start()
+
+    def _spin(self) -> None:
+        while self.context.ok():
+            try:
+                self.executor.spin_once(timeout_sec=TICK_S)
+            except ExternalShutdownException:
+                return
+
+    def close(self) -> None:
+        """Stop spinning and shut the context down."""
+        self.context.try_shutdown()
+        self._thread.join(timeout=2.0)
+        self.executor.shutdown()
+
+
 def parse_capabilities(names: Sequence[str]) -> frozenset[Capability]:
     """Capability names (``flight``, ``camera``, ``ptu``, ``hook``) -> values, or ConfigError."""
     try:
@@ -204,6 +279,8 @@ class GatewayNode(Node):
         caps = self.declare_parameter("capabilities", [c.value for c in Capability]).value
         budget = float(self.declare_parameter("energy_budget", 40e6).value)
         window = float(self.declare_parameter("window", 30.0).value)
+        acl_domain = int(self.declare_parameter("acl_domain", -1).value)
+        acl_discovery = str(self.declare_parameter("acl_discovery", "").value)
         if not keystore:
             raise ConfigError("parameter keystore is required (an `hdrc3 keys` file)")
         self.auth = Authenticator(self.agent, load_keystore(keystore), window)
@@ -214,10 +291,12 @@ class GatewayNode(Node):
         self.server = ConstraintServer(profile, coster, None)
         port = TstManagerPort(self, caller, self.agent)
         self.contractor = Contractor(self.agent, self.server, port)
-        self.outbox = Outbox(self, self.auth)
+        self.bus = AclBus(self.agent, acl_domain, acl_discovery) if acl_domain >= 0 else None
+        acl_node = self.bus.node if self.bus is not None else self
+        self.outbox = Outbox(acl_node, self.auth)
         self.refused = 0
         self._inbox: queue.Queue[Any] = queue.Queue(maxsize=10_000)
-        self.create_subscription(AclMessageMsg, inbox(self.agent), self._on_acl, ACL_QOS)
+        acl_node.create_subscription(AclMessageMsg, inbox(self.agent), self._on_acl, ACL_QOS)
         self.create_subscription(
             HelicopterState, f"/{self.agent}/helicopter_state", self._on_state, 10
         )
@@ -225,7 +304,8 @@ class GatewayNode(Node):
         self._worker = threading.Thread(target=self._work, name="gateway", daemon=True)
         self._worker.start()
         caps_text = ",".join(sorted(c.value for c in profile.capabilities))
-        self.get_logger().info(f"gateway of {self.agent} ready: capabilities {caps_text}")
+        where = f"ACL on domain {acl_domain}" if self.bus is not None else "ACL on this domain"
+        self.get_logger().info(f"gateway of {self.agent} ready: capabilities {caps_text}; {where}")
 
     def _on_acl(self, msg: Any) -> None:
         try:
@@ -296,9 +376,11 @@ class GatewayNode(Node):
         self.get_logger().warning(f"refused a speech act from {sender[:40]!r}: {why}")
 
     def destroy_node(self) -> None:
-        """Stop the worker, then the node."""
+        """Stop the worker and the ACL bus, then the node."""
         self._stop.set()
         self._worker.join(timeout=2.0)
+        if self.bus is not None:
+            self.bus.close()
         super().destroy_node()
 
 

@@ -36,10 +36,14 @@ class RosDelegator:
         process.add_node(self.node)
         self.outbox = Outbox(self.node, auth)
         self.received: list[Any] = []
+        """Acts received and not yet handled by :meth:`run`."""
+        self.received_count = 0
         self.refusals: list[str] = []
-        self.node.create_subscription(
-            AclMessageMsg, inbox(auth.agent), self.received.append, ACL_QOS
-        )
+        self.node.create_subscription(AclMessageMsg, inbox(auth.agent), self._on_acl, ACL_QOS)
+
+    def _on_acl(self, msg: Any) -> None:
+        self.received.append(msg)
+        self.received_count += 1
 
     def wait_for_gateways(self, agents: tuple[str, ...], timeout: float) -> tuple[str, ...]:
         """Wait until every agent's gateway listens on its inbox; the agents still missing."""
@@ -48,6 +52,7 @@ class RosDelegator:
             return tuple(a for a in agents if not self.node.count_subscribers(inbox(a)))
 
         self.process.spin_until(lambda: not missing(), timeout)
+        self.outbox.connect([a for a in agents if a not in missing()])
         return missing()
 
     def run(
@@ -55,8 +60,9 @@ class RosDelegator:
         delegation: Delegation,
         timeout: float,
         on_event: Callable[[str], None] = lambda line: None,
+        until: Callable[[Delegation], bool] = lambda d: d.phase.finished,
     ) -> Delegation:
-        """Drive ``delegation`` until it is done, failed, or ``timeout`` wall seconds passed."""
+        """Drive ``delegation`` until ``until`` (default: done or failed) or ``timeout`` wall s."""
         shown = 0
 
         def step() -> bool:
@@ -68,7 +74,7 @@ class RosDelegator:
             for line in delegation.events[shown:]:
                 on_event(line)
             shown = len(delegation.events)
-            return delegation.phase.finished
+            return until(delegation)
 
         self.outbox.send(delegation.start(time.time()))
         self.process.spin_until(step, timeout, step_s=TICK_S)

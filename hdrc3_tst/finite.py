@@ -70,6 +70,12 @@ class FiniteModel:
     linear: list[LinearConstraint] = field(default_factory=list)
     symbolic: list[SymbolConstraint] = field(default_factory=list)
 
+    def copy(self) -> FiniteModel:
+        """An independent model with the same variables and (frozen) constraints."""
+        return FiniteModel(
+            set(self.numeric), dict(self.domains), list(self.linear), list(self.symbolic)
+        )
+
     def solve(self, time_limit: float = 5.0) -> SolveResult:
         """Check consistency; on failure name the constraints that conflict.
 

@@ -45,6 +45,12 @@ class ConstraintNetwork:
     stn: SimpleTemporalNetwork = field(default_factory=SimpleTemporalNetwork)
     finite: FiniteModel = field(default_factory=FiniteModel)
 
+    def copy(self) -> ConstraintNetwork:
+        """An independent network (a what-if: a contractor's schedule on top of a mission)."""
+        return ConstraintNetwork(
+            dict(self.types), dict(self.values), self.stn.copy(), self.finite.copy()
+        )
+
     def declare(self, var: str, kind: ParamType, domain: tuple[str, ...] = ()) -> None:
         """A new variable of type ``kind`` (names: with their possible values)."""
         self.types[var] = kind

@@ -79,6 +79,15 @@ class SimpleTemporalNetwork:
         self._to: dict[str, Bound] = {ORIGIN: (0.0, 0)}
         """Shortest distance v -> Z: minus the earliest time of v."""
 
+    def copy(self) -> SimpleTemporalNetwork:
+        """An independent network with the same variables, edges and windows (edges are frozen)."""
+        out = SimpleTemporalNetwork()
+        out._out = {v: dict(edges) for v, edges in self._out.items()}
+        out._in = {v: dict(edges) for v, edges in self._in.items()}
+        out._from = dict(self._from)
+        out._to = dict(self._to)
+        return out
+
     @property
     def variables(self) -> tuple[str, ...]:
         """Every time variable except the origin."""

@@ -17,6 +17,7 @@ from hdrc3.launch_plan import (
     LIVE_VIEW,
     LaunchOptions,
     build_plan,
+    check_discovery,
     check_domain_id,
     check_keystore,
     check_live_port,
@@ -76,6 +77,17 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         help="agent keys (hdrc3 keys generate); also starts each agent's gateway (delegation)",
     )
     parser.add_argument(
+        "--acl-domain",
+        type=int,
+        help="ROS domain of the gateways' speech acts (default: the launch's own)",
+    )
+    parser.add_argument(
+        "--acl-discovery",
+        metavar="RANGE",
+        help="discovery range of the ACL domain only, e.g. SUBNET inside a test's network "
+        "namespaces (default: loopback, as everywhere)",
+    )
+    parser.add_argument(
         "--capabilities",
         metavar="AGENT=CAP+CAP",
         action="append",
@@ -110,6 +122,8 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
         monitor_spec=check_monitor_spec(args.monitor_spec),
         keystore=check_keystore(args.keystore),
         capabilities=parse_capabilities(args.capabilities, parse_agents(args.agents)),
+        acl_domain=check_domain_id(args.acl_domain),
+        acl_discovery=check_discovery(args.acl_discovery),
     )
 
 

@@ -8,7 +8,7 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 
 import pytest
@@ -19,14 +19,17 @@ HDRC3 = str(Path(sys.executable).parent / "hdrc3")
 class Child:
     """A running `hdrc3 ...` process whose output is read with bounded waits."""
 
-    def __init__(self, args: list[str]) -> None:
+    def __init__(
+        self, args: list[str], prefix: Sequence[str] = (), env: Mapping[str, str] | None = None
+    ) -> None:
+        """Start ``[*prefix, hdrc3, *args]`` (``prefix``: e.g. ``ip netns exec NS``)."""
         self.args = args
         self.proc = subprocess.Popen(
-            [HDRC3, *args],
+            [*prefix, HDRC3, *args],
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             start_new_session=True,
-            env=dict(os.environ, PYTHONUNBUFFERED="1"),
+            env=dict(os.environ, PYTHONUNBUFFERED="1", **(env or {})),
         )
         self.lines: list[str] = []
         self._selector = selectors.DefaultSelector()

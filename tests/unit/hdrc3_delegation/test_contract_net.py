@@ -58,13 +58,19 @@ def start(bus: LocalBus) -> Delegation:
     return bus.delegation
 
 
-def finish_all(bus: LocalBus, state: str = "succeeded") -> None:
-    """Every contractor's manager reports its nodes finished; the contractors tick."""
+def finish(bus: LocalBus, nodes: tuple[str, ...] = (), state: str = "succeeded") -> None:
+    """Managers report ``nodes`` (default: all) finished; everybody ticks."""
     delegation = bus.delegation
     assert delegation is not None
     for node, agent in delegation.assignment.items():
-        manager(bus, agent).states.setdefault(delegation.instance, {})[node] = state
+        if not nodes or node in nodes:
+            manager(bus, agent).states.setdefault(delegation.instance, {})[node] = state
     bus.tick(bus.now + 1.0)
+
+
+def executed(bus: LocalBus) -> list[tuple[str, str, str]]:
+    """(agent, mission, node) of every execute request the managers got."""
+    return sorted((a, *e) for a in POSITIONS for e in manager(bus, a).executed)
 
 
 def test_example_6_1_goes_to_two_capable_agents_and_runs_once() -> None:
@@ -74,14 +80,20 @@ def test_example_6_1_goes_to_two_capable_agents_and_runs_once() -> None:
     assignment = delegation.assignment
     assert set(assignment.values()) == {"uav0", "uav1"}
     assert assignment["tau2"] != assignment["tau3"], "concurrent scans on two aircraft"
-    root_agent = assignment["tau0"]
-    assert manager(bus, root_agent).executed == [("m", "tau0")]
     for agent in ("uav0", "uav1"):
         (created,) = manager(bus, agent).created
         assert created[0] == "m" and set(created[1]) == set(delegation.fixes)
     assert manager(bus, "uav2").created == []
     assert any("uav2 has no camera" in e for e in delegation.events)
-    finish_all(bus)
+    # the delegator runs tau0 and tau1 (they span agents): first both scans, then tau4
+    scans = [(assignment["tau2"], "m", "tau2"), (assignment["tau3"], "m", "tau3")]
+    assert executed(bus) == sorted(scans)
+    finish(bus, ("tau2",))
+    assert executed(bus) == sorted(scans), "tau4 waits for the whole concurrent tau1"
+    finish(bus, ("tau3",))
+    assert executed(bus) == sorted([*scans, (assignment["tau4"], "m", "tau4")])
+    assert delegation.phase is Phase.EXECUTING
+    finish(bus, ("tau4",))
     assert delegation.phase is Phase.DONE
     assert all(check.accepted for _, _, check in bus.log)
 
@@ -95,7 +107,7 @@ def test_without_a_limit_the_cheapest_bidder_wins_each_node() -> None:
 
 def test_a_winner_partitioned_before_its_award_is_replaced_and_never_executes() -> None:
     bus = fleet(no_camera=())
-    bus.cut = (Performative.ACCEPT_PROPOSAL, "uav0")
+    bus.cut = (Performative.ACCEPT_PROPOSAL, "uav0", 0)
     delegation = start(bus)
     assert delegation.phase is Phase.AWARD and "uav0" in bus.partitioned
     bus.tick(TIMING.award_s + 1.0)
@@ -104,8 +116,7 @@ def test_a_winner_partitioned_before_its_award_is_replaced_and_never_executes() 
     assignment = delegation.assignment
     assert {assignment["tau2"], assignment["tau3"]} == {"uav1", "uav2"}
     assert manager(bus, "uav1").aborted, "round 0's replica is aborted on cancel"
-    root_agent = assignment["tau0"]
-    assert manager(bus, root_agent).executed == [("m-r1", "tau0")]
+    assert {(m, n) for _, m, n in executed(bus)} == {("m-r1", "tau2"), ("m-r1", "tau3")}
     bus.now += 5.0
     before = len(bus.log)
     bus.heal()
@@ -113,7 +124,7 @@ def test_a_winner_partitioned_before_its_award_is_replaced_and_never_executes() 
     assert [m.performative for m in late] == [Performative.FAILURE]
     assert "after its reply-by" in late[0].content
     assert manager(bus, "uav0").created == [] and manager(bus, "uav0").executed == []
-    finish_all(bus)
+    finish(bus)
     assert delegation.phase is Phase.DONE
 
 
@@ -128,6 +139,20 @@ def test_an_agent_silent_during_the_auction_is_excluded() -> None:
     assert "uav1" not in delegation.assignment.values()
 
 
+def test_a_winner_silent_in_a_later_auction_is_replaced_before_any_award() -> None:
+    bus = fleet(no_camera=())
+    bus.cut = (Performative.CFP, "uav0", 1)  # uav0 bids for tau2, then goes silent
+    delegation = start(bus)
+    assert delegation.winners and delegation.phase is Phase.AUCTION
+    bus.tick(TIMING.answer_s + 1.0)
+    assert delegation.excluded == {"uav0": "did not answer a cfp by reply-by"}
+    assert delegation.phase is Phase.EXECUTING, delegation.events
+    assert "uav0" not in delegation.assignment.values()
+    awarded = {r for m, r, _ in bus.log if m.performative is Performative.ACCEPT_PROPOSAL}
+    assert awarded == {"uav1", "uav2"}
+    assert not [m for m, _ in bus.held if m.performative is Performative.ACCEPT_PROPOSAL]
+
+
 def test_nobody_capable_fails_with_every_reason() -> None:
     bus = fleet(no_camera=("uav0", "uav1", "uav2"))
     delegation = start(bus)
@@ -139,7 +164,7 @@ def test_nobody_capable_fails_with_every_reason() -> None:
 def test_a_failed_node_fails_the_delegation_and_cancels_the_rest() -> None:
     bus = fleet()
     delegation = start(bus)
-    finish_all(bus, state="failed")
+    finish(bus, state="failed")
     assert delegation.phase is Phase.FAILED
     assert "failed" in delegation.reason
     cancels = [m for m, _, _ in bus.log if m.performative is Performative.CANCEL]

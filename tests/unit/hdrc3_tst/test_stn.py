@@ -106,3 +106,20 @@ def test_incremental_updates_equal_propagation_from_scratch(
         incremental = {v: stn.window(v) for v in stn.variables}
         stn.propagate()
         assert {v: stn.window(v) for v in stn.variables} == incremental
+
+
+def test_a_copy_is_independent_of_its_original() -> None:
+    from hdrc3_tst.stn import SimpleTemporalNetwork
+
+    stn = SimpleTemporalNetwork()
+    for var in ("a", "b"):
+        stn.add_variable(var)
+    stn.add("b", "a", 10.0, False, "b - a <= 10")
+    stn.propagate()
+    before = stn.window("b")
+    copy = stn.copy()
+    copy.add("a", "b", -5.0, False, "b - a >= 5")
+    assert copy.window("b").earliest == 5.0
+    assert stn.window("b") == before and before.earliest == 0.0
+    assert stn.edge_count + 1 == copy.edge_count
+    assert all(e.label != "b - a >= 5" for e in stn.edges())
