@@ -474,7 +474,8 @@ class Delegation:
         """Advance the delegator's own nodes; request held subtrees as they become due."""
         out: list[AclMessage] = []
         state = self._advance(self.tst.tree.root, now, out)
-        if state == NodeState.SUCCEEDED.value:
+        everyone = set(self.done) >= set(self._award_agents())
+        if state == NodeState.SUCCEEDED.value and everyone:  # every contractor reported done
             self.phase = Phase.DONE
             self.events.append("delegation done")
         elif state in _ENDED_BADLY:
@@ -535,7 +536,7 @@ class Delegation:
             self.events.append(f"done {msg.sender}: {self.done[msg.sender]}")
             if self.done[msg.sender] != NodeState.SUCCEEDED.value:
                 return self._fail_and_cancel(f"{msg.sender}'s nodes {self.done[msg.sender]}")
-            return []
+            return self._drive(now)
         if msg.performative in _REFUSALS:
             reason = str(body.get("reason", msg.performative.value))
             return self._fail_and_cancel(f"{msg.sender}: {reason}")
@@ -580,6 +581,14 @@ def _bid(body: dict[str, Any]) -> Bid | None:
     return Bid(*values)
 
 
+@dataclass(frozen=True)
+class NodeReport:
+    """A node's state on a contractor's TST manager, and why it failed or was aborted."""
+
+    state: str
+    reason: str = ""
+
+
 class ContractorPort(Protocol):
     """What a contractor's gateway does on its own platform (the TST manager, the legacy side)."""
 
@@ -592,7 +601,7 @@ class ContractorPort(Protocol):
     def abort(self, mission: str, reason: str) -> None:
         """Abort the mission."""
 
-    def node_states(self, mission: str) -> dict[str, str]:
+    def node_states(self, mission: str) -> dict[str, NodeReport]:
         """The latest state of each of the mission's nodes this agent's manager reported."""
 
 
@@ -657,12 +666,15 @@ class Contractor:
         """Report the state changes of the nodes this agent holds, and when all are done."""
         out: list[AclMessage] = []
         for mission, contract in list(self.contracts.items()):
-            states = self.port.node_states(mission)
+            reports = self.port.node_states(mission)
             for node in contract.nodes:
-                state = states.get(node)
-                if state and contract.reported.get(node) != state:
-                    contract.reported[node] = state
-                    out.append(_inform(contract, content(mission=mission, node=node, state=state)))
+                report = reports.get(node)
+                if report is not None and contract.reported.get(node) != report.state:
+                    contract.reported[node] = report.state
+                    body = content(
+                        mission=mission, node=node, state=report.state, reason=report.reason
+                    )
+                    out.append(_inform(contract, body))
             finished = [contract.reported.get(n, "") for n in contract.actions]
             if all(s and NodeState(s).finished for s in finished):
                 failed = [s for s in finished if s != NodeState.SUCCEEDED.value]

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from hdrc3_delegation.acl import AclMessage, Performative
 from hdrc3_delegation.authentication import Authenticator, Check
-from hdrc3_delegation.contract_net import Contractor, Delegation
+from hdrc3_delegation.contract_net import Contractor, Delegation, NodeReport
 from hdrc3_delegation.task_cost import MotionInfo, Vec3, straight_line
 from hdrc3_navigation.cost import FlightModel
 
@@ -58,9 +58,12 @@ class FakeManager:
         """Record the abort."""
         self.aborted.append((mission, reason))
 
-    def node_states(self, mission: str) -> dict[str, str]:
-        """What the test set."""
-        return dict(self.states.get(mission, {}))
+    def node_states(self, mission: str) -> dict[str, NodeReport]:
+        """What the test set (a failed node's reason: "set by the test")."""
+        return {
+            node: NodeReport(state, "set by the test" if state == "failed" else "")
+            for node, state in self.states.get(mission, {}).items()
+        }
 
 
 @dataclass

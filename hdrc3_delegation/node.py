@@ -38,7 +38,7 @@ from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
 from hdrc3_delegation.acl import AclMessage, Performative
 from hdrc3_delegation.authentication import Authenticator
 from hdrc3_delegation.constraint_server import AgentProfile, ConstraintServer
-from hdrc3_delegation.contract_net import LANGUAGE, PROTOCOL, Contractor, content
+from hdrc3_delegation.contract_net import LANGUAGE, PROTOCOL, Contractor, NodeReport, content
 from hdrc3_delegation.keystore import load_keystore
 from hdrc3_delegation.messages import from_msg, raw_fields, to_msg
 from hdrc3_delegation.task_cost import MotionInfo, TaskCoster, Vec3
@@ -169,7 +169,7 @@ class TstManagerPort:
     def __init__(self, node: Node, caller: Caller, agent: str) -> None:
         self.caller = caller
         self.agent = agent
-        self.states: dict[str, dict[str, str]] = {}
+        self.states: dict[str, dict[str, NodeReport]] = {}
         self._lock = threading.Lock()
         node.create_subscription(TstNodeStatus, f"/{agent}/tst_status", self._on_status, STATUS_QOS)
 
@@ -177,7 +177,8 @@ class TstManagerPort:
         if msg.agent != self.agent:
             return
         with self._lock:
-            self.states.setdefault(str(msg.mission), {})[str(msg.node_id)] = str(msg.state)
+            report = NodeReport(str(msg.state), str(msg.reason))
+            self.states.setdefault(str(msg.mission), {})[str(msg.node_id)] = report
 
     def _call(self, srv_type: Any, service: str, request: Any) -> str:
         name = f"/{self.agent}/tst_manager/{service}"
@@ -203,7 +204,7 @@ class TstManagerPort:
         """Abort the mission (an unknown mission is already gone)."""
         self._call(TstAbort, "abort", TstAbort.Request(mission=mission, node_id="", reason=reason))
 
-    def node_states(self, mission: str) -> dict[str, str]:
+    def node_states(self, mission: str) -> dict[str, NodeReport]:
         """The latest state of each node of the mission held here."""
         with self._lock:
             return dict(self.states.get(mission, {}))

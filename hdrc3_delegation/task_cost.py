@@ -20,7 +20,7 @@ import numpy as np
 from hdrc3_control.takeoff import TakeoffConfig
 from hdrc3_navigation.cost import FlightModel
 from hdrc3_navigation.coverage import CoverageStatus, Platform, pair_footprint_width, plan_part
-from hdrc3_navigation.planner import PathPlanner, PlanRequest
+from hdrc3_navigation.planner import MIN_FLIGHT_M, PathPlanner, PlanRequest
 from hdrc3_tst.actions import ACTIONS, ParamType
 from hdrc3_tst.model import Node
 from hdrc3_tst.resolver import ResolvedTst
@@ -145,6 +145,8 @@ class TaskCoster:
         duration = energy = 0.0
         here = start
         for point in points:
+            if math.dist(here, point) < MIN_FLIGHT_M:  # already there
+                continue
             info = self.motion.motion(here, point, speed)
             if not info.feasible:
                 return ActionCost(

@@ -31,6 +31,8 @@ from hdrc3_navigation.search import Deadline, Query, edge_costs
 from sim.world import World
 
 Vec3 = tuple[float, float, float]
+MIN_FLIGHT_M = 0.5
+"""Shortest flight the planner plans: closer goals are where the aircraft already is."""
 _BRIDGE_ENDS = 8
 """Roadmap nodes of each component offered to the reconnecting RRT."""
 
@@ -168,8 +170,10 @@ class PathPlanner:
         problems = request.constraints.problems()
         if problems:
             return PlanResult(PlanStatus.INVALID, "; ".join(problems))
-        if math.dist(request.start, request.goal) < 0.5:
-            return PlanResult(PlanStatus.INVALID, "start and goal are closer than 0.5 m")
+        if math.dist(request.start, request.goal) < MIN_FLIGHT_M:
+            return PlanResult(
+                PlanStatus.INVALID, f"start and goal are closer than {MIN_FLIGHT_M:g} m"
+            )
         direction = request.start_direction
         if direction is not None and not (
             isinstance(direction, (tuple, list))

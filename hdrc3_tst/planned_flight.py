@@ -28,7 +28,7 @@ from collections.abc import Generator
 from dataclasses import dataclass, field
 
 from hdrc3_control.path_segment import PathSegment
-from hdrc3_navigation.planner import PlanRequest, PlanResult, PlanStatus
+from hdrc3_navigation.planner import MIN_FLIGHT_M, PlanRequest, PlanResult, PlanStatus
 from hdrc3_platform_server.codes import FclCommand
 from hdrc3_tst.executor import SUCCEEDED, ActionContext, Status, failed, flight_bound
 from hdrc3_tst.navigation_port import NavigationPort
@@ -104,6 +104,8 @@ class PlannedFlight:
         start = self._position()
         if start is None:
             return failed("no Data Interface sample to plan from")
+        if math.dist(start, self.goal) < MIN_FLIGHT_M:  # already there: nothing to fly
+            return SUCCEEDED
         outcome = yield from self._plan_into_todo(start, None)
         if outcome is not None:
             return outcome

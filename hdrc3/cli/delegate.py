@@ -67,6 +67,9 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         help="with --launch: what an agent offers, e.g. uav2=flight+hook",
     )
     parser.add_argument("--record", default=None, help="with --launch: record to FILE.mcap")
+    parser.add_argument(
+        "--seed", type=int, default=0, help="with --launch: simulation seed (sensor outages)"
+    )
     parser.set_defaults(handler=_delegate)
 
 
@@ -99,7 +102,15 @@ def _delegate(args: argparse.Namespace) -> int:
         extra += ["--capabilities", item]
     record = Path(args.record) if args.record else None
     with LaunchedSystem(
-        candidates, world, args.speed, args.domain_id, record, nodes, console.print, extra=extra
+        candidates,
+        world,
+        args.speed,
+        args.domain_id,
+        record,
+        nodes,
+        console.print,
+        args.seed,
+        extra,
     ):
         return _run(console, args, auth, mission, candidates, check.tst, hand_over_first=True)
 

@@ -267,3 +267,53 @@ def test_each_agents_execution_monitor_gets_the_monitor_spec(tmp_path: Path, giv
 def test_a_missing_monitor_spec_is_refused(tmp_path: Path) -> None:
     with pytest.raises(ConfigError, match="is not a file"):
         launch_plan.check_monitor_spec(str(tmp_path / "none.monitors"))
+
+
+def test_each_agents_gateway_gets_the_keystore_its_capabilities_and_the_acl_domain(
+    tmp_path: Path,
+) -> None:
+    keystore = tmp_path / "keys.toml"
+    keystore.write_text("[keys]\n")
+    agents = ("uav0", "uav1")
+    options = LaunchOptions(
+        agents=agents,
+        nodes=parse_nodes("platform_server,gateway"),
+        world="revinge",
+        speed=1.0,
+        record=None,
+        domain_id=None,
+        keystore=launch_plan.check_keystore(str(keystore)),
+        capabilities=launch_plan.parse_capabilities(["uav1=flight+hook"], agents),
+        acl_domain=7,
+        acl_discovery=launch_plan.check_discovery("subnet"),
+    )
+    argv = {spec.name: spec.argv for spec in build_plan(options, launch_plan.CATALOG)}
+    for agent in agents:
+        gateway = argv[f"{agent}/gateway"]
+        assert gateway[0].endswith("hdrc3-gateway") and f"__ns:=/{agent}" in gateway
+        assert f"keystore:={keystore.resolve()}" in gateway
+        assert "acl_domain:=7" in gateway and "acl_discovery:=SUBNET" in gateway
+    assert "capabilities:=['flight','hook']" in argv["uav1/gateway"]
+    assert not any(a.startswith("capabilities") for a in argv["uav0/gateway"])
+    assert "gateway" not in parse_nodes(None)
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda p: launch_plan.check_keystore(str(p / "none.toml")), "is not a file"),
+        (lambda p: launch_plan.parse_capabilities(["uav1=flight"], ("uav0",)), "AGENT=cap"),
+        (lambda p: launch_plan.parse_capabilities(["uav0"], ("uav0",)), "AGENT=cap"),
+        (lambda p: launch_plan.parse_capabilities(["uav0=wings"], ("uav0",)), "unknown 'wings'"),
+        (lambda p: launch_plan.check_discovery("everywhere"), "invalid discovery range"),
+    ],
+)
+def test_bad_gateway_options_are_refused(tmp_path: Path, call, message: str) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(ConfigError, match=message):
+        call(tmp_path)
+
+
+def test_a_gateway_without_a_keystore_is_refused() -> None:
+    options = LaunchOptions(("uav0",), parse_nodes("gateway"), "revinge", 1.0, None, None)
+    with pytest.raises(ConfigError, match="need a keystore"):
+        build_plan(options, launch_plan.CATALOG)

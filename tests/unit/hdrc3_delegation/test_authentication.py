@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import hmac
 
 import pytest
 
@@ -74,3 +76,19 @@ def test_misuse_raises() -> None:
         Authenticator("uav9", KEYS)
     with pytest.raises(DelegationError, match="cannot sign"):
         Authenticator("uav0", KEYS).sign(MSG, 0.0)
+
+
+def test_raw_fields_of_an_unknown_performative_verify_like_the_message() -> None:
+    from hdrc3_delegation.acl import canonical_fields
+
+    fields = signed().fields()
+    fields["performative"] = "beg"
+    key = KEYS.key("gcs")
+    assert key is not None
+    fields["signature"] = hmac.new(key, canonical_fields(fields), hashlib.sha256).hexdigest()
+    receiver = Authenticator("uav0", KEYS)
+    assert receiver.verify_fields(fields, 101.0).accepted
+    assert receiver.verify_fields(fields, 101.0).verdict is Verdict.REPLAYED
+    forged = dict(fields, content="{}", nonce="ef" * 16)
+    assert receiver.verify_fields(forged, 101.0).verdict is Verdict.BAD_SIGNATURE
+    assert receiver.verify_fields({"sender": "gcs"}, 101.0).verdict is Verdict.BAD_SIGNATURE

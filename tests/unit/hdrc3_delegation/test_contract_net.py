@@ -167,6 +167,7 @@ def test_a_failed_node_fails_the_delegation_and_cancels_the_rest() -> None:
     finish(bus, state="failed")
     assert delegation.phase is Phase.FAILED
     assert "failed" in delegation.reason
+    assert any("failed: set by the test" in e for e in delegation.events), "the reason travels"
     cancels = [m for m, _, _ in bus.log if m.performative is Performative.CANCEL]
     assert cancels
 

@@ -309,3 +309,11 @@ def test_a_refused_replacement_brakes_and_plans_from_the_hover_point() -> None:
     assert [r.start for r in nav.requests] == [A, (20.0, 0.0, 15.0), (20.0, 0.0, 15.0)]
     assert any("replacement of the queued segment was refused" in n for n in flight.notes)
     assert (40.0, 0.0, 15.0) not in [s.end for s in flight.flown()]
+
+
+def test_a_fly_to_where_the_aircraft_already_is_succeeds_without_a_flight() -> None:
+    flight = Flight(None, (WEST[0] + 0.3, WEST[1], WEST[2]))
+    flight.ctx.navigation = SilentNavigation()  # it must not even ask
+    status = flight.fly()
+    assert status.progress is Progress.SUCCEEDED
+    assert flight.traj3d() == [] and flight.now <= 2 * TICK
