@@ -74,7 +74,9 @@ class PadPlacement:
             )
         pad = chosen[0]
         ground = world.terrain.height(pad.east, pad.north)
-        return PadPlacement(pad.name, pad_origin(pad.east, pad.north, ground), pad_axes(pad.heading))
+        return PadPlacement(
+            pad.name, pad_origin(pad.east, pad.north, ground), pad_axes(pad.heading)
+        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -108,8 +110,11 @@ def helicopter_fix(
     placement: PadPlacement,
     mount: Vec3 = MOUNT_OFFSET,
 ) -> HelicopterFix:
-    """The fix from the pad's pose in the optical frame (``rotation`` pad -> camera, and the
-    pad's origin ``translation`` in the camera frame) and the PTU's (pan, tilt) at ``time``."""
+    """The helicopter fix from the pad's pose in the optical frame and the PTU angles.
+
+    ``rotation`` takes pad vectors to the camera frame, ``translation`` is the pad's origin in
+    the camera frame, ``ptu`` the (pan, tilt) at the image's ``time`` (None: no reading).
+    """
     if ptu is None:
         return HelicopterFix(FixStatus.NO_PTU, time, "no PTU reading at the image's time")
     r = np.asarray(rotation, dtype=np.float64)

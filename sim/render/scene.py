@@ -146,7 +146,8 @@ def _landing_pattern(
     axes = pad_axes(pad.heading)[:2, :2]
 
     def enu(x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.column_stack([x, y]) @ axes.T + np.array([pad.east, pad.north])
+        points: NDArray[np.float64] = np.column_stack([x, y]) @ axes.T + (pad.east, pad.north)
+        return points
 
     h = PAD_HALF_WIDTH_M
     corners = enu(np.array([-h, h, h, -h]), np.array([-h, -h, h, h]))

@@ -117,8 +117,8 @@ def test_the_pose_is_found_on_the_simulators_renderer(
 ) -> None:
     import cv2
 
-    from sim.render.projection import look_at as sim_look_at
     from sim.landing_pattern import PRINT_HEIGHT_M
+    from sim.render.projection import look_at as sim_look_at
     from sim.sensors.camera_model import Intrinsics as SimIntrinsics
 
     renderer, pad = pad_world_renderer
