@@ -366,6 +366,8 @@ class StateEstimator:
             rejects[-c.gate_reset_count :], c.vision_reset_spread
         )
         norm = float(np.linalg.norm(innovation))
+        if force:  # the filter was off by the innovation: say so, so that the fix pulls it over
+            self._kf.P[_P, _P] += np.diag(innovation**2)
         if not self._correct(z, h, np.eye(3) * meas.sigma**2, force=force):
             rejects.append(innovation)
             del rejects[: -c.gate_reset_count]

@@ -67,6 +67,7 @@ def test_vision_fixes_are_fused_over_the_pad(hdrc3_cli: Any, ros_context: Any) -
         String, "/uav0/pad_pose/result",
         lambda m: fixes.append(json.loads(m.data)) if "fix" in m.data else None, RESULT_QOS,
     )  # fmt: skip
+    assert hdrc3_main(["rc", "uav0", "--engine", "on", "--mode", "autonomous"]) == 0
     ready = spin_until(
         executor,
         lambda: bool(pfc) and pfc[-1].auto_flag and pfc[-1].mode == PfcState.MODE_GROUND_IDLE,
@@ -90,21 +91,33 @@ def test_vision_fixes_are_fused_over_the_pad(hdrc3_cli: Any, ros_context: Any) -
             return 0
         return int(aiding[-1]["sources"].get("vision", {}).get("accepted", 0))
 
+    assert spin_until(executor, lambda: vision_accepted() >= 15, 90.0), (aiding[-1:], fixes[-3:])
+    # the first fixes may be rejected: the GPS/INS solution is metres off, the filter takes them
+    # once a run of them agrees (StateEstimator.update_vision); from then on they pass the gate
+    early = aiding[-1]["sources"]["vision"]
     assert spin_until(executor, lambda: vision_accepted() >= 40, 90.0), (aiding[-1:], fixes[-3:])
     report = aiding[-1]
     assert "vision" in report["used"] and "gps" not in report["used"], report
     assert "gps_velocity" in report["used"], report  # GPS gives only its velocity meanwhile
-    vision = report["sources"]["vision"]
-    assert vision["rejected"] <= 0.2 * vision["accepted"], vision
+    late = report["sources"]["vision"]
+    accepted, rejected = (late[k] - early[k] for k in ("accepted", "rejected"))
+    assert rejected <= 0.2 * accepted, (early, late)
 
     fused = np.array(pfc[-1].position_enu)
     t = _stamp(pfc[-1])
     assert t > engaged_at
     jump = fused - gps_ins
     assert math.hypot(jump[0], jump[1]) <= GPS_BOUND_H and abs(jump[2]) <= BARO_BOUND_V, jump
-    real = min(truth, key=lambda m: abs(_stamp(m) - t))
-    error = fused - np.array(real.position_enu)
-    assert float(np.linalg.norm(error)) <= TRUTH_BOUND, (error, jump)
+    truth_at = {round(_stamp(m), 2): np.array(m.position_enu) for m in truth}
+    errors = [
+        float(np.linalg.norm(np.array(m.position_enu) - truth_at[round(_stamp(m), 2)]))
+        for m in pfc
+        if t - 2.0 <= _stamp(m) <= t and round(_stamp(m), 2) in truth_at
+    ]
+    print(f"GPS/INS -> fused: {np.round(jump, 2)} m; fused vs truth over the last 2 s: "
+          f"mean {np.mean(errors):.3f} m, max {max(errors):.3f} m ({len(errors)} ticks); "
+          f"vision {late}")  # fmt: skip
+    assert len(errors) >= 20 and max(errors) <= TRUTH_BOUND, errors
     assert all(f["fix"]["pad"] == "L1" for f in fixes if f["fix"]["status"] == "ok")
     node.destroy_node()
     assert launch.interrupt() == 0

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -40,7 +41,7 @@ def test_the_set_point_moves_within_the_slew_rates_and_holds_then_lets_go() -> N
     assert not tracker.see(PadSighting(0.5, (0.0, 0.0, 5.0)))  # no PTU reading of its time
     assert tracker.see(PadSighting(0.0, (0.0, 5.0, 5.0)))  # 45 deg below the axis
     points = [tracker.update(0.04 * k) for k in range(40)]
-    steps = [abs(b[1] - a[1]) for a, b in zip(points, points[1:], strict=False)]  # type: ignore[index]
+    steps = [abs(b[1] - a[1]) for a, b in itertools.pairwise(points)]  # type: ignore[index]
     assert max(steps) <= RATE * 0.04 + 1e-12
     assert points[-1] == pytest.approx((0.0, math.pi / 4))
     assert tracker.update(2.0) is not None  # held through a short occlusion

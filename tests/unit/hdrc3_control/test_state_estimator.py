@@ -264,4 +264,6 @@ def test_vision_takes_over_from_a_biased_gps() -> None:
     assert _error(rec, 14.9) < 0.15
     assert sc.est.used(14.99) == (AidingSource.GPS_VELOCITY, AidingSource.VISION, AidingSource.BARO)
     assert sc.est.aiding.count(AidingSource.GPS, Verdict.ACCEPTED) > 40
+    # one run of consistent rejections, then the filter is on the fixes
+    assert sc.est.aiding.count(AidingSource.VISION, Verdict.REJECTED) == 10
     assert sc.est.aiding.report(14.99, 0.5)["used"] == ["gps_velocity", "vision", "baro"]
