@@ -8,9 +8,13 @@ Bounds. The filter's solution before the pad is seen is GPS/INS: the simulated G
 Gauss-Markov error of 1.5 m per horizontal axis (``sim/sensors/gps.py``) and the height is the
 barometer's, referenced on the ground before take-off (0.3 m noise, weather drift). So the fused
 (vision) solution may differ from the GPS/INS one by up to 3 sigma of the GPS horizontally
-(4.5 m) and 1.5 m vertically; and it must be much better than GPS against the ground truth
-(fixes of 12 m range are good to a few cm; the test allows 0.3 m for the hover's motion between
-an image and the filter's time).
+(4.5 m) and 1.5 m vertically; and it must be much better than GPS against the ground truth:
+a fix 12.5 m from the pad is within 0.2 m with 99 % (3.37 x ``fix_sigma`` = 6 cm,
+``bench/landing.py``), and between fixes the filter dead-reckons: on the loaded machine the
+renderer skips exposures (world_render never holds the simulation), so fixes can be a second or
+two apart, 0.15-0.6 m of drift for 1-3 s (``test_state_estimator.py``). Hence at most 0.5 m
+off the truth, 0.3 m on average over the last 2 s (measured: 0.09-0.11 m mean alone, 0.24-0.34
+m while other launches ran on the two cores).
 """
 
 from __future__ import annotations
@@ -36,7 +40,8 @@ OVER_L1 = ("13.466580713", "55.698544926", "107.0", "3")
 GPS_BOUND_H = 4.5
 """3 sigma of the simulated GPS's horizontal error per axis (1.5 m)."""
 BARO_BOUND_V = 1.5
-TRUTH_BOUND = 0.3
+TRUTH_BOUND = 0.5
+TRUTH_MEAN_BOUND = 0.3
 
 
 def _stamp(msg: Any) -> float:
@@ -118,6 +123,7 @@ def test_vision_fixes_are_fused_over_the_pad(hdrc3_cli: Any, ros_context: Any) -
           f"mean {np.mean(errors):.3f} m, max {max(errors):.3f} m ({len(errors)} ticks); "
           f"vision {late}")  # fmt: skip
     assert len(errors) >= 20 and max(errors) <= TRUTH_BOUND, errors
+    assert float(np.mean(errors)) <= TRUTH_MEAN_BOUND, errors
     assert all(f["fix"]["pad"] == "L1" for f in fixes if f["fix"]["status"] == "ok")
     node.destroy_node()
     assert launch.interrupt() == 0
