@@ -112,6 +112,7 @@ CATALOG: tuple[NodeKind, ...] = (
         "hdrc3-pad-pose",
         Scope.AGENT,
         "the landing pad's pose from the colour camera while the PPC engages it (5.4)",
+        world_params=True,
         default=False,
     ),
     NodeKind(

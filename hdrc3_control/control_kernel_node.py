@@ -7,10 +7,13 @@ whatever the mode (manual, on the ground, between two functions). Events to and 
 (platform_server) and the PPC travel over the HCSM ROS transport (``hcsm/events/<COMPUTER>``).
 
 Topics (relative to the agent namespace): in ``sensors/{imu,attitude,gps/fix,gps/velocity,
-barometer,ground_contact,rpm,power}``, ``yacs/status``, ``pfc/ui`` (std_msgs/String: arm, brake,
-land), ``/clock``; out ``yacs/command``, ``pfc/state`` (PfcState, every tick), ``hcsm/trace``
-(fired transitions; parameter ``trace``, default on). Client of ``/world_sim/set_power`` for
-the Power Switch's requests.
+barometer,ground_contact,rpm,power}``, ``pad_pose/fix`` (the landing pad camera's helicopter
+fix, ``PoseWithCovarianceStamped`` in the world's ENU frame, §5.4), ``yacs/status``, ``pfc/ui``
+(std_msgs/String: arm, brake, land), ``/clock``; out ``yacs/command``, ``pfc/state`` (PfcState,
+every tick), ``pfc/aiding`` (std_msgs/String JSON, 5 Hz of sim time: the sources the Kalman
+filter used lately and each source's verdict counts, :class:`~hdrc3_control.aiding.AidingLog`),
+``hcsm/trace`` (fired transitions; parameter ``trace``, default on). Client of
+``/world_sim/set_power`` for the Power Switch's requests.
 Parameters: ``world`` (origin and terrain of the map), ``takeoff_height``, ``trace``,
 ``checkpoint`` (the warm-start record's file, "" = none: read at start, rewritten every second of
 sim time while the navigation solution is good; ``warm_start.py``).
@@ -18,6 +21,7 @@ sim time while the navigation solution is good; ``warm_start.py``).
 
 from __future__ import annotations
 
+import json
 import math
 import sys
 import threading
@@ -27,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 import pymap3d
-from geometry_msgs.msg import TwistStamped
+from geometry_msgs.msg import PoseWithCovarianceStamped, TwistStamped
 from rclpy.context import Context
 from rclpy.executors import Executor
 from rclpy.parameter import Parameter
@@ -47,6 +51,7 @@ from hdrc3_control.measurements import (
     GpsMeasurement,
     GroundContactMeasurement,
     ImuMeasurement,
+    VisionPoseMeasurement,
 )
 from hdrc3_control.pfc_state import PlatformStatus, PowerReading
 from hdrc3_control.takeoff import TakeoffConfig
@@ -76,6 +81,9 @@ CLOCK_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
 WARM_START_PERIOD_NS = 1_000_000_000
+AIDING_PERIOD_NS = 200_000_000
+"""Sim time between two ``pfc/aiding`` reports."""
+VISION_FRAME = "world_enu"
 """Sim time between two warm-start records."""
 DRAIN_LIMIT = 64
 """Ready callbacks served before a tick runs (the period's samples: 4 IMU, 1 attitude, ...)."""
@@ -154,6 +162,10 @@ class ControlKernelNode(SteppedNode):
         self._warm_logged = False
         self.command_pub = self.create_publisher(YacsCommand, "yacs/command", COMMAND_QOS)
         self.state_pub = self.create_publisher(PfcState, "pfc/state", SENSOR_QOS)
+        self.aiding_pub = self.create_publisher(String, "pfc/aiding", SENSOR_QOS)
+        self._aiding_ns = -AIDING_PERIOD_NS
+        self.vision_refused = 0
+        """Fixes dropped by the adapter (wrong frame, bad covariance)."""
         self.power_client = self.create_client(
             SimSetPower, "/world_sim/set_power", qos_profile=SERVICE_QOS
         )
@@ -191,6 +203,7 @@ class ControlKernelNode(SteppedNode):
         sub(RotorRpm, "sensors/rpm", self._on_rpm, SENSOR_QOS)
         sub(PowerStatus, "sensors/power", self._on_power, SENSOR_QOS)
         sub(String, "pfc/ui", self._on_ui, SENSOR_QOS)
+        sub(PoseWithCovarianceStamped, "pad_pose/fix", self._on_vision, SENSOR_QOS)
 
     # ------------------------------------------------------------------ inputs
     def _on_clock(self, msg: Any) -> None:
@@ -254,6 +267,21 @@ class ControlKernelNode(SteppedNode):
         t = _sec(msg.header.stamp)
         self.kernel.feed(GroundContactMeasurement(t, bool(msg.on_ground), 0.0))
 
+    def _on_vision(self, msg: Any) -> None:
+        p, cov = msg.pose.pose.position, msg.pose.covariance
+        variance = (float(cov[0]) + float(cov[7]) + float(cov[14])) / 3.0
+        if msg.header.frame_id != VISION_FRAME or not (math.isfinite(variance) and variance > 0):
+            self.vision_refused += 1
+            if self.vision_refused == 1:
+                self.get_logger().warning(
+                    f"vision fix refused: frame {msg.header.frame_id!r} (want {VISION_FRAME!r}),"
+                    f" variance {variance}"
+                )
+            return
+        position = (float(p.x), float(p.y), float(p.z))
+        t = _sec(msg.header.stamp)
+        self.kernel.feed(VisionPoseMeasurement(t, position, math.sqrt(variance)))
+
     def _on_rpm(self, msg: Any) -> None:
         self.kernel.feed_rpm(float(msg.rpm))
 
@@ -302,6 +330,10 @@ class ControlKernelNode(SteppedNode):
             self._request_power(request.devices)
         self._publish_state(ns, result)
         self._keep_warm_start(ns)
+        if ns - self._aiding_ns >= AIDING_PERIOD_NS:
+            self._aiding_ns = ns
+            report = self.kernel.aiding_report()
+            self.aiding_pub.publish(String(data=json.dumps({"time": ns * 1e-9, **report})))
 
     def _keep_warm_start(self, ns: int) -> None:
         """Log what the first tick did with the record; rewrite it every period of sim time."""

@@ -55,6 +55,7 @@ from hdrc3_control.measurements import (
     GpsMeasurement,
     GroundContactMeasurement,
     ImuMeasurement,
+    VisionPoseMeasurement,
 )
 from hdrc3_control.navigation_texts import baro_text, failsafe_texts, fault_text
 from hdrc3_control.path_following import PathStatus
@@ -145,6 +146,7 @@ Sample = (
     | GpsMeasurement
     | BaroMeasurement
     | GroundContactMeasurement
+    | VisionPoseMeasurement
 )
 
 
@@ -288,6 +290,9 @@ class PfcKernel:
             elif isinstance(s, BaroMeasurement):
                 if self._kf_enabled:
                     est.update_baro(s)
+            elif isinstance(s, VisionPoseMeasurement):
+                if self._kf_enabled:
+                    est.update_vision(s)
             else:
                 self._on_ground = s.on_ground
                 if self._kf_enabled:
@@ -449,6 +454,11 @@ class PfcKernel:
         self.warm_start_note = (
             f"warm start: barometer bias {record.baro_bias:.2f} m of t = {record.time:.2f} s"
         )
+
+    def aiding_report(self) -> dict[str, object]:
+        """Which sources the navigation filter used lately, and their verdict counts (JSON)."""
+        est = self.estimator
+        return est.aiding.report(self.now, est.config.aiding_timeout)
 
     def warm_start_record(self) -> WarmStart | None:
         """The record to keep for a restart now (None while the solution is not good)."""

@@ -8,6 +8,8 @@ from the PFC (``pfc/state``) and the camera states from ``sensors/color_camera``
 state stamped with the PPC clock on ``ppc/camera_state``, publishes the engaged image
 processing function on ``ppc/image_processing`` (latched ``std_msgs/UInt8``,
 :class:`~hdrc3_control.ppc_modes.ImageProcessing`), and talks to the DRC over ``hcsm/events/*``.
+While state estimation is engaged it follows the landing pad's pose (``pad_pose/pose``) with the
+PTU (:mod:`hdrc3_control.pad_tracking`).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from __future__ import annotations
 import sys
 from typing import Any
 
+from geometry_msgs.msg import PoseStamped
 from rclpy.context import Context
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -22,6 +25,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import UInt8
 
 from hdrc3_base.ros_runtime import run_node
+from hdrc3_control.pad_tracking import PadSighting
 from hdrc3_control.ppc_kernel import PpcKernel, PpcOutputs
 from hdrc3_control.ppc_modes import ImageProcessing, Pose
 from hdrc3_hcsm.ros_transport import RosTransport
@@ -70,6 +74,7 @@ class PerceptionKernelNode(Node):
         self._publish_ip(self.kernel.image_processing)
         self.create_subscription(PfcState, "pfc/state", self._on_pfc, QOS)
         self.create_subscription(PtuState, "sensors/ptu", self._on_ptu, QOS)
+        self.create_subscription(PoseStamped, "pad_pose/pose", self._on_pad, QOS)
         for topic in ("sensors/color_camera", "sensors/thermal_camera"):
             self.create_subscription(CameraState, topic, self._on_camera, QOS)
 
@@ -85,6 +90,11 @@ class PerceptionKernelNode(Node):
             float(msg.heading),
         )
 
+    def _on_pad(self, msg: Any) -> None:
+        p, stamp = msg.pose.position, msg.header.stamp
+        time = float(stamp.sec) + 1e-9 * float(stamp.nanosec)
+        self.kernel.see_pad(PadSighting(time, (float(p.x), float(p.y), float(p.z))))
+
     def _on_camera(self, msg: Any) -> None:
         self.zooms[int(msg.id)] = float(msg.zoom)
         out = CameraState()
@@ -95,6 +105,9 @@ class PerceptionKernelNode(Node):
 
     def _on_ptu(self, msg: Any) -> None:
         now_ns = self._now_ns()
+        stamp = msg.header.stamp
+        time = float(stamp.sec) + 1e-9 * float(stamp.nanosec)
+        self.kernel.ptu_reading(time, float(msg.pan), float(msg.tilt))
         try:
             out = self.kernel.step(
                 now_ns * 1e-9, self.pose, (float(msg.pan), float(msg.tilt)), dict(self.zooms)

@@ -16,6 +16,7 @@ from importlib import resources
 from pathlib import Path
 
 from hdrc3_control.event_codec import Decoded, decode, encode
+from hdrc3_control.pad_tracking import PadSighting, PadTracker
 from hdrc3_control.ppc_hardware import PtuLimits
 from hdrc3_control.ppc_modes import ImageProcessing, Pose, PtuController, PtuMode, on_target
 from hdrc3_hcsm.event import WireEvent
@@ -79,6 +80,9 @@ class PpcKernel:
         zoom_timeout: float = 10.0,
     ) -> None:
         self.ptu = PtuController(limits)
+        self.tracker = PadTracker(limits)
+        """Keeps the landing pad centred while state estimation is engaged (§5.4)."""
+        self._sightings: list[PadSighting] = []
         self.ptu_timeout = ptu_timeout
         self.zoom_timeout = zoom_timeout
         self.now = 0.0
@@ -189,6 +193,14 @@ class PpcKernel:
         self._outputs.cameras.append(setting)
 
     # --- iteration ------------------------------------------------------------------------
+    def see_pad(self, sighting: PadSighting) -> None:
+        """The pad's pose of one image (taken in the next iteration)."""
+        self._sightings.append(sighting)
+
+    def ptu_reading(self, time: float, pan: float, tilt: float) -> None:
+        """A PTU read-out with its sensor time (the tracker aims from the image's angles)."""
+        self.tracker.reading(time, pan, tilt)
+
     def step(
         self,
         now: float,
@@ -218,8 +230,26 @@ class PpcKernel:
             self.loop.run_control_functions(now)
         out = self._outputs
         out.ptu = self.ptu.update(self.pose)
+        tracking = self._track(now)
+        if tracking is not None:
+            out.ptu = tracking
         self._send()  # replies leave in this iteration, not the next
         return out
+
+    def _track(self, now: float) -> tuple[float, float] | None:
+        """The pad tracker's set-point while state estimation is engaged (else None)."""
+        sightings, self._sightings = self._sightings, []
+        if self.image_processing is not ImageProcessing.STATE_ESTIMATION:
+            self.tracker.reset()
+            return None
+        for sighting in sightings:
+            self.tracker.see(sighting)
+        return self.tracker.update(now)
+
+    @property
+    def tracking(self) -> bool:
+        """True while the PTU follows the pad rather than its commanded mode."""
+        return self.tracker.setpoint is not None
 
     def _send(self) -> None:
         outgoing = self.interpreter.take_outbox()

@@ -13,13 +13,14 @@ import math
 from dataclasses import dataclass
 
 from hdrc3_control.ppc_hardware import PtuLimits
+from sim.airframe import PTU_MOUNT_FRD
 
 Vec3 = tuple[float, float, float]
 
 ON_TARGET_TOLERANCE = math.radians(1.0)
 """rad per axis: the PTU counts as on its set-point within this."""
-PTU_MOUNT_OFFSET: Vec3 = (0.3, 0.0, 0.45)
-"""PTU centre relative to the centre of gravity, body FRD, m (as the simulated payload)."""
+PTU_MOUNT_OFFSET: Vec3 = PTU_MOUNT_FRD
+"""PTU centre relative to the centre of gravity, body FRD, m (``sim.airframe``)."""
 
 
 class ImageProcessing(enum.IntEnum):

@@ -6,6 +6,15 @@ velocity (10 Hz), barometric height (25 Hz), vision position (landing) and, on t
 zero-velocity and ground-height reference correct it. Between GPS fixes and during GPS dropouts
 the filter dead-reckons on the IMU; :meth:`StateEstimator.health` reports how trustworthy it is.
 
+Vision (chapter §5.4 "Sensor Fusion"): a fix of the landing pad camera is stamped with its
+image's time and arrives late; the filter moves it to its own time by its own motion since
+(:class:`~hdrc3_control.aiding.PositionHistory`) and gates it like every other measurement, so
+outliers are rejected and occlusions are dead-reckoned through on the IMU. While vision fixes
+are accepted, GPS gives only its velocity (its position is metres off and correlated: it would
+pull the centimetre solution). A run of rejected fixes that agree with each other means the
+filter is off (e.g. it was on a biased GPS when the pad came into view): then they are taken.
+:meth:`StateEstimator.used` says which sources corrected the solution lately.
+
 The two linear Kalman steps are written out (:class:`LinearKalman`, with the Joseph-form
 covariance update filterpy's ``KalmanFilter`` uses) instead of importing filterpy: its package
 imports ``scipy.stats``, which took 2-3 s of the 5 s a ``control_kernel`` needed to come back
@@ -32,6 +41,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_control.aiding import (
+    AidingLog,
+    AidingSource,
+    PositionHistory,
+    SourceStats,
+    Verdict,
+    consistent,
+)
 from hdrc3_control.commands import EstimatedState, EstimatorHealth, G, Vec3, wrap_2pi
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
@@ -43,6 +60,7 @@ from hdrc3_control.measurements import (
 )
 
 _N = 10
+_NEVER = SourceStats({})
 _P, _V, _BA, _BB = slice(0, 3), slice(3, 6), slice(6, 9), 9
 
 
@@ -86,6 +104,12 @@ class EstimatorConfig:
     coast_accel_sigma: float = 3.0
     """Acceleration uncertainty while IMU samples repeat (a stuck IMU), m/s^2: the filter
     coasts on a constant-velocity model and GPS and barometer carry the solution."""
+    vision_priority: float = 1.0
+    """GPS gives only its velocity while a vision fix was accepted within this, s."""
+    vision_max_delay: float = 1.0
+    """Vision fixes older than this (image time behind the filter's time) are stale, s."""
+    vision_reset_spread: float = 0.3
+    """``gate_reset_count`` rejected fixes whose innovations agree to this (RMS, m) are taken."""
 
     def __post_init__(self) -> None:
         """Reject non-positive noise figures and timeouts."""
@@ -174,6 +198,11 @@ class StateEstimator:
         self._baro: BaroMeasurement | None = None
         self._rejected = 0
         self._rpm = 0.0
+        self.aiding = AidingLog()
+        """Verdicts per aiding source (:meth:`used`)."""
+        self._history = PositionHistory(self.config.vision_max_delay + 0.1)
+        self._vision_rejects: list[NDArray[np.float64]] = []
+        self._travel = np.zeros(3)
         self._fq_cache: tuple[float, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
         self._fq_cache = (-1.0, np.eye(_N), np.zeros((_N, _N)), np.zeros((_N, 3)))
         self.rejections = 0
@@ -245,7 +274,11 @@ class StateEstimator:
             acc = np.zeros(3)
             q = q.copy()
             q[0:6, 0:6] *= (self.config.coast_accel_sigma / self.config.accel_sigma) ** 2
+        before = self._kf.x[_P].copy()
         self._kf.predict(f, q, b, acc)
+        # the motion of the predictions alone: corrections in between do not move a late fix
+        self._travel = self._travel + (self._kf.x[_P] - before)
+        self._history.add(meas.time, self._travel)
 
     def update_gps(self, meas: GpsMeasurement) -> bool:
         """Correct with a GPS fix; returns False if the gate rejected it."""
@@ -261,12 +294,19 @@ class StateEstimator:
         h[3:6, _V] = np.eye(3)
         gh, gv, vs = c.gps_horizontal_sigma, c.gps_vertical_sigma, c.gps_velocity_sigma
         r = np.diag([gh**2, gh**2, gv**2, vs**2, vs**2, vs**2])
+        source = AidingSource.GPS
+        if meas.time - self.aiding.stats.get(AidingSource.VISION, _NEVER).last_accepted <= (
+            c.vision_priority
+        ):
+            z, h, r, source = z[3:], h[3:], r[3:, 3:], AidingSource.GPS_VELOCITY
         force = self._rejected >= c.gate_reset_count
         if not self._correct(z, h, r, force=force):
             self._rejected += 1
+            self.aiding.note(source, Verdict.REJECTED, meas.time)
             return False
         self._rejected = 0
         self._aiding_time = meas.time
+        self.aiding.note(source, Verdict.ACCEPTED, meas.time)
         return True
 
     def update_baro(self, meas: BaroMeasurement) -> bool:
@@ -278,7 +318,9 @@ class StateEstimator:
         h = np.zeros((1, _N))
         h[0, 2] = 1.0
         h[0, _BB] = 1.0
-        return self._correct(np.array([meas.height]), h, np.array([[self.config.baro_sigma**2]]))
+        ok = self._correct(np.array([meas.height]), h, np.array([[self.config.baro_sigma**2]]))
+        self.aiding.note(AidingSource.BARO, Verdict.ACCEPTED if ok else Verdict.REJECTED, meas.time)
+        return ok
 
     def update_ground_contact(self, meas: GroundContactMeasurement) -> None:
         """On the skids: zero velocity and the CG at a known height above the terrain."""
@@ -292,19 +334,53 @@ class StateEstimator:
         h[1:4, _V] = np.eye(3)
         z = np.array([meas.ground_height + c.cg_above_skids, 0.0, 0.0, 0.0])
         self._correct(z, h, np.eye(4) * c.ground_sigma**2, force=True)
+        self.aiding.note(AidingSource.GROUND, Verdict.ACCEPTED, meas.time)
 
-    def update_vision(self, meas: VisionPoseMeasurement) -> bool:
-        """Correct with a vision position fix (the landing hook); counts as aiding like GPS."""
+    def update_vision(self, meas: VisionPoseMeasurement) -> Verdict:
+        """Correct with a vision fix of the image's time; counts as aiding like GPS."""
+        c, log, vision = self.config, self.aiding, AidingSource.VISION
+        z = np.array(meas.position, dtype=np.float64)
+        if not (np.all(np.isfinite(z)) and math.isfinite(meas.sigma) and meas.sigma > 0.0):
+            log.note(vision, Verdict.INVALID, meas.time)
+            return Verdict.INVALID
         if not self._initialised:
-            self._initialise(np.array(meas.position), np.zeros(3))
+            self._initialise(z, np.zeros(3))
             self._aiding_time = meas.time
-            return True
+            log.note(vision, Verdict.ACCEPTED, meas.time)
+            return Verdict.ACCEPTED
+        now = self._time if self._time is not None else meas.time
+        if now - meas.time > c.vision_max_delay:
+            log.note(vision, Verdict.STALE, meas.time)
+            return Verdict.STALE
+        if meas.time < now:
+            then = self._history.at(meas.time)
+            if then is None:
+                log.note(vision, Verdict.STALE, meas.time)
+                return Verdict.STALE
+            z = z + (self._travel - then)  # the filter's own motion since the image
         h = np.zeros((3, _N))
         h[:, _P] = np.eye(3)
-        accepted = self._correct(np.array(meas.position), h, np.eye(3) * meas.sigma**2)
-        if accepted:
-            self._aiding_time = meas.time
-        return accepted
+        innovation = z - self._kf.x[_P]
+        rejects = self._vision_rejects
+        force = len(rejects) >= c.gate_reset_count and consistent(
+            rejects[-c.gate_reset_count :], c.vision_reset_spread
+        )
+        norm = float(np.linalg.norm(innovation))
+        if force:  # the filter was off by the innovation: say so, so that the fix pulls it over
+            self._kf.P[_P, _P] += np.diag(innovation**2)
+        if not self._correct(z, h, np.eye(3) * meas.sigma**2, force=force):
+            rejects.append(innovation)
+            del rejects[: -c.gate_reset_count]
+            log.note(vision, Verdict.REJECTED, meas.time, norm)
+            return Verdict.REJECTED
+        rejects.clear()
+        self._aiding_time = max(self._aiding_time, meas.time)
+        log.note(vision, Verdict.ACCEPTED, meas.time, norm)
+        return Verdict.ACCEPTED
+
+    def used(self, now: float) -> tuple[AidingSource, ...]:
+        """The sources that corrected the solution within ``aiding_timeout`` before ``now``."""
+        return self.aiding.used(now, self.config.aiding_timeout)
 
     # ------------------------------------------------------------------ barometer monitor
     def _integrate_climb(self, meas: GpsMeasurement) -> None:

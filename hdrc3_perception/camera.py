@@ -17,15 +17,17 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from sim.airframe import PTU_MOUNT_FRD
+
 Vec3 = tuple[float, float, float]
 
 _NED_TO_ENU: NDArray[np.float64] = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
 # Columns: optical x, y, z axes in the PTU frame (x boresight, y right, z down).
 _PTU_TO_OPTICAL: NDArray[np.float64] = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 
-MOUNT_OFFSET: Vec3 = (0.3, 0.0, 0.45)
+MOUNT_OFFSET: Vec3 = PTU_MOUNT_FRD
 """PTU centre relative to the centre of gravity, body FRD, m: the payload's mounting calibration
-(the simulated platform is built to it; a test compares the two)."""
+(``sim.airframe``, data the simulated platform is built to)."""
 
 
 def _rot_x(a: float) -> NDArray[np.float64]:
@@ -41,6 +43,27 @@ def _rot_y(a: float) -> NDArray[np.float64]:
 def _rot_z(a: float) -> NDArray[np.float64]:
     c, s = math.cos(a), math.sin(a)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def body_to_enu(roll: float, pitch: float, heading: float) -> NDArray[np.float64]:
+    """Rotation taking body-FRD vectors to ENU (Euler 3-2-1, heading clockwise from north)."""
+    rotation: NDArray[np.float64] = _NED_TO_ENU @ _rot_z(heading) @ _rot_y(pitch) @ _rot_x(roll)
+    return rotation
+
+
+def euler_of(body: NDArray[np.float64]) -> tuple[float, float, float]:
+    """Roll, pitch and heading (rad, heading in [0, 2 pi)) of a body-FRD -> ENU rotation."""
+    ned = _NED_TO_ENU.T @ body
+    pitch = -math.asin(max(-1.0, min(1.0, float(ned[2, 0]))))
+    roll = math.atan2(float(ned[2, 1]), float(ned[2, 2]))
+    heading = math.atan2(float(ned[1, 0]), float(ned[0, 0])) % math.tau
+    return roll, pitch, 0.0 if heading >= math.tau else heading
+
+
+def optical_to_body(pan: float, tilt: float) -> NDArray[np.float64]:
+    """Rotation taking the camera's optical-frame vectors to body FRD at these PTU angles."""
+    rotation: NDArray[np.float64] = _rot_z(pan) @ _rot_y(-tilt) @ _PTU_TO_OPTICAL
+    return rotation
 
 
 @dataclass(frozen=True, slots=True)
@@ -100,10 +123,9 @@ class CameraPose:
     @staticmethod
     def of(nav: NavPose, pan: float, tilt: float, mount: Vec3 = MOUNT_OFFSET) -> CameraPose:
         """Pose of a camera on the PTU: body attitude, mount point, then pan and tilt."""
-        body = _NED_TO_ENU @ _rot_z(nav.heading) @ _rot_y(nav.pitch) @ _rot_x(nav.roll)
+        body = body_to_enu(nav.roll, nav.pitch, nav.heading)
         position = np.asarray(nav.position, dtype=np.float64) + body @ np.asarray(mount)
-        rotation = body @ _rot_z(pan) @ _rot_y(-tilt) @ _PTU_TO_OPTICAL
-        return CameraPose(position, rotation)
+        return CameraPose(position, body @ optical_to_body(pan, tilt))
 
     def project(self, intrinsics: Intrinsics, points: NDArray[np.float64]) -> NDArray[np.float64]:
         """Pixels (N, 2) of ENU points (N, 3); NaN rows for points behind the camera."""

@@ -9,22 +9,28 @@ Publishes ``~/engaged`` (latched ``std_msgs/Bool``), ``~/pose``
 (``geometry_msgs/PoseStamped``: the pad in the colour camera's optical frame, x right, y down, z
 forward, stamped with the image) for every image with a pose, and ``~/result``
 (``std_msgs/String``, JSON: stamp, status, reason, triplets, RMS reprojection error, circles seen,
-and the camera's position on the pad) for every image. Turning the pose into the helicopter's
-position with the PTU angles, and fusing it with the inertial data, is the landing mode's part.
+and the camera's position on the pad, and the helicopter fix) for every image, and ``~/fix``
+(``geometry_msgs/PoseWithCovarianceStamped``, frame ``world_enu``, stamped with the image): the
+helicopter's centre of gravity in the world's ENU frame and its attitude (body FRD -> ENU), from
+the pose, the PTU read-out at the image's time (``sensors/ptu``) and the pad's place in the world
+file (:mod:`hdrc3_perception.pad_fix`); the position covariance is ``sigma^2`` per axis. The
+control kernel fuses these fixes in its Kalman filter.
 
-Parameters: ``gated`` (default true).
+Parameters: ``gated`` (default true), ``world`` (default ``revinge``), ``pad`` (the patterned pad
+of the world; "" = its only one).
 """
 
 from __future__ import annotations
 
 import json
+import math
 import sys
 from collections.abc import Sequence
 from typing import Any
 
 import cv2
 import numpy as np
-from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from rclpy.subscription import Subscription
@@ -36,12 +42,17 @@ from hdrc3_base.errors import Hdrc3Error
 from hdrc3_base.ros_env import apply_localhost_default
 from hdrc3_base.ros_runtime import run_node
 from hdrc3_control.ppc_modes import ImageProcessing
-from hdrc3_perception.camera import Intrinsics
+from hdrc3_interfaces.msg import PtuState
+from hdrc3_perception.camera import Intrinsics, body_to_enu
 from hdrc3_perception.image_gate import ImageGate
 from hdrc3_perception.node import RESULT_QOS, image_array, stamp_s
+from hdrc3_perception.pad_fix import FixStatus, PadPlacement, PtuHistory, helicopter_fix
 from hdrc3_perception.pad_pose import PoseStatus, estimate
+from sim.world_loader import load_world
 
 OPTICAL_FRAME = "camera_color_optical"
+WORLD_FRAME = "world_enu"
+PTU_QOS = 20
 
 
 class PadPoseNode(Node):
@@ -50,10 +61,16 @@ class PadPoseNode(Node):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__("pad_pose", **kwargs)
         gated = bool(self.declare_parameter("gated", True).value)
+        world_name = str(self.declare_parameter("world", "revinge").value)
+        pad_name = str(self.declare_parameter("pad", "").value)
+        self.placement = PadPlacement.of_world(load_world(world_name), pad_name)
+        self._ptu = PtuHistory()
+        self.fixes = 0
         self._intrinsics: Intrinsics | None = None
         self.results: dict[str, int] = {}
         self._pose_pub = self.create_publisher(PoseStamped, "~/pose", RESULT_QOS)
         self._result_pub = self.create_publisher(String, "~/result", RESULT_QOS)
+        self._fix_pub = self.create_publisher(PoseWithCovarianceStamped, "~/fix", RESULT_QOS)
         self.gate = ImageGate(
             self, ImageProcessing.STATE_ESTIMATION, self._subscribe, lambda: None, gated
         )
@@ -66,7 +83,11 @@ class PadPoseNode(Node):
             self.create_subscription(
                 Image, "camera/color/image_raw", self._on_image, qos_profile_sensor_data
             ),
+            self.create_subscription(PtuState, "sensors/ptu", self._on_ptu, PTU_QOS),
         ]
+
+    def _on_ptu(self, msg: PtuState) -> None:
+        self._ptu.add(stamp_s(msg), float(msg.pan), float(msg.tilt))
 
     def _on_info(self, msg: CameraInfo) -> None:
         self._intrinsics = Intrinsics.from_k(int(msg.width), int(msg.height), list(msg.k))
@@ -100,8 +121,38 @@ class PadPoseNode(Node):
                 o = out.pose.orientation
                 o.x, o.y, o.z, o.w = (float(v) for v in q)
                 self._pose_pub.publish(out)
+                report["fix"] = self._publish_fix(msg, pose.rotation, pose.translation)
         self.results[report["status"]] = self.results.get(report["status"], 0) + 1
         self._result_pub.publish(String(data=json.dumps(report)))
+
+    def _publish_fix(self, image: Image, rotation: Any, translation: Any) -> dict[str, Any]:
+        """The helicopter fix of this image on ``~/fix``; its summary for the result."""
+        time = stamp_s(image)
+        fix = helicopter_fix(time, rotation, translation, self._ptu.at(time), self.placement)
+        if fix.status is not FixStatus.OK:
+            return {"status": fix.status.value, "reason": fix.reason}
+        out = PoseWithCovarianceStamped()
+        out.header.stamp = image.header.stamp
+        out.header.frame_id = WORLD_FRAME
+        p = out.pose.pose.position
+        p.x, p.y, p.z = fix.position
+        o = out.pose.pose.orientation
+        body = Rotation.from_matrix(body_to_enu(fix.roll, fix.pitch, fix.heading))
+        o.x, o.y, o.z, o.w = (float(v) for v in body.as_quat())
+        cov = [0.0] * 36
+        for i in range(3):
+            cov[7 * i] = fix.sigma**2
+        out.pose.covariance = cov
+        self._fix_pub.publish(out)
+        self.fixes += 1
+        return {
+            "status": fix.status.value,
+            "position": [round(v, 4) for v in fix.position],
+            "heading_deg": round(math.degrees(fix.heading), 2),
+            "range_m": round(fix.range_m, 3),
+            "sigma_m": round(fix.sigma, 4),
+            "pad": self.placement.name,
+        }
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -35,6 +35,9 @@ CODES = ((0, 1, 2), (0, 2, 4), (1, 3, 4), (0, 3, 4), (1, 2, 3))
 """Per triplet, the indices into :data:`INNER_RATIOS` of its corners, counter-clockwise."""
 PAD_HALF_WIDTH_M = 1.1
 """The white plate is a 2.2 m square: the largest triplet's circles end 1.06 m from the centre."""
+PRINT_HEIGHT_M = 0.07
+"""Height of the printed pattern (the pad frame's origin) above the terrain at the pad's centre:
+the pad's surface and the plate on it (the renderer draws it there)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,3 +91,14 @@ def is_black(x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.bool_
         d2 = (x - c.x) ** 2 + (y - c.y) ** 2
         black |= (d2 <= c.radius**2) & (d2 > (c.inner_ratio * c.radius) ** 2)
     return black
+
+
+def pad_axes(heading: float) -> NDArray[np.float64]:
+    """Rotation taking pad-frame vectors to ENU for a pad turned ``heading`` (rad, clockwise)."""
+    s, c = math.sin(heading), math.cos(heading)
+    return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def pad_origin(east: float, north: float, ground: float) -> NDArray[np.float64]:
+    """ENU position of the pad frame's origin for a pad centred at (east, north) on ``ground``."""
+    return np.array([east, north, ground + PRINT_HEIGHT_M])

@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 from shapely.geometry import Point, Polygon
 
-from sim.landing_pattern import CIRCLES, PAD_HALF_WIDTH_M
+from sim.landing_pattern import CIRCLES, PAD_HALF_WIDTH_M, PRINT_HEIGHT_M, pad_axes
 from sim.render.bodies import add_object
 from sim.render.materials import Material, ThermalEnvironment
 from sim.render.meshes import MeshBuilder
@@ -33,7 +33,7 @@ ROAD_PIECE_M = 10.0
 DRAPE_M = 0.05
 """Roads and pads lie this far above the terrain (no depth fighting)."""
 PATTERN_LIFT_M = 0.01
-"""The landing pattern's plate lies this far above its pad, its black rings twice as far."""
+"""The landing pattern's plate lies this far below its black rings (at ``PRINT_HEIGHT_M``)."""
 RING_SEGMENTS = 64
 """Straight pieces per circle of the landing pattern (0.1 % radius error)."""
 TREE_SPACING_M = 7.0
@@ -132,23 +132,26 @@ def _roads(mesh: MeshBuilder, world: World, env: ThermalEnvironment) -> None:
         up = world.terrain.height(landing.east, landing.north) + DRAPE_M
         mesh.flat_polygon(list(disc.exterior.coords), up, pad.albedo, env.ambient + pad.warmth)
         if landing.pattern:
-            _landing_pattern(mesh, landing, up, env)
+            _landing_pattern(mesh, landing, up - DRAPE_M + PRINT_HEIGHT_M, env)
 
 
 def _landing_pattern(
-    mesh: MeshBuilder, pad: LandingPad, up: float, env: ThermalEnvironment
+    mesh: MeshBuilder, pad: LandingPad, rings: float, env: ThermalEnvironment
 ) -> None:
-    """The §5.4 pattern on a pad: a white plate and the black rings of ``sim.landing_pattern``."""
+    """The §5.4 pattern on a pad: a white plate and the black rings of ``sim.landing_pattern``.
+
+    ``rings`` is the height of the black rings (the pad frame's origin); the plate lies below.
+    """
     white, black = Material.PATTERN_WHITE.surface, Material.PATTERN_BLACK.surface
-    s, c = math.sin(pad.heading), math.cos(pad.heading)
+    axes = pad_axes(pad.heading)[:2, :2]
 
     def enu(x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.float64]:
-        # the pad frame turns clockwise with the heading: x east and y north at heading 0
-        return np.column_stack([pad.east + c * x + s * y, pad.north - s * x + c * y])
+        points: NDArray[np.float64] = np.column_stack([x, y]) @ axes.T + (pad.east, pad.north)
+        return points
 
     h = PAD_HALF_WIDTH_M
     corners = enu(np.array([-h, h, h, -h]), np.array([-h, -h, h, h]))
-    mesh.flat_polygon([tuple(p) for p in corners], up + PATTERN_LIFT_M, white.albedo,
+    mesh.flat_polygon([tuple(p) for p in corners], rings - PATTERN_LIFT_M, white.albedo,
                       env.ambient + white.warmth)  # fmt: skip
     angles = np.linspace(0.0, math.tau, RING_SEGMENTS + 1)
     for circle in CIRCLES:
@@ -158,7 +161,7 @@ def _landing_pattern(
         outer, inner = ring
         quads = [(outer[i], outer[i + 1], inner[i + 1], outer[i], inner[i + 1], inner[i])
                  for i in range(RING_SEGMENTS)]  # fmt: skip
-        positions = np.array([(e, n, up + 2.0 * PATTERN_LIFT_M) for q in quads for e, n in q])
+        positions = np.array([(e, n, rings) for q in quads for e, n in q])
         normals = np.tile([0.0, 0.0, 1.0], (positions.shape[0], 1))
         mesh.add(positions, normals, black.albedo, env.ambient + black.warmth)
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from sim.airframe import PTU_MOUNT_FRD
 from sim.sensors.camera_model import CameraPose, Intrinsics, camera_pose
 from sim.sensors.errors import SensorError
 from sim.sensors.power import PowerDevice, PowerManager
@@ -42,8 +43,8 @@ class CameraParams:
     rate_hz: float = 25.0
     zoom_rate: float = 0.33
     """Zoom travel per second (full range in ~3 s)."""
-    mount_offset: tuple[float, float, float] = (0.3, 0.0, 0.45)
-    """PTU centre relative to the centre of gravity, body FRD, m (platform under the fuselage)."""
+    mount_offset: tuple[float, float, float] = PTU_MOUNT_FRD
+    """PTU centre relative to the centre of gravity, body FRD, m (``sim.airframe``)."""
     jitter: float = math.radians(0.1)
     """rad, 1 sigma pointing jitter of the spring-isolated platform (section 11.1.1)."""
 

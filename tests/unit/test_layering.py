@@ -30,10 +30,17 @@ LAYERS: dict[str, int] = {
 }
 """Layer of each top-level package; the architecture of ../shared/DESIGN.md, bottom up."""
 SIM_DATA = frozenset(
-    {"sim.world", "sim.world_loader", "sim.world_generator", "sim.landing_pattern"}
+    {
+        "sim.world",
+        "sim.world_loader",
+        "sim.world_generator",
+        "sim.landing_pattern",
+        "sim.airframe",
+    }
 )
 """The simulator modules the autonomy stack may use: world files are data (terrain, origin),
-and so is the landing pad's printed pattern (the pose estimator knows it);
+and so is the landing pad's printed pattern (the pose estimator knows it) and the payload's
+mounting calibration (``sim.airframe``);
 the generator writes such files (``hdrc3 world generate``)."""
 SIM_HARNESSES = frozenset({"hdrc3_control.kernel_harness"})
 """Stack modules that couple a kernel with the simulator in one process (tests and benches)."""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 
@@ -9,6 +10,7 @@ import numpy as np
 import pytest
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_control.aiding import AidingSource, Verdict
 from hdrc3_control.commands import EstimatorHealth, G
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
@@ -31,6 +33,12 @@ class Scenario:
     accel_bias: tuple[float, float, float] = (0.03, -0.03, 0.02)
     gps_off: tuple[float, float] = (math.inf, math.inf)
     vision: bool = False
+    vision_delay: float = 0.0
+    """s between an image's time (the fix's stamp) and the fix reaching the filter."""
+    vision_off: tuple[float, float] = (math.inf, math.inf)
+    """The pad out of sight (occlusion) in this interval of image times."""
+    gps_bias: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    verdicts: list[Verdict] = field(default_factory=list)
     baro_drift: float = 0.0
     """m/s of barometer drift from t = 40 s on (the filter has converged by then)."""
     baro_fault_at: float | None = None
@@ -40,6 +48,7 @@ class Scenario:
 
     def run(self, seconds: float, record: list[tuple[float, np.ndarray, np.ndarray]]) -> None:
         rng = np.random.default_rng(self.seed)
+        queued: list[VisionPoseMeasurement] = []
         for k in range(round(seconds * 200)):
             t = k / 200.0
             truth = np.concatenate([P0 + VEL * t, VEL])
@@ -49,17 +58,19 @@ class Scenario:
             w = 0.003 * rng.standard_normal(3)
             self.est.update_imu(ImuMeasurement(t, tuple(f), tuple(w)))  # type: ignore[arg-type]
             if k % 20 == 0 and not self.gps_off[0] <= t < self.gps_off[1]:
-                pos = truth[:3] + rng.normal(0.0, [0.5, 0.5, 2.0])
+                pos = truth[:3] + self.gps_bias + rng.normal(0.0, [0.5, 0.5, 2.0])
                 vel = truth[3:] + 0.1 * rng.standard_normal(3)
                 self.est.update_gps(GpsMeasurement(t, tuple(pos), tuple(vel)))  # type: ignore[arg-type]
             if k % 8 == 0:
                 drift = self.baro_drift * max(0.0, t - 40.0)
                 noise = 0.3 * rng.standard_normal()
                 self.est.update_baro(BaroMeasurement(t, truth[2] + drift + noise))
-            if self.vision and k % 10 == 0:
+            if self.vision and k % 8 == 0 and not self.vision_off[0] <= t < self.vision_off[1]:
                 pos = truth[:3] + 0.05 * rng.standard_normal(3)
-                self.est.update_vision(VisionPoseMeasurement(t, tuple(pos)))  # type: ignore[arg-type]
-            self.health[t] = self.est.health(t)
+                queued.append(VisionPoseMeasurement(t, tuple(pos)))  # type: ignore[arg-type]
+            while queued and queued[0].time + self.vision_delay <= t + 1e-9:
+                self.verdicts.append(self.est.update_vision(queued.pop(0)))
+            self.health[round(t, 3)] = self.est.health(t)
             if self.est.baro_fault is not None and self.baro_fault_at is None:
                 self.baro_fault_at = t
             if self.est.initialised:
@@ -174,3 +185,85 @@ def test_a_drifting_barometer_is_excluded_and_the_height_stays(
     assert sc.est.baro_fault is not None and "barometer drifting" in sc.est.baro_fault
     _, truth, x, _ = record[-1]  # type: ignore[misc]
     assert abs(x[2] - truth[2]) < 1.5  # the height did not follow the barometer
+
+
+def _error(record: list[tuple[float, np.ndarray, np.ndarray]], at: float) -> float:
+    """Position error of the filter at time ``at``."""
+    _, truth, x, _ = min(record, key=lambda r: abs(r[0] - at))  # type: ignore[misc]
+    return float(np.linalg.norm(x[:3] - truth[:3]))
+
+
+@pytest.mark.parametrize(("delay", "max_error"), [(0.0, 0.1), (0.15, 0.1), (0.4, 0.12)])
+def test_late_vision_fixes_are_moved_to_the_filter_s_time(delay: float, max_error: float) -> None:
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    sc = Scenario(gps_off=(2.0, 100.0), vision=True, vision_delay=delay)
+    sc.run(10.0, rec)
+    # flying at 3.6 m/s: uncompensated, a 0.4 s old fix would be 1.4 m behind
+    assert max(_error(rec, t) for t in np.arange(4.0, 10.0, 0.5)) < max_error
+    assert Verdict.REJECTED not in sc.verdicts
+    assert sc.est.used(9.99) == (AidingSource.VISION, AidingSource.BARO)
+
+
+@pytest.mark.parametrize(("occlusion", "max_error"), [(1.0, 0.15), (3.0, 0.6)])
+def test_occlusions_are_dead_reckoned_through(occlusion: float, max_error: float) -> None:
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    end = 8.0 + occlusion - 0.005
+    sc = Scenario(gps_off=(2.0, 100.0), vision=True, vision_off=(8.0, end))
+    sc.run(end + 1.0, rec)
+    assert sc.health[7.9] is EstimatorHealth.OK
+    assert sc.health[round(end, 3)] is EstimatorHealth.DEGRADED  # blind: dead reckoning
+    assert _error(rec, end) < max_error
+    assert sc.health[round(end + 0.9, 3)] is EstimatorHealth.OK  # the pad is seen again
+    assert sc.verdicts[-1] is Verdict.ACCEPTED and _error(rec, end + 0.9) < 0.1
+
+
+@pytest.fixture(scope="module")
+def on_vision() -> StateEstimator:
+    """A filter flown 8 s on vision fixes (no GPS after 2 s)."""
+    sc = Scenario(gps_off=(2.0, 100.0), vision=True)
+    sc.run(8.0, [])
+    return sc.est
+
+
+@pytest.mark.parametrize(
+    ("offset", "sigma", "verdict"),
+    [
+        ((1.5, 0.0, 0.0), 0.05, Verdict.REJECTED),  # an outlier: 1.5 m off a cm solution
+        ((0.0, 0.0, -0.8), 0.05, Verdict.REJECTED),
+        ((0.05, 0.02, 0.0), 0.05, Verdict.ACCEPTED),
+        ((math.nan, 0.0, 0.0), 0.05, Verdict.INVALID),
+        ((0.0, 0.0, 0.0), 0.0, Verdict.INVALID),
+        ((0.0, 0.0, 0.0), 0.05, Verdict.STALE),  # 2 s old: beyond the filter's memory
+    ],
+)
+def test_vision_outliers_are_gated(
+    on_vision: StateEstimator,
+    offset: tuple[float, float, float],
+    sigma: float,
+    verdict: Verdict,
+) -> None:
+    est = copy.deepcopy(on_vision)
+    before = est.state_vector()
+    t = 8.0 - 1.0 / 200.0 - (2.0 if verdict is Verdict.STALE else 0.0)
+    truth = P0 + VEL * t
+    fix = VisionPoseMeasurement(t, tuple(truth + np.array(offset)), sigma)  # type: ignore[arg-type]
+    assert est.update_vision(fix) is verdict
+    if verdict is not Verdict.ACCEPTED:
+        np.testing.assert_allclose(est.state_vector(), before)
+    assert est.aiding.count(AidingSource.VISION, verdict) == 1 + on_vision.aiding.count(
+        AidingSource.VISION, verdict
+    )
+
+
+def test_vision_takes_over_from_a_biased_gps() -> None:
+    """GPS 3 m off (its correlated error): the pad comes into view, the fixes win."""
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    sc = Scenario(gps_bias=(3.0, -2.0, 0.0), vision=True, vision_off=(0.0, 10.0))
+    sc.run(15.0, rec)
+    assert 3.0 < _error(rec, 9.9) < 4.5  # on the GPS before the pad was seen
+    assert _error(rec, 14.9) < 0.15
+    assert sc.est.used(14.99) == (AidingSource.GPS_VELOCITY, AidingSource.VISION, AidingSource.BARO)
+    assert sc.est.aiding.count(AidingSource.GPS, Verdict.ACCEPTED) > 40
+    # one run of consistent rejections, then the filter is on the fixes
+    assert sc.est.aiding.count(AidingSource.VISION, Verdict.REJECTED) == 10
+    assert sc.est.aiding.report(14.99, 0.5)["used"] == ["gps_velocity", "vision", "baro"]

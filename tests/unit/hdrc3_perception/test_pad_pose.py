@@ -117,12 +117,12 @@ def test_the_pose_is_found_on_the_simulators_renderer(
 ) -> None:
     import cv2
 
+    from sim.landing_pattern import PRINT_HEIGHT_M
     from sim.render.projection import look_at as sim_look_at
-    from sim.render.scene import DRAPE_M, PATTERN_LIFT_M
     from sim.sensors.camera_model import Intrinsics as SimIntrinsics
 
     renderer, pad = pad_world_renderer
-    plane = DRAPE_M + 2.0 * PATTERN_LIFT_M  # the black rings' height above the flat ground
+    plane = PRINT_HEIGHT_M  # the black rings' height above the flat ground
     centre = (pad.east, pad.north, plane)
     eye = (pad.east + offset[0], pad.north + offset[1], plane + offset[2])
     k = COLOR_K
