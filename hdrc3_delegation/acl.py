@@ -10,6 +10,7 @@ taken from SPADE because SPADE's messages are tied to XMPP; only the FIPA field 
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import json
 import math
@@ -52,7 +53,6 @@ MAX_CONTENT = 256 * 1024
 MAX_RECEIVERS = 64
 """Most receivers of one message."""
 _TOKEN = re.compile(r"^[A-Za-z0-9._:+\-/@]{0,128}$")
-"""Language, ontology, protocol, conversation and reply tags: short printable tokens."""
 _HEX = re.compile(r"^[0-9a-f]*$")
 
 
@@ -133,19 +133,12 @@ class Decoded:
     unknown_performative: bool = False
 
 
-_STRINGS = (
-    "performative",
-    "sender",
-    "content",
-    "language",
-    "ontology",
-    "protocol",
-    "conversation_id",
-    "reply_with",
-    "in_reply_to",
-    "nonce",
-    "signature",
-)
+_FIELD_TYPES = {f.name: f.type for f in dataclasses.fields(AclMessage)}
+_TIMES = tuple(name for name, kind in _FIELD_TYPES.items() if kind == "float")
+_STRINGS = ("performative", *(name for name, kind in _FIELD_TYPES.items() if kind == "str"))
+_HEX_FIELDS = ("nonce", "signature")
+_TOKENS = tuple(n for n in _STRINGS if n not in ("performative", "sender", "content", *_HEX_FIELDS))
+"""Language, ontology, protocol and the conversation's tags: short printable tokens."""
 
 
 def decode(fields: Mapping[str, object]) -> Decoded:
@@ -158,7 +151,7 @@ def decode(fields: Mapping[str, object]) -> Decoded:
     if not isinstance(receivers, list | tuple) or not all(isinstance(r, str) for r in receivers):
         return Decoded(None, "field receivers is missing or not a list of names")
     times: dict[str, float] = {}
-    for name in ("reply_by", "sent_at"):
+    for name in _TIMES:
         value = fields.get(name)
         if not isinstance(value, int | float) or not math.isfinite(value) or value < 0:
             return Decoded(None, f"field {name} must be a finite time >= 0")
@@ -170,24 +163,9 @@ def decode(fields: Mapping[str, object]) -> Decoded:
         performative = Performative(text["performative"])
     except ValueError:
         return Decoded(None, f"unknown performative {text['performative']!r}", True)
-    return Decoded(
-        AclMessage(
-            performative,
-            text["sender"],
-            tuple(receivers),
-            text["content"],
-            text["language"],
-            text["ontology"],
-            text["protocol"],
-            text["conversation_id"],
-            text["reply_with"],
-            text["in_reply_to"],
-            times["reply_by"],
-            text["nonce"],
-            times["sent_at"],
-            text["signature"],
-        )
-    )
+    values: dict[str, object] = {**text, **times, "receivers": tuple(receivers)}
+    values["performative"] = performative
+    return Decoded(AclMessage(**values))  # type: ignore[arg-type]
 
 
 def _check(text: Mapping[str, str], receivers: tuple[str, ...]) -> str:
@@ -200,17 +178,10 @@ def _check(text: Mapping[str, str], receivers: tuple[str, ...]) -> str:
         return f"receiver {bad[0][:40]!r} is not an agent name"
     if len(text["content"]) > MAX_CONTENT:
         return f"content of {len(text['content'])} characters exceeds {MAX_CONTENT}"
-    for name in (
-        "language",
-        "ontology",
-        "protocol",
-        "conversation_id",
-        "reply_with",
-        "in_reply_to",
-    ):
+    for name in _TOKENS:
         if not _TOKEN.match(text[name]):
             return f"field {name} is not a short token"
-    for name in ("nonce", "signature"):
+    for name in _HEX_FIELDS:
         if len(text[name]) > 128 or not _HEX.match(text[name]):
             return f"field {name} is not lower-case hex"
     return ""
