@@ -8,8 +8,10 @@ node's agent; its boxes, carriers and locations are points: an object's point is
 object's tag (what the magnet reads) and lies where the object is, a location's point where a
 load goes down.
 
-A pick-up is the chapter's sequence: hover ``HOVER_HEIGHT`` m above the object (corrected on
-the hook camera's view of the object: a GPS fix is metres off), lower the hook
+A pick-up is the chapter's sequence: look for the object from ``SEARCH_HEIGHT`` m above its
+point (the hook camera sees a wide circle from there: a box that fell off the hook in flight
+lies metres from where it was lost), hover ``HOVER_HEIGHT`` m above the object where the camera
+saw it (corrected again on the camera's view: a GPS fix is metres off), lower the hook
 until it rests on the object (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
 must hold that very object), raise to ``CARRY_CABLE`` m, climb to ``DEPART_HEIGHT``. A
 put-down hovers above the place, lowers until the load rests, releases, winds the hook in and
@@ -66,6 +68,9 @@ CORRECT_ABOVE = 0.6
 """m: a larger offset is flown; a smaller one is waited out."""
 ALIGN_S = 60.0
 """Mission seconds an alignment may take."""
+SEARCH_HEIGHT = 24.0
+"""m above the ground a pick-up looks for its object from: the hook camera (35 deg half angle,
+30 m range) sees objects up to about 16 m to the side there."""
 
 
 def over(ctx: ActionContext, place: str) -> Steps:
@@ -75,6 +80,32 @@ def over(ctx: ActionContext, place: str) -> Steps:
         return outcome
     (point,) = ctx.place(place)
     east, north = float(point[0]), float(point[1])
+    up = ctx.frame.ground_up(east, north) + HOVER_HEIGHT
+    return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
+
+
+def search(ctx: ActionContext, place: str, tag: str) -> Steps:
+    """Take off if needed, look for ``tag`` from above the place's point, hover low above it.
+
+    From ``SEARCH_HEIGHT`` m above the point, the first new sighting of the object gives where
+    it is (the aircraft's own estimate plus the camera's offset); the aircraft descends to
+    ``HOVER_HEIGHT`` m above that, or above the point when the camera does not see it (the
+    alignment then fails with that reason).
+    """
+    outcome = yield from airborne(ctx)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return outcome
+    (point,) = ctx.place(place)
+    east, north = float(point[0]), float(point[1])
+    high = ctx.frame.ground_up(east, north) + SEARCH_HEIGHT
+    outcome = yield from fly_to(ctx, (east, north, high), APPROACH_SPEED)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return outcome
+    before = ctx.platform.seen(tag)
+    seen = yield from _sighting(ctx, tag, before.time if before is not None else None)
+    state = ctx.state()
+    if seen is not None and state is not None:
+        east, north = state.east + seen.offset[0], state.north + seen.offset[1]
     up = ctx.frame.ground_up(east, north) + HOVER_HEIGHT
     return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
 
@@ -144,13 +175,13 @@ def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str =
 
 
 def pick_up(ctx: ActionContext, place: str) -> Steps:
-    """Hover over the object of point ``place``, lower, attach it (by its tag), raise.
+    """Find the object of point ``place``, hover over it, lower, attach it (by its tag), raise.
 
     A lowering that lands the magnet beside the object (attach: nothing gripped) is tried again
     from the alignment, up to ``PICK_ATTEMPTS`` times.
     """
     tag = ctx.name(place)
-    outcome = yield from over(ctx, place)
+    outcome = yield from search(ctx, place, tag)
     if outcome.progress is not Progress.SUCCEEDED:
         return outcome
     for _ in range(PICK_ATTEMPTS):
