@@ -117,7 +117,7 @@ class FaultTrigger:
         if not self._client.service_is_ready():
             self._log(f"fault: {INJECT_SERVICE} is not available; {fault} not injected")
             return
-        future = self._client.call_async(request)
+        future: Any = self._client.call_async(request)  # rclpy's Future is untyped
         future.add_done_callback(
             lambda f: self._log(f"fault: {fault}: {f.result().result.reason or 'ok'}")
         )
