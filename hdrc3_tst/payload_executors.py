@@ -11,8 +11,10 @@ load goes down.
 A pick-up is the chapter's sequence: look for the object from ``SEARCH_HEIGHT`` m above its
 point (the hook camera sees a wide circle from there: a box that fell off the hook in flight
 lies metres from where it was lost), hover ``HOVER_HEIGHT`` m above the object where the camera
-saw it (corrected again on the camera's view: a GPS fix is metres off), lower the hook
-until it rests on the object (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
+saw it (corrected again on the camera's view: a GPS fix is metres off), lower the hook to
+``FIRST_CABLE`` m, align again (the hover wanders a decimetre per second while the hook goes
+down: a single 5 m lowering often ended beside the box), lower the hook as deep as the camera
+sees the object until it rests on it (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
 must hold that very object), raise to ``CARRY_CABLE`` m, climb to ``DEPART_HEIGHT``. A
 put-down hovers above the place, lowers until the load rests, releases, winds the hook in and
 climbs likewise. Each step is one platform command
@@ -44,6 +46,11 @@ HOVER_HEIGHT = 4.0
 REACH = 1.5
 """m of cable paid out beyond the hover height: the hook reaches the ground with margin (the
 lowering stops on a slack cable before that)."""
+FIRST_CABLE = 3.0
+"""m of cable of a pick-up's first lowering: the hook hangs a metre or two above the object, so
+the last lowering after the second alignment takes a second or two."""
+MAX_CABLE = 15.0
+"""m of cable a pick-up pays out at most (the winch holds 20 m)."""
 CARRY_CABLE = 1.0
 """m of cable a load hangs on in flight."""
 DEPART_HEIGHT = 12.0
@@ -124,8 +131,10 @@ def _sighting(
         yield
 
 
-def align(ctx: ActionContext, tag: str) -> Steps:
+def align(ctx: ActionContext, tag: str, fresh: bool = False) -> Steps:
     """Hover the winch over the object ``tag`` on the hook camera's offsets.
+
+    ``fresh``: start from a sighting newer than the latest one (not one seen before a lowering).
 
     The flight to the object's point ends metres off (GPS): an offset over ``CORRECT_ABOVE`` is
     flown (then the aircraft hovers ``SETTLE_S`` s); a smaller one is waited out, since the
@@ -133,7 +142,8 @@ def align(ctx: ActionContext, tag: str) -> Steps:
     a sighting is within ``ALIGNED``; failed after ``ALIGN_S`` s.
     """
     deadline = ctx.now + ALIGN_S
-    after: float | None = None
+    latest = ctx.platform.seen(tag) if fresh else None
+    after: float | None = latest.time if latest is not None else None
     miss = math.inf
     while ctx.now <= deadline:
         seen = yield from _sighting(ctx, tag, after)
@@ -169,6 +179,18 @@ def depart(ctx: ActionContext, place: str) -> Steps:
     return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
 
 
+def lower_onto(ctx: ActionContext, tag: str) -> Steps:
+    """Lower the hook onto the object: ``REACH`` m beyond its depth below the winch.
+
+    The depth is the hook camera's latest view of the object (at least ``HOVER_HEIGHT``): the
+    hover holds the estimated altitude, which drifts by metres, so a fixed cable length can
+    end above the object.
+    """
+    seen = ctx.platform.seen(tag)
+    depth = max(-seen.offset[2], HOVER_HEIGHT) if seen is not None else HOVER_HEIGHT
+    return (yield from hook(ctx, HookAction.LOWER, min(depth + REACH, MAX_CABLE)))
+
+
 def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str = "") -> Steps:
     """One ppcl_hook command to its end."""
     return (yield from finish(ctx, ctx.hook(action, length, tag)))
@@ -188,7 +210,9 @@ def pick_up(ctx: ActionContext, place: str) -> Steps:
         # generators: each step sends its command only when it runs
         for step in (
             align(ctx, tag),
-            hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
+            hook(ctx, HookAction.LOWER, FIRST_CABLE),
+            align(ctx, tag, fresh=True),
+            lower_onto(ctx, tag),
             hook(ctx, HookAction.ATTACH, 0.0, tag),
         ):
             outcome = yield from step

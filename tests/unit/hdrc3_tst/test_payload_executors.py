@@ -14,6 +14,7 @@ from hdrc3_tst.executor import ActionContext, Progress, Status, Stepper
 from hdrc3_tst.fake_platform import FakePlatform
 from hdrc3_tst.payload_executors import (
     CARRY_CABLE,
+    FIRST_CABLE,
     HOVER_HEIGHT,
     PAYLOAD_EXECUTORS,
     REACH,
@@ -27,6 +28,10 @@ FRAME = frame_from_world("revinge")
 POINTS = {"box1": ((-166.0, 96.0, 0.0),), "body1": ((40.0, -20.0, 0.0),)}
 FLYING = PlatformState(0.0, 0.0, 30.0, on_ground=False, autonomous=True)
 LOWER = (HookAction.LOWER, HOVER_HEIGHT + REACH, "")
+ONTO = (HookAction.LOWER, 5.7 + REACH, "")
+"""A pick-up's last lowering: as deep as the camera sees the box (5.7 m below the winch)."""
+FIRST = (HookAction.LOWER, FIRST_CABLE, "")
+"""A pick-up lowers twice: to FIRST_CABLE, then (aligned again) onto the object."""
 
 
 def test_the_uav_logistics_operators_map_one_to_one_onto_executors() -> None:
@@ -64,6 +69,23 @@ def _search(platform: FakePlatform, stepper: Stepper, seen: Sighting | None = BE
     assert len(platform.sent) == 2  # the descent
 
 
+def _lowered_twice(platform: FakePlatform, stepper: Stepper, t: float = 1.0) -> None:
+    """Aligned at once: the first lowering, a new image, the last lowering; attach sent."""
+    stepper.step(t)
+    stepper.step(t + 0.1)
+    assert _hook_call(platform.sent[-1]) == FIRST
+    platform.complete(platform.sent[-1])
+    stepper.step(t + 0.2)
+    assert _hook_call(platform.sent[-1]) == FIRST  # waits for an image after the lowering
+    platform.sightings["box1"] = Sighting(BELOW.offset, t + 10.0)
+    stepper.step(t + 0.3)
+    stepper.step(t + 0.4)
+    assert _hook_call(platform.sent[-1]) == ONTO
+    platform.complete(platform.sent[-1])
+    stepper.step(t + 0.5)
+    assert platform.sent[-1].command is HookAction.ATTACH
+
+
 def _hook_call(command: Command) -> tuple[object, ...]:
     return (command.command, command.args["length"], command.tag)
 
@@ -74,7 +96,7 @@ def _hook_call(command: Command) -> tuple[object, ...]:
         # a pick-up hovers where the hook camera saw the box from above (the aircraft's
         # estimate, here (0, 0), plus the camera's offset)
         ("pick-up-box", {"box": "box1"}, (0.05, -0.03),
-         [LOWER, (HookAction.ATTACH, 0.0, "box1"), (HookAction.RAISE, CARRY_CABLE, "")]),
+         [FIRST, ONTO, (HookAction.ATTACH, 0.0, "box1"), (HookAction.RAISE, CARRY_CABLE, "")]),
         ("drop-box", {"box": "box1", "place": "body1"}, POINTS["body1"][0][:2],
          [LOWER, (HookAction.RELEASE, 0.0, ""), (HookAction.RAISE, 0.0, "")]),
     ],
@@ -100,6 +122,8 @@ def test_the_chapters_sequence_hover_lower_attach_or_release_raise(
     for k, expected in enumerate(hook_calls):
         platform.complete(platform.sent[-1])
         assert stepper.step(1.0 + k).progress is Progress.RUNNING
+        platform.sightings["box1"] = Sighting(BELOW.offset, 2.0 + k)  # a new image
+        assert stepper.step(1.5 + k).progress is Progress.RUNNING
         assert _hook_call(platform.sent[-1]) == expected
     platform.complete(platform.sent[-1])
     assert stepper.step(10.0).progress is Progress.RUNNING
@@ -115,14 +139,11 @@ def test_a_wrong_box_fails_the_pick_up_with_the_platforms_reason() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     _search(platform, stepper)
     platform.complete(platform.sent[-1])  # flight
-    stepper.step(1.0)  # aligned at once
-    stepper.step(1.5)
-    platform.complete(platform.sent[-1])  # lowered
-    stepper.step(2.0)
+    _lowered_twice(platform, stepper)
     wrong = "FAILED wrong object: the magnet holds 'box4', not 'box1'"
     platform.complete(platform.sent[-1], ok=False, reason=wrong)
     assert stepper.step(3.0) == Status(Progress.FAILED, f"ppcl_hook: {wrong}")
-    assert len(platform.sent) == 4  # no raise after a failed attach
+    assert len(platform.sent) == 5  # no raise after a failed attach
 
 
 def test_the_hook_camera_corrects_the_hover_over_the_box() -> None:
@@ -146,7 +167,7 @@ def test_the_hook_camera_corrects_the_hover_over_the_box() -> None:
     platform.sightings["box1"] = Sighting((0.1, 0.02, -5.6), 21.0)  # over the box
     stepper.step(12.0)
     stepper.step(13.0)
-    assert _hook_call(platform.sent[-1]) == LOWER
+    assert _hook_call(platform.sent[-1]) == FIRST
 
 
 def test_a_box_the_hook_camera_never_sees_fails_the_pick_up() -> None:
@@ -167,15 +188,12 @@ def test_a_magnet_landing_beside_the_box_is_wound_in_and_lowered_again() -> None
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     _search(platform, stepper)
     platform.complete(platform.sent[-1])  # flight
-    stepper.step(1.0)
-    stepper.step(1.5)
-    platform.complete(platform.sent[-1])  # lowered
-    stepper.step(2.0)
+    _lowered_twice(platform, stepper)
     platform.complete(platform.sent[-1], ok=False, reason="FAILED the magnet gripped nothing")
     stepper.step(3.0)
     assert _hook_call(platform.sent[-1]) == (HookAction.RAISE, 0.0, "")
     platform.complete(platform.sent[-1])
-    platform.sightings["box1"] = Sighting((0.1, 0.0, -5.7), 5.0)
+    platform.sightings["box1"] = Sighting((0.1, 0.0, -5.7), 50.0)
     stepper.step(4.0)
     stepper.step(5.0)
-    assert _hook_call(platform.sent[-1]) == LOWER
+    assert _hook_call(platform.sent[-1]) == FIRST
