@@ -122,7 +122,6 @@ class FaultTrigger:
             lambda f: self._log(f"fault: {fault}: {f.result().result.reason or 'ok'}")
         )
 
-    @property
-    def pending(self) -> int:
-        """Faults not injected yet."""
-        return len(self._faults) - len(self._sent)
+    def not_injected(self) -> list[TimedFault]:
+        """The faults not injected (yet)."""
+        return [f for i, f in enumerate(self._faults) if i not in self._sent]

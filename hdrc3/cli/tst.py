@@ -309,6 +309,8 @@ def _execute(
             process.spin_until(root_done, ABORT_WAIT_S)
         # other agents' last statuses may arrive after the root's (another publisher)
         process.spin_until(lambda: not _running(client.latest(mission)), LAST_STATUS_WAIT_S)
+        for fault in trigger.not_injected():
+            console.print(f"fault: {fault} was never injected (node {fault.node_id} never ran)")
         if hand_over_first:
             _settle(process, client)
         latest = client.latest(mission)
