@@ -11,7 +11,8 @@ load goes down.
 A pick-up is the chapter's sequence: look for the object from ``SEARCH_HEIGHT`` m above its
 point (the hook camera sees a wide circle from there: a box that fell off the hook in flight
 lies metres from where it was lost), hover ``HOVER_HEIGHT`` m above the object where the camera
-saw it (corrected again on the camera's view: a GPS fix is metres off), lower the hook to
+saw it, switch the magnet off (one left energised after losing a load grips nothing new),
+align on the camera's view (a GPS fix is metres off), lower the hook to
 ``FIRST_CABLE`` m, align again (the hover wanders a decimetre per second while the hook goes
 down: a single 5 m lowering often ended beside the box), lower the hook as deep as the camera
 sees the object until it rests on it (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
@@ -203,9 +204,11 @@ def pick_up(ctx: ActionContext, place: str) -> Steps:
     from the alignment, up to ``PICK_ATTEMPTS`` times.
     """
     tag = ctx.name(place)
-    outcome = yield from search(ctx, place, tag)
-    if outcome.progress is not Progress.SUCCEEDED:
-        return outcome
+    for step in (search(ctx, place, tag), hook(ctx, HookAction.RELEASE)):
+        # magnet off: an electromagnet left energised after losing a load grips nothing new
+        outcome = yield from step
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
     for _ in range(PICK_ATTEMPTS):
         # generators: each step sends its command only when it runs
         for step in (

@@ -29,6 +29,7 @@ POINTS = {"box1": ((-166.0, 96.0, 0.0),), "body1": ((40.0, -20.0, 0.0),)}
 FLYING = PlatformState(0.0, 0.0, 30.0, on_ground=False, autonomous=True)
 LOWER = (HookAction.LOWER, HOVER_HEIGHT + REACH, "")
 ONTO = (HookAction.LOWER, 5.7 + REACH, "")
+MAGNET_OFF = (HookAction.RELEASE, 0.0, "")
 """A pick-up's last lowering: as deep as the camera sees the box (5.7 m below the winch)."""
 FIRST = (HookAction.LOWER, FIRST_CABLE, "")
 """A pick-up lowers twice: to FIRST_CABLE, then (aligned again) onto the object."""
@@ -52,7 +53,8 @@ def _run(action: str, args: dict[str, float | str]) -> tuple[FakePlatform, Stepp
 
 
 def _search(platform: FakePlatform, stepper: Stepper, seen: Sighting | None = BELOW) -> None:
-    """A pick-up's search: up over box1's point, a new sighting (or none), the descent sent."""
+    """A pick-up's search: up over box1's point, a new sighting (or none), the descent; then
+    the magnet switched off once the descent is complete (the caller completes the descent)."""
     assert stepper.step(0.0).progress is Progress.RUNNING
     (up,) = platform.sent
     east, north, _ = POINTS["box1"][0]
@@ -67,6 +69,13 @@ def _search(platform: FakePlatform, stepper: Stepper, seen: Sighting | None = BE
         platform.sightings["box1"] = Sighting(seen.offset, seen.time + 0.5)
         stepper.step(0.6)
     assert len(platform.sent) == 2  # the descent
+
+
+def _magnet_off(platform: FakePlatform, stepper: Stepper) -> None:
+    """Over the box: the magnet is switched off first (RELEASE), which ends at once here."""
+    stepper.step(0.8)
+    assert _hook_call(platform.sent[-1]) == MAGNET_OFF
+    platform.complete(platform.sent[-1])
 
 
 def _lowered_twice(platform: FakePlatform, stepper: Stepper, t: float = 1.0) -> None:
@@ -96,7 +105,8 @@ def _hook_call(command: Command) -> tuple[object, ...]:
         # a pick-up hovers where the hook camera saw the box from above (the aircraft's
         # estimate, here (0, 0), plus the camera's offset)
         ("pick-up-box", {"box": "box1"}, (0.05, -0.03),
-         [FIRST, ONTO, (HookAction.ATTACH, 0.0, "box1"), (HookAction.RAISE, CARRY_CABLE, "")]),
+         [MAGNET_OFF, FIRST, ONTO, (HookAction.ATTACH, 0.0, "box1"),
+          (HookAction.RAISE, CARRY_CABLE, "")]),
         ("drop-box", {"box": "box1", "place": "body1"}, POINTS["body1"][0][:2],
          [LOWER, (HookAction.RELEASE, 0.0, ""), (HookAction.RAISE, 0.0, "")]),
     ],
@@ -139,17 +149,19 @@ def test_a_wrong_box_fails_the_pick_up_with_the_platforms_reason() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     _search(platform, stepper)
     platform.complete(platform.sent[-1])  # flight
+    _magnet_off(platform, stepper)
     _lowered_twice(platform, stepper)
     wrong = "FAILED wrong object: the magnet holds 'box4', not 'box1'"
     platform.complete(platform.sent[-1], ok=False, reason=wrong)
     assert stepper.step(3.0) == Status(Progress.FAILED, f"ppcl_hook: {wrong}")
-    assert len(platform.sent) == 5  # no raise after a failed attach
+    assert len(platform.sent) == 6  # no raise after a failed attach
 
 
 def test_the_hook_camera_corrects_the_hover_over_the_box() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     _search(platform, stepper, Sighting((2.0, -1.0, -5.5), 1.0))  # seen 2.2 m off from above
     platform.complete(platform.sent[-1])  # the descent (the aircraft stays at (0, 0) here)
+    _magnet_off(platform, stepper)
     stepper.step(1.0)
     stepper.step(1.5)
     correction = platform.sent[-1]
@@ -179,6 +191,7 @@ def test_a_box_the_hook_camera_never_sees_fails_the_pick_up() -> None:
     _, _, alt = FRAME.to_wgs84(east, north, FRAME.ground_up(east, north) + HOVER_HEIGHT)
     assert descent.args["altitude"] == pytest.approx(alt)
     platform.complete(descent)
+    _magnet_off(platform, stepper)
     stepper.step(10.0)
     outcome = stepper.step(11.0 + SIGHT_TIMEOUT_S)
     assert outcome == Status(Progress.FAILED, "the hook camera does not see box1")
@@ -188,6 +201,7 @@ def test_a_magnet_landing_beside_the_box_is_wound_in_and_lowered_again() -> None
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     _search(platform, stepper)
     platform.complete(platform.sent[-1])  # flight
+    _magnet_off(platform, stepper)
     _lowered_twice(platform, stepper)
     platform.complete(platform.sent[-1], ok=False, reason="FAILED the magnet gripped nothing")
     stepper.step(3.0)
