@@ -9,7 +9,7 @@ the violation to the new plan, whether the PFC hovered before it, and the wall t
 successes. The pick-ups are the unreliable part (hover wander against the magnet's reach; see
 the top-level README), so a run can fail before or after the fault.
 
-Run: .venv/bin/python bench/box_drop_recovery.py [--runs 3] [--domain 60] [--seed 2]
+Run: .venv/bin/python bench/box_drop_recovery.py [--runs 3] [--domain 90] [--seed 2]
 """
 
 from __future__ import annotations
@@ -65,7 +65,7 @@ def main() -> None:
     """Print the figures."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=3)
-    parser.add_argument("--domain", type=int, default=60)
+    parser.add_argument("--domain", type=int, default=90)
     parser.add_argument("--seed", type=int, default=2)
     args = parser.parse_args()
     ok = 0
