@@ -151,6 +151,7 @@ CATALOG: tuple[NodeKind, ...] = (
         "hdrc3-execution-monitor",
         Scope.AGENT,
         "execution monitor: monitor formulas over DyKnow streams and execution flags (chapter 9.3)",
+        world_params=True,
         default=False,
     ),
     NodeKind(

@@ -1,6 +1,8 @@
 """ROS 2 adapter: the ``execution_monitor`` node of one agent (chapter 9.3).
 
-Reads the agent's Data Interface (``helicopter_state``, ``HelicopterState``) and its power unit
+Reads the agent's Data Interface (``helicopter_state``, ``HelicopterState``), its payload hook's
+carrying sensor (``sensors/carrying``, ``HookState``: ``carrying(agent, load)`` for each box and
+carrier of the ``world`` parameter's world file) and its power unit
 (``sensors/power``, ``PowerStatus``: voltage times current is the ``power`` fluent of Example
 9.1) into DyKnow streams (:mod:`monitor_streams`, plus any ``stream_spec`` file), its execution
 flags (``execution_flags``, ``ExecutionFlag``), and progresses the formulas of the
@@ -24,7 +26,6 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Sequence
-from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -47,14 +48,16 @@ from hdrc3_deliberative.execution_monitor import (
 from hdrc3_deliberative.monitor_generation import expand, read_domain_file
 from hdrc3_deliberative.monitor_spec import DEFAULT_SPEC, MonitorSpecParser
 from hdrc3_deliberative.monitor_streams import MonitorStreams
+from hdrc3_dyknow.node import subscribe_sources
 from hdrc3_dyknow.sample import ms_from_ns
 from hdrc3_interfaces.msg import (
     ExecutionFlag,
-    HelicopterState,
     MonitorVerdict,
     MonitorViolation,
     PowerStatus,
 )
+from sim.world import ObjectKind
+from sim.world_loader import load_world
 
 NODE_NAME = "execution_monitor"
 _EVENT_QOS = QoSProfile(
@@ -71,6 +74,18 @@ _VIOLATIONS = {
     EventKind.STALE_DATA: MonitorViolation.KIND_STALE_DATA,
     EventKind.REFUSED: MonitorViolation.KIND_REFUSED,
 }
+
+
+def world_loads(world: str) -> tuple[tuple[str, str], ...]:
+    """(tag, ontology sort) of the boxes and carriers of ``world`` ("": none)."""
+    if not world:
+        return ()
+    try:
+        objects = load_world(world).objects
+    except Hdrc3Error as exc:
+        raise ConfigError(f"world {world!r}: {exc}") from None
+    sorts = {ObjectKind.BOX: "Box", ObjectKind.CARRIER: "Carrier"}
+    return tuple((o.id, sorts[o.kind]) for o in objects if o.kind in sorts)
 
 
 def _stamp(ms: int) -> Time:
@@ -99,8 +114,9 @@ class ExecutionMonitorNode(Node):
         spec = MonitorSpecParser().parse_file(Path(spec_file))
         if domain_file:  # formulas generated for the flagged conditions (§9.3)
             spec = expand(spec, read_domain_file(Path(domain_file)))
+        world = str(self.declare_parameter("world", "").value)
         self.streams = MonitorStreams.for_agent(
-            self.agent, Path(ontology_file) if ontology_file else None
+            self.agent, Path(ontology_file) if ontology_file else None, world_loads(world)
         )
         if stream_file:
             try:
@@ -113,8 +129,7 @@ class ExecutionMonitorNode(Node):
         self._started = False
         self._verdicts = self.create_publisher(MonitorVerdict, "monitor_verdicts", _EVENT_QOS)
         self._violations = self.create_publisher(MonitorViolation, "monitor_violations", _EVENT_QOS)
-        for topic in self.streams.catalog.topics():
-            self.create_subscription(HelicopterState, topic, partial(self._on_state, topic), 50)
+        subscribe_sources(self, self.streams.catalog, {}, self._on_state)
         self.create_subscription(ExecutionFlag, "execution_flags", self._on_flag, 50)
         self.create_subscription(PowerStatus, "sensors/power", self._on_power, 10)
         # Checked now so a bad formula stops the node at once; activated at the first tick.
@@ -129,7 +144,7 @@ class ExecutionMonitorNode(Node):
     def _now_ms(self) -> int:
         return ms_from_ns(self.get_clock().now().nanoseconds)
 
-    def _on_state(self, topic: str, msg: HelicopterState) -> None:
+    def _on_state(self, topic: str, msg: Any) -> None:
         try:
             self.streams.catalog.on_message(topic, msg, self._now_ms())
         except Hdrc3Error as exc:  # one bad message must not stop the node

@@ -18,8 +18,8 @@ from hdrc3_deliberative.execution_monitor import (
     StartResult,
 )
 from hdrc3_deliberative.monitor_spec import MonitorSpecParser
-from hdrc3_deliberative.monitor_streams import DATA_INTERFACE_TOPIC, MonitorStreams
-from hdrc3_dyknow.fakes import FakeHeader, FakeHelicopterState, FakeTime
+from hdrc3_deliberative.monitor_streams import DATA_INTERFACE_TOPIC, HOOK_TOPIC, MonitorStreams
+from hdrc3_dyknow.fakes import FakeHeader, FakeHelicopterState, FakeHookState, FakeTime
 from hdrc3_dyknow.sample import Sample, Value
 
 AGENT = "uav0"
@@ -38,12 +38,14 @@ class MonitorRig:
 
     spec_text: str
     extra_streams: str = PAYLOAD_STREAMS
+    loads: tuple[tuple[str, str], ...] = ()
+    """(tag, sort) of loads with ``Carrying`` streams from the carrying sensor (:meth:`hook`)."""
     streams: MonitorStreams = field(init=False)
     monitor: ExecutionMonitor = field(init=False)
     events: list[MonitorEvent] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        self.streams = MonitorStreams.for_agent(AGENT)
+        self.streams = MonitorStreams.for_agent(AGENT, loads=self.loads)
         if self.extra_streams:
             self.streams.load(self.extra_streams, "<rig streams>")
         spec = MonitorSpecParser().parse(self.spec_text, "<rig spec>")
@@ -59,6 +61,11 @@ class MonitorRig:
         for name, value in fields.items():
             setattr(msg, name, value)
         self.streams.catalog.on_message(DATA_INTERFACE_TOPIC, msg, time_ms + delay_ms)
+
+    def hook(self, time_ms: int, object_id: str, *, delay_ms: int = 0) -> None:
+        """A carrying sensor reading (``HookState``): the magnet holds ``object_id`` or ""."""
+        msg = FakeHookState.holding(time_ms, object_id)
+        self.streams.catalog.on_message(HOOK_TOPIC, msg, time_ms + delay_ms)
 
     def sample(self, label: str, time_ms: int, value: Value) -> None:
         """A sample of a sourceless stream (payload, power)."""

@@ -3,13 +3,17 @@
 :func:`data_interface_spec` writes the stream specification (``hdrc3_dyknow`` SSL_T-like
 language) that annotates the fields of the agent's ``helicopter_state`` topic (§6.2.4) with
 ontology features, so formulas about ``altitude(uav0)`` or ``speed(uav0)`` find them by
-semantic matching. :class:`MonitorStreams` bundles the host, ontology, semantics manager,
+semantic matching; :func:`hook_spec` annotates the payload hook's ``carrying`` sensor
+(``sensors/carrying``, ``HookState``) as one ``Carrying(<agent>, <load>)`` stream per box or
+carrier of the world (true while the magnet holds that load's tag), for Examples 9.2 and 9.4.
+:class:`MonitorStreams` bundles the host, ontology, semantics manager,
 catalogue and matcher built from that and any further specifications.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -40,6 +44,26 @@ DATA_INTERFACE_STREAMS: tuple[tuple[str, str, str], ...] = (
 def power_label(agent: str) -> str:
     """Label of the stream of ``agent``'s electrical power (W)."""
     return f"{agent}/power"
+
+
+HOOK_TOPIC = "sensors/carrying"
+"""The agent's carrying sensor (``HookState``), relative to its namespace."""
+
+
+def hook_spec(agent: str, loads: Sequence[tuple[str, str]], topic: str = HOOK_TOPIC) -> str:
+    """Stream specification of ``Carrying(agent, load)`` for each (tag, sort) of ``loads``.
+
+    Labels are ``<agent>/hook/<tag>``; a sample is whether the magnet holds that tag. A
+    missing value is the last one (the sensor reports at 10 Hz; late samples are dropped).
+    """
+    lines = [f"object {tag} : {sort};" for tag, sort in loads]
+    for tag, _ in loads:
+        lines.append(
+            f'stream {agent}/hook/{tag} contains Carrying({agent}, {tag}) from topic "{topic}"'
+            f' type HookState field object_id == "{tag}" with max_delay 1000 ms,'
+            " missing last_value;"
+        )
+    return "\n".join(lines) + "\n"
 
 
 def data_interface_spec(agent: str, sort: str = "RMAX", topic: str = DATA_INTERFACE_TOPIC) -> str:
@@ -74,10 +98,21 @@ class MonitorStreams:
         self.matcher = SemanticMatcher(self.ontology, self.semantics)
 
     @classmethod
-    def for_agent(cls, agent: str, ontology_file: Path | None = None) -> MonitorStreams:
-        """Streams of ``agent``'s Data Interface in the packaged (or given) ontology."""
+    def for_agent(
+        cls,
+        agent: str,
+        ontology_file: Path | None = None,
+        loads: Sequence[tuple[str, str]] = (),
+    ) -> MonitorStreams:
+        """Streams of ``agent``'s Data Interface in the packaged (or given) ontology.
+
+        ``loads``: (tag, ontology sort) of the boxes and carriers the hook may carry; each gets
+        a ``Carrying(agent, tag)`` stream from the carrying sensor.
+        """
         streams = cls(Ontology.load(ontology_file))
         streams.load(data_interface_spec(agent), f"<data interface of {agent}>")
+        if loads:
+            streams.load(hook_spec(agent, loads), f"<carrying sensor of {agent}>")
         return streams
 
     def publish_power(

@@ -53,3 +53,22 @@ class FakeHelicopterState:
     def at(cls, ms: int, latitude: float, longitude: float, altitude: float) -> FakeHelicopterState:
         """A state stamped ``ms`` at the given WGS84 position."""
         return cls(FakeHeader(FakeTime.from_ms(ms)), latitude, longitude, altitude)
+
+
+@dataclass(slots=True)
+class FakeHookState:
+    """``hdrc3_interfaces/msg/HookState`` (the carrying sensor) with the fields sources read."""
+
+    header: FakeHeader = field(default_factory=FakeHeader)
+    carrying: bool = False
+    object_id: str = ""
+    magnet: bool = False
+    winch: int = 0
+    cable_length: float = 0.0
+    tension: float = 0.0
+
+    @classmethod
+    def holding(cls, ms: int, object_id: str) -> FakeHookState:
+        """A reading stamped ``ms``: the magnet holds ``object_id`` ("" : nothing)."""
+        held = bool(object_id)
+        return cls(FakeHeader(FakeTime.from_ms(ms)), held, object_id, held)

@@ -1,7 +1,9 @@
 """The ``dyknow`` ROS 2 node: DyKnow stream processing, semantic matching and monitoring.
 
-Sources read Data Interface topics (``hdrc3_interfaces/msg/HelicopterState``) named in stream
-specifications loaded at run time (parameters ``spec_file``/``spec``, service ``~/load_streams``).
+Sources read topics (the Data Interface's ``HelicopterState``, the hook's ``HookState``: the
+message types of ``sources.MESSAGE_SOURCES``, each subscribed with the type the catalogue
+derives) named in stream specifications loaded at run time (parameters ``spec_file``/``spec``,
+service ``~/load_streams``).
 ``~/monitor`` (``MonitorFormula``) starts or stops monitoring a formula over streams found by
 semantic matching; verdicts go out as ``MonitorVerdict`` on the requested topic. ``~/list_streams``
 (``ListStreams``) introspects streams, policies and rates. Time is the node's ROS clock (``/clock``
@@ -11,6 +13,7 @@ when ``use_sim_time`` is set), converted to stream milliseconds. This is the onl
 
 from __future__ import annotations
 
+import importlib
 import sys
 from collections.abc import Sequence
 from functools import partial
@@ -39,7 +42,7 @@ from hdrc3_dyknow.sample import ms_from_ns
 from hdrc3_dyknow.semantic_matching import SemanticMatcher, StreamSemantics
 from hdrc3_dyknow.semantic_spec import SpecError, SpecSyntaxError, TopicSource, parse_spec
 from hdrc3_dyknow.sources import StreamCatalog
-from hdrc3_interfaces.msg import HelicopterState, MonitorVerdict, StreamInfo
+from hdrc3_interfaces.msg import MonitorVerdict, StreamInfo
 from hdrc3_interfaces.srv import ListStreams, LoadStreamSpec, MonitorFormula
 
 DEFAULT_VERDICT_TOPIC = "~/verdicts"
@@ -60,6 +63,26 @@ _CODES = {
 _VERDICT_QOS = QoSProfile(
     depth=100, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
+
+
+def message_class(type_name: str) -> Any:
+    """The generated class of ``package/msg/Type`` (a type of ``sources.MESSAGE_SOURCES``)."""
+    package, _, name = type_name.split("/")
+    return getattr(importlib.import_module(f"{package}.msg"), name)
+
+
+def subscribe_sources(
+    node: Node, catalog: StreamCatalog, known: dict[str, Subscription], callback: Any
+) -> None:
+    """Subscribe ``node`` to every topic of ``catalog`` not in ``known``, with its type.
+
+    ``callback(topic, msg)`` receives each message; ``known`` gains the new subscriptions.
+    """
+    for topic, type_name in catalog.topic_types().items():
+        if topic not in known:
+            known[topic] = node.create_subscription(
+                message_class(type_name), topic, partial(callback, topic), 50
+            )
 
 
 class DyKnowNode(Node):
@@ -128,11 +151,7 @@ class DyKnowNode(Node):
             labels = self._catalog.load(spec)
         except Hdrc3Error as exc:
             return exc, str(exc), []
-        for topic in self._catalog.topics():
-            if topic not in self._topic_subscriptions:
-                self._topic_subscriptions[topic] = self.create_subscription(
-                    HelicopterState, topic, partial(self._on_state, topic), 50
-                )
+        subscribe_sources(self, self._catalog, self._topic_subscriptions, self._on_state)
         return None, f"loaded {len(labels)} streams", labels
 
     def _check_topic(self, topic: str, source: str, line: int, column: int) -> None:
@@ -141,7 +160,7 @@ class DyKnowNode(Node):
         except Exception as exc:  # rclpy raises several types for invalid names
             raise SpecError(f"invalid topic name {topic!r}: {exc}", source, line, column) from None
 
-    def _on_state(self, topic: str, msg: HelicopterState) -> None:
+    def _on_state(self, topic: str, msg: Any) -> None:
         try:
             self._catalog.on_message(topic, msg, self._now_ms())
         except Hdrc3Error as exc:  # one bad message must not stop the node

@@ -56,10 +56,17 @@ class ObjectDecl:
 
 @dataclass(frozen=True, slots=True)
 class TopicSource:
-    """Samples come from ``field`` of each message on a ROS ``topic``."""
+    """Samples come from ``field`` of each ``message`` on a ROS ``topic``.
+
+    With ``equals``, a sample is whether the field's value equals that text (a tag read by a
+    sensor, e.g. the hook's ``object_id``): a boolean stream.
+    """
 
     topic: str
     field: str
+    message: str = "HelicopterState"
+    """The topic's message type (a key of ``sources.MESSAGE_SOURCES``)."""
+    equals: str | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -208,8 +215,18 @@ class _Builder:
             if part.data == "policy":
                 policy = self._policy(part)
             elif part.data == "topic_source":
-                topic, field_name = part.children
-                source = TopicSource(json.loads(str(topic)), str(field_name))
+                topic, *middle = part.children
+                message = "HelicopterState"
+                equals: str | None = None
+                field_name = ""
+                for child in middle:
+                    if isinstance(child, lark.Token):
+                        field_name = str(child)
+                    elif child.data == "message_type":
+                        message = str(child.children[0])
+                    else:
+                        equals = json.loads(str(child.children[0]))
+                source = TopicSource(json.loads(str(topic)), field_name, message, equals)
             else:
                 function, *labels = part.children
                 inputs = tuple(_label(lbl) for lbl in labels if isinstance(lbl, lark.Tree))

@@ -1,8 +1,12 @@
 """Stream catalogue: turns stream specifications into sources, function units and annotations.
 
 Sources make external information available as streams (section 8.1): here the fields of the
-Data Interface message ``HelicopterState`` (section 6.2.4), read duck-typed so this module never
-imports ROS. Function units compute streams from synchronised input streams, e.g. ``xy_dist``
+Data Interface message ``HelicopterState`` (section 6.2.4) and of the payload hook's ``carrying``
+sensor ``HookState`` (sections 9.3, 11.1.2), read duck-typed so this module never imports ROS.
+:data:`MESSAGE_SOURCES` is the one table of what a topic source may read: each message type with
+its fields; the catalogue derives every topic's type from it (:meth:`StreamCatalog.topic_types`),
+so the ROS adapters subscribe with the right type and keep no table of their own. Function
+units compute streams from synchronised input streams, e.g. ``xy_dist``
 of two positions (the ``XYDist`` feature of section 8.5). Loading a specification validates
 every declaration against the ontology first and applies nothing if any is wrong.
 """
@@ -59,6 +63,39 @@ HELICOPTER_STATE_FIELDS: Mapping[str, Extractor] = {
 }
 """Fields of ``hdrc3_interfaces/msg/HelicopterState`` a topic source may read (plus derived)."""
 
+HOOK_STATE_FIELDS: Mapping[str, Extractor] = {
+    "carrying": lambda m: bool(m.carrying),
+    "object_id": lambda m: str(m.object_id),
+    "magnet": lambda m: bool(m.magnet),
+    "winch": lambda m: int(m.winch),
+    "cable_length": lambda m: float(m.cable_length),
+    "tension": lambda m: float(m.tension),
+}
+"""Fields of ``hdrc3_interfaces/msg/HookState`` (the ``carrying`` sensor) a source may read."""
+
+
+@dataclass(frozen=True, slots=True)
+class MessageSource:
+    """A message type topic sources read: its full ROS type name and readable fields."""
+
+    type_name: str
+    """``package/msg/Type``."""
+    fields: Mapping[str, Extractor]
+
+
+MESSAGE_SOURCES: Mapping[str, MessageSource] = {
+    "HelicopterState": MessageSource(
+        "hdrc3_interfaces/msg/HelicopterState", HELICOPTER_STATE_FIELDS
+    ),
+    "HookState": MessageSource("hdrc3_interfaces/msg/HookState", HOOK_STATE_FIELDS),
+}
+"""Message types a specification may name after ``type`` (default ``HelicopterState``)."""
+
+
+def _equals(extract: Extractor, text: str) -> Extractor:
+    """Whether the field's value equals ``text`` (a boolean stream of one tag)."""
+    return lambda m: str(extract(m)) == text
+
 
 def _enu(values: Sequence[Value]) -> tuple[float, float, float]:
     first, second = values
@@ -104,6 +141,8 @@ class TopicBinding:
     label: str
     field: str
     extract: Extractor
+    message: str
+    """Key of the message type in :data:`MESSAGE_SOURCES`."""
 
 
 class StreamCatalog:
@@ -129,6 +168,14 @@ class StreamCatalog:
         """Topics that sources read, sorted."""
         return sorted(topic for topic, bindings in self._topics.items() if bindings)
 
+    def topic_types(self) -> dict[str, str]:
+        """Each topic sources read -> its full message type name (``package/msg/Type``)."""
+        return {
+            topic: MESSAGE_SOURCES[next(iter(bindings.values())).message].type_name
+            for topic, bindings in sorted(self._topics.items())
+            if bindings
+        }
+
     def load(self, spec: StreamSpec) -> list[str]:
         """Validate and apply a specification; return the declared labels.
 
@@ -148,8 +195,16 @@ class StreamCatalog:
                     decl.column,
                 )
         labels = set(self.host.labels())
+        # a topic has one message type: the one its other streams (here or loaded) read
+        replaced = {stream.label for stream in spec.streams}
+        types = {
+            topic: b.message
+            for topic, bindings in self._topics.items()
+            for b in bindings.values()
+            if b.label not in replaced
+        }
         for stream in spec.streams:
-            self._check(stream, objects, labels, source)
+            self._check(stream, objects, labels, source, types)
             labels.add(stream.label)
         for decl in spec.objects:
             for name in decl.names:
@@ -158,7 +213,27 @@ class StreamCatalog:
             self._apply(stream)
         return [stream.label for stream in spec.streams]
 
-    def _check(self, decl: StreamDecl, objects: set[str], labels: set[str], source: str) -> None:
+    def _check_topic(
+        self, source: TopicSource, fail: Callable[[str], SpecError], types: dict[str, str]
+    ) -> None:
+        message = MESSAGE_SOURCES.get(source.message)
+        if message is None:
+            raise fail(f"unknown message type {source.message!r}; known: {sorted(MESSAGE_SOURCES)}")
+        if source.field not in message.fields:
+            known = ", ".join(sorted(message.fields))
+            raise fail(f"unknown field {source.field!r}; {source.message} fields: {known}")
+        seen = types.setdefault(source.topic, source.message)
+        if seen != source.message:
+            raise fail(f"topic {source.topic!r} carries {seen}, not {source.message}")
+
+    def _check(
+        self,
+        decl: StreamDecl,
+        objects: set[str],
+        labels: set[str],
+        source: str,
+        types: dict[str, str],
+    ) -> None:
         def fail(message: str) -> SpecError:
             return SpecError(f"stream {decl.label!r}: {message}", source, decl.line, decl.column)
 
@@ -171,11 +246,8 @@ class StreamCatalog:
         for arg in decl.term.args:
             if arg not in objects and not self.ontology.is_object(arg):
                 raise fail(f"unknown object {arg!r}; declare it with 'object {arg} : <Sort>;'")
-        if isinstance(decl.source, TopicSource) and decl.source.field not in (
-            HELICOPTER_STATE_FIELDS
-        ):
-            known = ", ".join(sorted(HELICOPTER_STATE_FIELDS))
-            raise fail(f"unknown field {decl.source.field!r}; HelicopterState fields: {known}")
+        if isinstance(decl.source, TopicSource):
+            self._check_topic(decl.source, fail, types)
         if isinstance(decl.source, FunctionSource):
             if decl.source.function not in FUNCTIONS:
                 raise fail(f"unknown function {decl.source.function!r}; known: {sorted(FUNCTIONS)}")
@@ -196,8 +268,11 @@ class StreamCatalog:
         self.host.declare(label, policy, decl.annotation)
         self.semantics.annotate(label, decl.term)
         if isinstance(decl.source, TopicSource):
-            extract = HELICOPTER_STATE_FIELDS[decl.source.field]
-            binding = TopicBinding(label, decl.source.field, extract)
+            topic = decl.source
+            extract = MESSAGE_SOURCES[topic.message].fields[topic.field]
+            if topic.equals is not None:
+                extract = _equals(extract, topic.equals)
+            binding = TopicBinding(label, topic.field, extract, topic.message)
             self._topics.setdefault(decl.source.topic, {})[label] = binding
         elif isinstance(decl.source, FunctionSource):
             function = FUNCTIONS[decl.source.function][1]
@@ -218,7 +293,7 @@ class StreamCatalog:
         self.host.remove_process("function:" + label)
 
     def on_message(self, topic: str, message: Any, available_ms: int) -> int:
-        """Publish the bound fields of one Data Interface message; return samples published.
+        """Publish the bound fields of one message of ``topic``; return samples published.
 
         The valid time is the message's header stamp (its available time if the stamp is
         zero); values that are not finite are counted in :attr:`rejected`, never published.

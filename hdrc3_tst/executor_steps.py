@@ -23,6 +23,13 @@ from hdrc3_tst.platform_port import Command, CommandState
 Steps = Generator[None, None, Status]
 DATA_TIMEOUT_S = 10.0
 """Mission seconds an executor waits for the first Data Interface sample."""
+NOT_ACCEPTED_IN = "not accepted in Mode-Switch:"
+"""How the PFC's mode switch (``hdrc3_control/automata/mode_switch.hcsm``) refuses an event."""
+SETTLING_STATES = ("Stop-Ctrl-ST", "Braking-ST", "Wait-Hover-ST", "Stabilizing-ST")
+"""Its states between a stopped command and a stable hover: a flight is accepted after them."""
+SETTLE_RETRY_S = 1.0
+SETTLE_WAIT_S = 20.0
+"""Mission seconds a flight refused while the PFC settles into a hover is retried."""
 
 
 def finish(
@@ -61,12 +68,33 @@ def airborne(ctx: ActionContext) -> Steps:
     return (yield from finish(ctx, ctx.send(FclCommand.TAKEOFF)))
 
 
+def settling(command: Command) -> bool:
+    """Whether the PFC refused ``command`` only because it is still braking into a hover."""
+    return (
+        command.state is CommandState.FAILED
+        and NOT_ACCEPTED_IN in command.reason
+        and any(state in command.reason for state in SETTLING_STATES)
+    )
+
+
 def fly_to(ctx: ActionContext, point: tuple[float, ...], speed: float) -> Steps:
-    """Straight flight to a local ENU point, hovering there at the end."""
+    """Straight flight to a local ENU point, hovering there at the end.
+
+    A flight the PFC refuses while it still brakes into a hover (after a cancel or an
+    emergency brake, e.g. a recovery's first step) is sent again every ``SETTLE_RETRY_S``
+    mission seconds for up to ``SETTLE_WAIT_S``.
+    """
     lon, lat, alt = ctx.frame.to_wgs84(point[0], point[1], point[2])
     state = ctx.state()
     length = math.dist(point, (state.east, state.north, state.up)) if state else 0.0
-    command = ctx.send(
-        FclCommand.TRAJ3D_FLYTO, longitude=lon, latitude=lat, altitude=alt, velocity=speed
-    )
-    return (yield from finish(ctx, command, flight_bound(length, speed)))
+    give_up = ctx.now + SETTLE_WAIT_S
+    while True:
+        command = ctx.send(
+            FclCommand.TRAJ3D_FLYTO, longitude=lon, latitude=lat, altitude=alt, velocity=speed
+        )
+        outcome = yield from finish(ctx, command, flight_bound(length, speed))
+        if not settling(command) or ctx.now > give_up:
+            return outcome
+        again = ctx.now + SETTLE_RETRY_S
+        while ctx.now < again:
+            yield

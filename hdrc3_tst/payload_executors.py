@@ -8,9 +8,14 @@ node's agent; its boxes, carriers and locations are points: an object's point is
 object's tag (what the magnet reads) and lies where the object is, a location's point where a
 load goes down.
 
-A pick-up is the chapter's sequence: hover ``HOVER_HEIGHT`` m above the object (corrected on
-the hook camera's view of the object: a GPS fix is metres off), lower the hook
-until it rests on the object (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
+A pick-up is the chapter's sequence: look for the object from ``SEARCH_HEIGHT`` m above its
+point (the hook camera sees a wide circle from there: a box that fell off the hook in flight
+lies metres from where it was lost), hover ``HOVER_HEIGHT`` m above the object where the camera
+saw it, switch the magnet off (one left energised after losing a load grips nothing new),
+align on the camera's view (a GPS fix is metres off), lower the hook to
+``FIRST_CABLE`` m, align again (the hover wanders a decimetre per second while the hook goes
+down: a single 5 m lowering often ended beside the box), lower the hook as deep as the camera
+sees the object until it rests on it (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
 must hold that very object), raise to ``CARRY_CABLE`` m, climb to ``DEPART_HEIGHT``. A
 put-down hovers above the place, lowers until the load rests, releases, winds the hook in and
 climbs likewise. Each step is one platform command
@@ -42,6 +47,11 @@ HOVER_HEIGHT = 4.0
 REACH = 1.5
 """m of cable paid out beyond the hover height: the hook reaches the ground with margin (the
 lowering stops on a slack cable before that)."""
+FIRST_CABLE = 3.0
+"""m of cable of a pick-up's first lowering: the hook hangs a metre or two above the object, so
+the last lowering after the second alignment takes a second or two."""
+MAX_CABLE = 15.0
+"""m of cable a pick-up pays out at most (the winch holds 20 m)."""
 CARRY_CABLE = 1.0
 """m of cable a load hangs on in flight."""
 DEPART_HEIGHT = 12.0
@@ -66,6 +76,9 @@ CORRECT_ABOVE = 0.6
 """m: a larger offset is flown; a smaller one is waited out."""
 ALIGN_S = 60.0
 """Mission seconds an alignment may take."""
+SEARCH_HEIGHT = 24.0
+"""m above the ground a pick-up looks for its object from: the hook camera (35 deg half angle,
+30 m range) sees objects up to about 16 m to the side there."""
 
 
 def over(ctx: ActionContext, place: str) -> Steps:
@@ -75,6 +88,32 @@ def over(ctx: ActionContext, place: str) -> Steps:
         return outcome
     (point,) = ctx.place(place)
     east, north = float(point[0]), float(point[1])
+    up = ctx.frame.ground_up(east, north) + HOVER_HEIGHT
+    return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
+
+
+def search(ctx: ActionContext, place: str, tag: str) -> Steps:
+    """Take off if needed, look for ``tag`` from above the place's point, hover low above it.
+
+    From ``SEARCH_HEIGHT`` m above the point, the first new sighting of the object gives where
+    it is (the aircraft's own estimate plus the camera's offset); the aircraft descends to
+    ``HOVER_HEIGHT`` m above that, or above the point when the camera does not see it (the
+    alignment then fails with that reason).
+    """
+    outcome = yield from airborne(ctx)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return outcome
+    (point,) = ctx.place(place)
+    east, north = float(point[0]), float(point[1])
+    high = ctx.frame.ground_up(east, north) + SEARCH_HEIGHT
+    outcome = yield from fly_to(ctx, (east, north, high), APPROACH_SPEED)
+    if outcome.progress is not Progress.SUCCEEDED:
+        return outcome
+    before = ctx.platform.seen(tag)
+    seen = yield from _sighting(ctx, tag, before.time if before is not None else None)
+    state = ctx.state()
+    if seen is not None and state is not None:
+        east, north = state.east + seen.offset[0], state.north + seen.offset[1]
     up = ctx.frame.ground_up(east, north) + HOVER_HEIGHT
     return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
 
@@ -93,8 +132,10 @@ def _sighting(
         yield
 
 
-def align(ctx: ActionContext, tag: str) -> Steps:
+def align(ctx: ActionContext, tag: str, fresh: bool = False) -> Steps:
     """Hover the winch over the object ``tag`` on the hook camera's offsets.
+
+    ``fresh``: start from a sighting newer than the latest one (not one seen before a lowering).
 
     The flight to the object's point ends metres off (GPS): an offset over ``CORRECT_ABOVE`` is
     flown (then the aircraft hovers ``SETTLE_S`` s); a smaller one is waited out, since the
@@ -102,7 +143,8 @@ def align(ctx: ActionContext, tag: str) -> Steps:
     a sighting is within ``ALIGNED``; failed after ``ALIGN_S`` s.
     """
     deadline = ctx.now + ALIGN_S
-    after: float | None = None
+    latest = ctx.platform.seen(tag) if fresh else None
+    after: float | None = latest.time if latest is not None else None
     miss = math.inf
     while ctx.now <= deadline:
         seen = yield from _sighting(ctx, tag, after)
@@ -138,26 +180,42 @@ def depart(ctx: ActionContext, place: str) -> Steps:
     return (yield from fly_to(ctx, (east, north, up), APPROACH_SPEED))
 
 
+def lower_onto(ctx: ActionContext, tag: str) -> Steps:
+    """Lower the hook onto the object: ``REACH`` m beyond its depth below the winch.
+
+    The depth is the hook camera's latest view of the object (at least ``HOVER_HEIGHT``): the
+    hover holds the estimated altitude, which drifts by metres, so a fixed cable length can
+    end above the object.
+    """
+    seen = ctx.platform.seen(tag)
+    depth = max(-seen.offset[2], HOVER_HEIGHT) if seen is not None else HOVER_HEIGHT
+    return (yield from hook(ctx, HookAction.LOWER, min(depth + REACH, MAX_CABLE)))
+
+
 def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str = "") -> Steps:
     """One ppcl_hook command to its end."""
     return (yield from finish(ctx, ctx.hook(action, length, tag)))
 
 
 def pick_up(ctx: ActionContext, place: str) -> Steps:
-    """Hover over the object of point ``place``, lower, attach it (by its tag), raise.
+    """Find the object of point ``place``, hover over it, lower, attach it (by its tag), raise.
 
     A lowering that lands the magnet beside the object (attach: nothing gripped) is tried again
     from the alignment, up to ``PICK_ATTEMPTS`` times.
     """
     tag = ctx.name(place)
-    outcome = yield from over(ctx, place)
-    if outcome.progress is not Progress.SUCCEEDED:
-        return outcome
+    for step in (search(ctx, place, tag), hook(ctx, HookAction.RELEASE)):
+        # magnet off: an electromagnet left energised after losing a load grips nothing new
+        outcome = yield from step
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
     for _ in range(PICK_ATTEMPTS):
         # generators: each step sends its command only when it runs
         for step in (
             align(ctx, tag),
-            hook(ctx, HookAction.LOWER, HOVER_HEIGHT + REACH),
+            hook(ctx, HookAction.LOWER, FIRST_CABLE),
+            align(ctx, tag, fresh=True),
+            lower_onto(ctx, tag),
             hook(ctx, HookAction.ATTACH, 0.0, tag),
         ):
             outcome = yield from step

@@ -19,14 +19,15 @@ import argparse
 import csv
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
 from rich.console import Console
 from rosgraph_msgs.msg import Clock
 
-from hdrc3.launch_plan import CAMERA_NODES, CATALOG
+from hdrc3.fault_trigger import FaultTrigger, TimedFault, parse_fault
+from hdrc3.launch_plan import CAMERA_NODES, CATALOG, EXECUTION_MONITOR
 from hdrc3.launched_system import LaunchedSystem
 from hdrc3.safety_pilot import hand_over
 from hdrc3.saliency_output import collect
@@ -35,7 +36,7 @@ from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import RosProcess
 from hdrc3_tst.check import CheckStatus, load_file, tree_lines
 from hdrc3_tst.mission_client import Created, Reply, TstClient
-from hdrc3_tst.model import NodeState
+from hdrc3_tst.model import NodeKind, NodeState
 
 EXIT_OK = 0
 EXIT_FAILED = 1
@@ -88,6 +89,14 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     )
     run.add_argument(
         "--timeout", type=float, default=3600.0, help="wall seconds to wait for the root"
+    )
+    run.add_argument(
+        "--fault",
+        action="append",
+        default=[],
+        metavar="AGENT:SENSOR:MODE@NODE+S",
+        help="inject a world_sim fault S sim seconds after NODE started running, e.g."
+        " uav0:hook:release@d/3+6 (repeatable)",
     )
     run.set_defaults(handler=_run)
 
@@ -215,15 +224,18 @@ def _run(args: argparse.Namespace) -> int:
         return EXIT_INVALID
     agents = parse_agents(args.agents) if args.agents else check.tst.agents
     mission = args.mission or f"{path.stem}-{int(time.time())}"
+    faults = [parse_fault(text) for text in args.fault]
     out = Path(args.out) if args.out else None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
     if not args.launch:
-        return _execute(console, path, mission, agents, out, args.timeout)
+        return _execute(console, path, mission, agents, out, args.timeout, faults=faults)
     world = args.world or check.tst.world
     if world is None:
         raise ConfigError("--launch needs a world: the file declares none; give --world")
     nodes = [k.name for k in CATALOG if k.default] + ["tst_manager", "task_planner", "path_planner"]
+    if any(node.kind is NodeKind.GOAL for node in check.tst.tree.nodes.values()):
+        nodes.append(EXECUTION_MONITOR)  # violations recover planned goals (chapter 9.3)
     scans = any(node.action == "scan-area" for node in check.tst.tree.nodes.values())
     if scans:
         nodes += CAMERA_NODES  # a scan builds the saliency map from rendered images
@@ -234,7 +246,15 @@ def _run(args: argparse.Namespace) -> int:
     scanned = world if scans else None
     with system:
         code = _execute(
-            console, path, mission, agents, out, args.timeout, hand_over_first=True, scanned=scanned
+            console,
+            path,
+            mission,
+            agents,
+            out,
+            args.timeout,
+            hand_over_first=True,
+            scanned=scanned,
+            faults=faults,
         )
     if record is not None:
         console.print(f"recording: {record}")
@@ -250,10 +270,18 @@ def _execute(
     timeout: float,
     hand_over_first: bool = False,
     scanned: str | None = None,
+    faults: Sequence[TimedFault] = (),
 ) -> int:
     """Create and run the mission; ``scanned``: the world, when the run builds saliency maps."""
     with RosProcess() as process:
-        client = TstClient(process, on_status=lambda m: console.print(_status_line(m)))
+        client = TstClient(process)
+        trigger = FaultTrigger(client.node, faults, console.print)
+
+        def on_status(msg: Any) -> None:
+            console.print(_status_line(msg))
+            trigger.on_status(msg)
+
+        client.on_status = on_status
         if hand_over_first:
             for agent in agents:
                 hand_over(process, client.node, agent)
@@ -281,6 +309,8 @@ def _execute(
             process.spin_until(root_done, ABORT_WAIT_S)
         # other agents' last statuses may arrive after the root's (another publisher)
         process.spin_until(lambda: not _running(client.latest(mission)), LAST_STATUS_WAIT_S)
+        for fault in trigger.not_injected():
+            console.print(f"fault: {fault} was never injected (node {fault.node_id} never ran)")
         if hand_over_first:
             _settle(process, client)
         latest = client.latest(mission)

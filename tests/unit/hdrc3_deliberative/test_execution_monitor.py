@@ -202,6 +202,51 @@ def test_example_9_4_carrying_until_putdown(
     assert rig.of(EventKind.RETIRED) == []
 
 
+# --- the default spec's box_held (Example 9.4 over the carrying sensor, recovery box-lost) -------
+@pytest.mark.parametrize(
+    ("name", "held", "put_down", "kind", "time"),
+    [
+        ("dropped in flight", lambda t: "box1" if 2500 <= t < 6000 else "", "", "V", 6000),
+        ("put down", lambda t: "box1" if 2500 <= t < 8500 else "", "drop-box", "S", 8000),
+        (
+            "put on a carrier",
+            lambda t: "box1" if 2500 <= t < 8500 else "",
+            "put-on-carrier",
+            "S",
+            8000,
+        ),
+        ("the wrong box", lambda t: "box2" if 2500 <= t < 8500 else "", "drop-box", "V", 3000),
+    ],
+)
+def test_the_default_box_held_formula_reads_the_carrying_sensor(
+    name: str, held: Callable[[int], str], put_down: str, kind: str, time: int
+) -> None:
+    from hdrc3_deliberative.monitor_spec import DEFAULT_SPEC
+
+    rig = MonitorRig(
+        DEFAULT_SPEC.read_text(), extra_streams="", loads=(("box1", "Box"), ("box2", "Box"))
+    )
+    assert rig.start().status is StartStatus.STARTED
+    for now in range(0, 10001, 50):
+        if now == 1000:
+            rig.flag(now, "g/2", "pick-up-box", True, box="box1")
+        if now == 3000:
+            rig.flag(now, "g/2", "pick-up-box", False, box="box1")
+        if now == 8000 and put_down:
+            rig.flag(now, "g/4", put_down, True, box="box1", place="Field")
+        if now % 100 == 0:
+            rig.hook(now, held(now))
+        rig.advance(now)
+    decided = [
+        e
+        for e in rig.events
+        if e.kind in (EventKind.SATISFIED, EventKind.VIOLATED) and e.monitor_id.startswith("box_")
+    ]
+    assert [(e.kind.name[0], e.time_ms) for e in decided] == [(kind, time)], name
+    assert decided[0].arguments == (("box", "box1"),)
+    assert decided[0].decl is not None and decided[0].decl.recovery == "box-lost"
+
+
 # --- 9.3.2: robust speed limits ------------------------------------------------------------------
 NAIVE = "monitor naive: always forall av in AV: speed(av) <= 10;"
 WEAK = "monitor weak: always forall av in AV: eventually[0,1000] speed(av) <= 10;"

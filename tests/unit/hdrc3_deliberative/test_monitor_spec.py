@@ -55,7 +55,7 @@ def test_defaults_without_states_statement() -> None:
 
 def test_the_packaged_default_parses() -> None:
     spec = PARSER.parse_file(DEFAULT_SPEC)
-    assert {decl.name for decl in spec.monitors} == {"speed_limit", "climb_reached"}
+    assert {decl.name for decl in spec.monitors} == {"speed_limit", "climb_reached", "box_held"}
 
 
 @pytest.mark.parametrize(

@@ -99,6 +99,42 @@ def test_zero_stamp_uses_available_time() -> None:
     assert catalog.host.generator("b/alt").status().last_valid_time == 1234
 
 
+HOOK = """
+object box1, box2 : Box;
+stream h/1 contains Carrying(av1, box1) from topic "/av1/sensors/carrying" type HookState
+    field object_id == "box1";
+stream h/any contains Carrying(av1, box2) from topic "/av1/sensors/carrying" type HookState
+    field carrying;
+"""
+
+
+@pytest.mark.parametrize(
+    ("held", "expected"),
+    [
+        ("box1", {"h/1": True, "h/any": True}),
+        ("box2", {"h/1": False, "h/any": True}),
+        ("", {"h/1": False, "h/any": False}),
+    ],
+)
+def test_hook_state_fields_and_tag_comparisons(held: str, expected: dict[str, bool]) -> None:
+    from hdrc3_dyknow.fakes import FakeHookState
+
+    catalog, _ = make()
+    catalog.load(parse_spec(HOOK))
+    assert catalog.topic_types()["/av1/sensors/carrying"] == "hdrc3_interfaces/msg/HookState"
+    assert catalog.topic_types()["/av1/helicopter_state"] == (
+        "hdrc3_interfaces/msg/HelicopterState"
+    )
+    assert catalog.on_message("/av1/sensors/carrying", FakeHookState.holding(100, held), 100) == 2
+    catalog.host.advance(100)
+    values = {
+        label: sample.value
+        for label in ("h/1", "h/any")
+        if (sample := catalog.host.generator(label).last) is not None
+    }
+    assert values == expected
+
+
 def test_redeclaring_a_label_replaces_it() -> None:
     catalog, _ = make()
     catalog.load(
@@ -124,6 +160,19 @@ def test_redeclaring_a_label_replaces_it() -> None:
         (
             "stream s contains XYDist(av1, uav2) = xy_dist(a/pos, nowhere);",
             "unknown input stream 'nowhere'",
+        ),
+        (
+            'stream s contains altitude(av1) from topic "/t" type Telemetry field altitude;',
+            "unknown message type 'Telemetry'",
+        ),
+        (
+            'stream s contains altitude(av1) from topic "/t" type HookState field altitude;',
+            "unknown field 'altitude'; HookState fields: cable_length, carrying",
+        ),
+        (  # a topic has one type: /av1/helicopter_state is already read as HelicopterState
+            'stream s contains carrying(av1, av1) from topic "/av1/helicopter_state"'
+            " type HookState field carrying;",
+            "topic '/av1/helicopter_state' carries HelicopterState, not HookState",
         ),
     ],
 )

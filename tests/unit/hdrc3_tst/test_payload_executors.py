@@ -14,9 +14,11 @@ from hdrc3_tst.executor import ActionContext, Progress, Status, Stepper
 from hdrc3_tst.fake_platform import FakePlatform
 from hdrc3_tst.payload_executors import (
     CARRY_CABLE,
+    FIRST_CABLE,
     HOVER_HEIGHT,
     PAYLOAD_EXECUTORS,
     REACH,
+    SEARCH_HEIGHT,
     SETTLE_S,
     SIGHT_TIMEOUT_S,
 )
@@ -26,6 +28,11 @@ FRAME = frame_from_world("revinge")
 POINTS = {"box1": ((-166.0, 96.0, 0.0),), "body1": ((40.0, -20.0, 0.0),)}
 FLYING = PlatformState(0.0, 0.0, 30.0, on_ground=False, autonomous=True)
 LOWER = (HookAction.LOWER, HOVER_HEIGHT + REACH, "")
+ONTO = (HookAction.LOWER, 5.7 + REACH, "")
+MAGNET_OFF = (HookAction.RELEASE, 0.0, "")
+"""A pick-up's last lowering: as deep as the camera sees the box (5.7 m below the winch)."""
+FIRST = (HookAction.LOWER, FIRST_CABLE, "")
+"""A pick-up lowers twice: to FIRST_CABLE, then (aligned again) onto the object."""
 
 
 def test_the_uav_logistics_operators_map_one_to_one_onto_executors() -> None:
@@ -45,27 +52,79 @@ def _run(action: str, args: dict[str, float | str]) -> tuple[FakePlatform, Stepp
     return platform, Stepper(PAYLOAD_EXECUTORS[action](), ctx)
 
 
+def _search(platform: FakePlatform, stepper: Stepper, seen: Sighting | None = BELOW) -> None:
+    """A pick-up's search: up over box1's point, a new sighting (or none), the descent; then
+    the magnet switched off once the descent is complete (the caller completes the descent)."""
+    assert stepper.step(0.0).progress is Progress.RUNNING
+    (up,) = platform.sent
+    east, north, _ = POINTS["box1"][0]
+    alt = FRAME.to_wgs84(east, north, FRAME.ground_up(east, north) + SEARCH_HEIGHT)[2]
+    assert up.args["altitude"] == pytest.approx(alt)
+    platform.complete(up)
+    stepper.step(0.5)  # arrived: waits for a sighting newer than the last one
+    assert len(platform.sent) == 1
+    if seen is None:
+        stepper.step(1.0 + SIGHT_TIMEOUT_S)
+    else:
+        platform.sightings["box1"] = Sighting(seen.offset, seen.time + 0.5)
+        stepper.step(0.6)
+    assert len(platform.sent) == 2  # the descent
+
+
+def _magnet_off(platform: FakePlatform, stepper: Stepper) -> None:
+    """Over the box: the magnet is switched off first (RELEASE), which ends at once here."""
+    stepper.step(0.8)
+    assert _hook_call(platform.sent[-1]) == MAGNET_OFF
+    platform.complete(platform.sent[-1])
+
+
+def _lowered_twice(platform: FakePlatform, stepper: Stepper, t: float = 1.0) -> None:
+    """Aligned at once: the first lowering, a new image, the last lowering; attach sent."""
+    stepper.step(t)
+    stepper.step(t + 0.1)
+    assert _hook_call(platform.sent[-1]) == FIRST
+    platform.complete(platform.sent[-1])
+    stepper.step(t + 0.2)
+    assert _hook_call(platform.sent[-1]) == FIRST  # waits for an image after the lowering
+    platform.sightings["box1"] = Sighting(BELOW.offset, t + 10.0)
+    stepper.step(t + 0.3)
+    stepper.step(t + 0.4)
+    assert _hook_call(platform.sent[-1]) == ONTO
+    platform.complete(platform.sent[-1])
+    stepper.step(t + 0.5)
+    assert platform.sent[-1].command is HookAction.ATTACH
+
+
 def _hook_call(command: Command) -> tuple[object, ...]:
     return (command.command, command.args["length"], command.tag)
 
 
 @pytest.mark.parametrize(
-    ("action", "args", "place", "hook_calls"),
+    ("action", "args", "over", "hook_calls"),
     [
-        ("pick-up-box", {"box": "box1"}, "box1",
-         [LOWER, (HookAction.ATTACH, 0.0, "box1"), (HookAction.RAISE, CARRY_CABLE, "")]),
-        ("drop-box", {"box": "box1", "place": "body1"}, "body1",
+        # a pick-up hovers where the hook camera saw the box from above (the aircraft's
+        # estimate, here (0, 0), plus the camera's offset)
+        ("pick-up-box", {"box": "box1"}, (0.05, -0.03),
+         [MAGNET_OFF, FIRST, ONTO, (HookAction.ATTACH, 0.0, "box1"),
+          (HookAction.RAISE, CARRY_CABLE, "")]),
+        ("drop-box", {"box": "box1", "place": "body1"}, POINTS["body1"][0][:2],
          [LOWER, (HookAction.RELEASE, 0.0, ""), (HookAction.RAISE, 0.0, "")]),
     ],
 )  # fmt: skip
 def test_the_chapters_sequence_hover_lower_attach_or_release_raise(
-    action: str, args: dict[str, float | str], place: str, hook_calls: list[tuple[object, ...]]
+    action: str,
+    args: dict[str, float | str],
+    over: tuple[float, float],
+    hook_calls: list[tuple[object, ...]],
 ) -> None:
     platform, stepper = _run(action, args)
-    assert stepper.step(0.0).progress is Progress.RUNNING
-    (flight,) = platform.sent
+    if action == "pick-up-box":
+        _search(platform, stepper)
+    else:
+        assert stepper.step(0.0).progress is Progress.RUNNING
+    flight = platform.sent[-1]
     assert flight.command is FclCommand.TRAJ3D_FLYTO
-    east, north, _ = POINTS[place][0]
+    east, north = over
     up = FRAME.ground_up(east, north) + HOVER_HEIGHT
     lon, lat, alt = FRAME.to_wgs84(east, north, up)
     assert (flight.args["longitude"], flight.args["latitude"]) == pytest.approx((lon, lat))
@@ -73,6 +132,8 @@ def test_the_chapters_sequence_hover_lower_attach_or_release_raise(
     for k, expected in enumerate(hook_calls):
         platform.complete(platform.sent[-1])
         assert stepper.step(1.0 + k).progress is Progress.RUNNING
+        platform.sightings["box1"] = Sighting(BELOW.offset, 2.0 + k)  # a new image
+        assert stepper.step(1.5 + k).progress is Progress.RUNNING
         assert _hook_call(platform.sent[-1]) == expected
     platform.complete(platform.sent[-1])
     assert stepper.step(10.0).progress is Progress.RUNNING
@@ -86,23 +147,21 @@ def test_the_chapters_sequence_hover_lower_attach_or_release_raise(
 
 def test_a_wrong_box_fails_the_pick_up_with_the_platforms_reason() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
-    stepper.step(0.0)
+    _search(platform, stepper)
     platform.complete(platform.sent[-1])  # flight
-    stepper.step(1.0)  # aligned at once
-    stepper.step(1.5)
-    platform.complete(platform.sent[-1])  # lowered
-    stepper.step(2.0)
+    _magnet_off(platform, stepper)
+    _lowered_twice(platform, stepper)
     wrong = "FAILED wrong object: the magnet holds 'box4', not 'box1'"
     platform.complete(platform.sent[-1], ok=False, reason=wrong)
     assert stepper.step(3.0) == Status(Progress.FAILED, f"ppcl_hook: {wrong}")
-    assert len(platform.sent) == 3  # no raise after a failed attach
+    assert len(platform.sent) == 6  # no raise after a failed attach
 
 
 def test_the_hook_camera_corrects_the_hover_over_the_box() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
-    platform.sightings["box1"] = Sighting((2.0, -1.0, -5.5), 1.0)  # GPS put it 2.2 m off
-    stepper.step(0.0)
-    platform.complete(platform.sent[-1])  # the flight over the box's point
+    _search(platform, stepper, Sighting((2.0, -1.0, -5.5), 1.0))  # seen 2.2 m off from above
+    platform.complete(platform.sent[-1])  # the descent (the aircraft stays at (0, 0) here)
+    _magnet_off(platform, stepper)
     stepper.step(1.0)
     stepper.step(1.5)
     correction = platform.sent[-1]
@@ -120,32 +179,35 @@ def test_the_hook_camera_corrects_the_hover_over_the_box() -> None:
     platform.sightings["box1"] = Sighting((0.1, 0.02, -5.6), 21.0)  # over the box
     stepper.step(12.0)
     stepper.step(13.0)
-    assert _hook_call(platform.sent[-1]) == LOWER
+    assert _hook_call(platform.sent[-1]) == FIRST
 
 
 def test_a_box_the_hook_camera_never_sees_fails_the_pick_up() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     platform.sightings.clear()
-    stepper.step(0.0)
-    platform.complete(platform.sent[-1])
-    stepper.step(1.0)
-    outcome = stepper.step(2.0 + SIGHT_TIMEOUT_S)
+    _search(platform, stepper, None)
+    descent = platform.sent[-1]  # unseen from above: down over the box's point
+    east, north, _ = POINTS["box1"][0]
+    _, _, alt = FRAME.to_wgs84(east, north, FRAME.ground_up(east, north) + HOVER_HEIGHT)
+    assert descent.args["altitude"] == pytest.approx(alt)
+    platform.complete(descent)
+    _magnet_off(platform, stepper)
+    stepper.step(10.0)
+    outcome = stepper.step(11.0 + SIGHT_TIMEOUT_S)
     assert outcome == Status(Progress.FAILED, "the hook camera does not see box1")
 
 
 def test_a_magnet_landing_beside_the_box_is_wound_in_and_lowered_again() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
-    stepper.step(0.0)
+    _search(platform, stepper)
     platform.complete(platform.sent[-1])  # flight
-    stepper.step(1.0)
-    stepper.step(1.5)
-    platform.complete(platform.sent[-1])  # lowered
-    stepper.step(2.0)
+    _magnet_off(platform, stepper)
+    _lowered_twice(platform, stepper)
     platform.complete(platform.sent[-1], ok=False, reason="FAILED the magnet gripped nothing")
     stepper.step(3.0)
     assert _hook_call(platform.sent[-1]) == (HookAction.RAISE, 0.0, "")
     platform.complete(platform.sent[-1])
-    platform.sightings["box1"] = Sighting((0.1, 0.0, -5.7), 5.0)
+    platform.sightings["box1"] = Sighting((0.1, 0.0, -5.7), 50.0)
     stepper.step(4.0)
     stepper.step(5.0)
-    assert _hook_call(platform.sent[-1]) == LOWER
+    assert _hook_call(platform.sent[-1]) == FIRST
