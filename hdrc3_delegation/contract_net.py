@@ -202,6 +202,18 @@ class Delegation:
         """Begin the first auction round."""
         if not self.units:
             return self._fail("the mission has no action node to delegate")
+        values = self.tst.network.values
+        unpriced = [
+            n
+            for _, n in self.tst.tree.walk()
+            if n.kind in (NodeKind.GOAL, NodeKind.FOREACH) and n.params["P"] not in values
+        ]
+        if unpriced:  # expanded only at run time: no constraint server can price them now
+            node = unpriced[0]
+            return self._fail(
+                f"{node.node_id} is a {node.kind.value} node with an open agent: "
+                "delegating goal and foreach nodes is not built (bind its P in the file)"
+            )
         return self._next_unit(now)
 
     def handle(self, msg: AclMessage, now: float) -> list[AclMessage]:

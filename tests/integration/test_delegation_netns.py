@@ -4,10 +4,11 @@ Each agent is a host of its own: a network namespace the test creates, its own s
 control kernel, Platform Server, PPC, TST manager and path planner on loopback there, and its
 gateway, whose speech acts alone travel over the test's bridge (another ROS domain, discovery
 widened to the subnet inside these namespaces only). The ground operator runs ``hdrc3 delegate``
-in a fourth namespace. First the mission is delegated to any two of the three and flown; then it
-is delegated again and, mid-delegation, one agent's link is cut: the protocol times out on it,
-the other two take the mission, and the cut agent never commits, even after its link is back
-and held acts arrive.
+in a fourth namespace. uav2 has no camera. First Example 6.1 (every agent open) is delegated to
+any two of the three and flown: uav2 refuses the scans, two aircraft scan concurrently, one flies
+to Dest4. Then a short mission is delegated and, mid-delegation, uav0's link is cut: the protocol
+times out on it, uav1 and uav2 take the mission, and uav0 never commits, even after its link is
+back and held acts arrive.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tst"
 AGENTS = ("uav0", "uav1", "uav2")
 NODES = "world_sim,control_kernel,platform_server,perception_kernel,tst_manager,path_planner"
+NO_CAMERA = "flight+ptu+hook"
 
 
 @pytest.fixture
@@ -92,27 +94,37 @@ def hosts(
                     child.kill()
 
 
-def delegate(run_in: Callable[..., Any], keystore: Path, acl_domain: int, mission: str) -> Any:
+def delegate(
+    run_in: Callable[..., Any], keystore: Path, acl_domain: int, mission: str, file: str
+) -> Any:
     return run_in(
-        "gcs", "delegate", str(EXAMPLES / "delegate_two_pads.tst"), "--to", "any",
+        "gcs", "delegate", str(EXAMPLES / file), "--to", "any",
         "--max-agents", "2", "--keystore", str(keystore), "--mission", mission,
-        "--answer-s", "8", "--timeout", "400",
+        "--answer-s", "8", "--timeout", "900",
         discovery="SUBNET", domain=acl_domain,
     )  # fmt: skip
 
 
-@pytest.mark.timeout(1200)
+@pytest.mark.timeout(1800)
 def test_three_hosts_delegate_fly_and_survive_a_partition(hosts: Any) -> None:
     network, run_in, launches, keystore, acl_domain = hosts
 
-    first = delegate(run_in, keystore, acl_domain, "hosts")
-    assert first.finish(timeout=400) == 0, "\n".join(first.lines)
+    first = delegate(run_in, keystore, acl_domain, "hosts", "example_6_1_delegated.tst")
+    assert first.finish(timeout=900) == 0, "\n".join(first.lines)
     text = "\n".join(first.lines)
     assert "mission hosts delegated and done" in text
-    won = [line for line in first.lines if line.startswith("won ")]
-    assert len(won) == 2 and len({line.rsplit(": ", 1)[1] for line in won}) == 2, won
+    assert "refuse uav2: uav2 has no camera for scan-area (tau2)" in text
+    won = {
+        line.split(": ")[0][4:]: line.rsplit(": ", 1)[1]
+        for line in first.lines
+        if line.startswith("won ")
+    }
+    assert set(won) == {"tau2", "tau3", "tau4"} and won["tau2"] != won["tau3"], won
+    assert {won["tau2"], won["tau3"]} == {"uav0", "uav1"}
+    for node in ("tau2", "tau3", "tau4"):
+        assert f"{won[node]}: {node} succeeded" in text, text
 
-    second = delegate(run_in, keystore, acl_domain, "cut")
+    second = delegate(run_in, keystore, acl_domain, "cut", "delegate_two_pads.tst")
     second.wait_for_line("cfp a1, a2 ->", timeout=120)
     victim = "uav0"
     network.cut(victim)

@@ -153,6 +153,18 @@ def test_a_winner_silent_in_a_later_auction_is_replaced_before_any_award() -> No
     assert not [m for m, _ in bus.held if m.performative is Performative.ACCEPT_PROPOSAL]
 
 
+def test_an_open_goal_node_is_refused_before_any_cfp() -> None:
+    text = MISSION.replace(
+        "tau4(P4, TS4, TE4) = fly-to(TS4, TE4, Speed4, Dest4)",
+        "tau4(P4, TS4, TE4) = goal at(uav0, Dest4)",
+    )
+    tst = load_text(text).tst
+    assert tst is not None
+    delegation = Delegation("gcs", "c", "m", text, tst, list(POSITIONS), None, TIMING)
+    assert delegation.start(0.0) == []
+    assert delegation.phase is Phase.FAILED and "tau4 is a goal node" in delegation.reason
+
+
 def test_nobody_capable_fails_with_every_reason() -> None:
     bus = fleet(no_camera=("uav0", "uav1", "uav2"))
     delegation = start(bus)
