@@ -74,6 +74,7 @@ def hosts(
                     str(acl_domain),
                     "--acl-discovery",
                     "SUBNET",
+                    *(["--capabilities", f"{agent}={NO_CAMERA}"] if agent == "uav2" else []),
                 )
                 for agent in AGENTS
             }
