@@ -73,6 +73,9 @@ def test_images_follow_sim_time_camera_state_and_faults(hdrc3_cli, ros_context) 
         lambda m: zooms.__setitem__(_ns(m.header.stamp), m.zoom),
         RELIABLE,
     )
+    # the stamps are compared with the clock below: /clock must be matched before images count
+    # (topics of two nodes match in no fixed order; once seen an image could beat its first tick)
+    assert spin_until(executor, lambda: len(clock) > 1, 60.0), "no /clock message"
     assert spin_until(executor, lambda: len(images["color"]) >= 5, 60.0), clock[-1]
     assert spin_until(executor, lambda: len(images["thermal"]) >= 5, 30.0), clock[-1]
 
