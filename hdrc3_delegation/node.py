@@ -47,6 +47,7 @@ from hdrc3_interfaces.msg import HelicopterState, TstNodeStatus, TstReturn
 from hdrc3_interfaces.srv import MotionPlanInfo, TstAbort, TstCreate, TstExecute
 from hdrc3_platform_server.geo_frame import frame_from_world
 from hdrc3_tst.actions import Capability
+from hdrc3_tst.node import STATUS_QOS
 
 ACL_QOS = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
@@ -55,12 +56,6 @@ ACL_QOS = QoSProfile(
     durability=DurabilityPolicy.VOLATILE,
 )
 """Speech acts: reliable, not latched (a late joiner must not receive old acts)."""
-STATUS_QOS = QoSProfile(
-    reliability=ReliabilityPolicy.RELIABLE,
-    history=HistoryPolicy.KEEP_LAST,
-    depth=1000,
-    durability=DurabilityPolicy.TRANSIENT_LOCAL,
-)
 CALL_TIMEOUT_S = 10.0
 MATCH_WAIT_S = 2.0
 """Longest wait for a new inbox publisher to match its receiver (an absent one: no match)."""
