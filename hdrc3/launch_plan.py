@@ -9,6 +9,7 @@ from __future__ import annotations
 import enum
 import importlib.metadata
 import math
+import re
 import socket
 import sys
 from collections.abc import Collection, Sequence
@@ -203,6 +204,8 @@ class LaunchOptions:
     """ROS domain of the gateways' speech acts (None: the launch's own domain)."""
     acl_discovery: str = ""
     """Discovery range of that domain only ("": the environment's, loopback by default)."""
+    record_exclude: str = ""
+    """Regular expression of topics the recording leaves out ("": none)."""
 
 
 def parse_nodes(
@@ -337,6 +340,19 @@ def parse_capabilities(
     return tuple(out.items())
 
 
+def check_topic_pattern(pattern: str | None) -> str:
+    """Check a regular expression of topic names (None: none)."""
+    if not pattern:
+        return ""
+    try:
+        re.compile(pattern)
+    except re.error as exc:
+        raise ConfigError(
+            f"--record-exclude {pattern!r} is not a regular expression: {exc}"
+        ) from None
+    return pattern
+
+
 def check_record_path(path: str | None) -> Path | None:
     """Check that a recording can be created at ``path``."""
     if path is None:
@@ -420,7 +436,11 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
             )
     if options.record is not None:
         # with the live view, the recording holds its channels too (the same Foxglove layout)
-        live = ("--live-channels", "--world", options.world) if LIVE_VIEW in options.nodes else ()
+        live: tuple[str, ...] = ()
+        if LIVE_VIEW in options.nodes:
+            live = ("--live-channels", "--world", options.world)
+        if options.record_exclude:
+            live += ("--exclude", options.record_exclude)
         specs.append(
             ProcessSpec(
                 RECORDER,

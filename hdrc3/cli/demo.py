@@ -1,10 +1,15 @@
-"""`hdrc3 demo`: the main job: one RMAX in revinge surveys a field through FCL and lands.
+"""`hdrc3 demo`: the main job: the emergency-services mission (chapter 11.1) with two RMAXes.
 
-Launches the agent's nodes with recording, flies take-off, a fly-to, a lawn-mower survey
-streamed as traj3d segments and a landing through the Platform Server, stops the system, and
-writes a PNG of track, speed profile and command timeline beside the recording. ``--short``
-flies the same mission over a smaller survey next to the pad (two short legs and one turn: three
-streamed segments), which the test suite runs.
+By default it flies the flagship (``hdrc3.flagship``): leg I scans the fields south-west of
+revinge's town with both aircraft and builds the saliency map; TALplanner allocates a food and a
+medicine box per body found; leg II delivers them under execution monitoring and lands. Products
+go to ``--out``: the recording, both TSTs, the planning problem and plan, the map, the timelines.
+``--short`` flies the same mission over a small rectangle next to the pads with one box per
+body (the test suite runs it).
+
+``--basic`` is the first demo: one RMAX surveys a field through FCL alone (take-off, fly-to, a
+lawn-mower survey streamed as traj3d segments, landing) and a PNG of track, speed profile and
+command timeline is written beside the recording; ``--basic --short`` flies a smaller survey.
 """
 
 from __future__ import annotations
@@ -15,6 +20,9 @@ import sys
 from pathlib import Path
 
 from hdrc3.demo_mission import MissionError, SurveyMission
+from hdrc3.emergency_mission import EmergencyMission, box_drops
+from hdrc3.emergency_report import evaluate, write_page
+from hdrc3.flagship import Flagship, flagship_summary
 from hdrc3.flight_report import build_report, plot_report
 from hdrc3.launched_system import LaunchedSystem
 from hdrc3.safety_pilot import hand_over
@@ -24,6 +32,21 @@ from hdrc3_base.ros_runtime import RosProcess
 from hdrc3_platform_server.client import PlatformClient
 from hdrc3_platform_server.geo_frame import frame_from_world
 
+EMERGENCY = EmergencyMission(
+    "revinge",
+    ("uav0", "uav1"),
+    ((-180.0, -180.0), (-80.0, -180.0), (-80.0, -50.0), (-180.0, -50.0)),
+)
+"""The fields south-west of the town: bodies 03 and 04 lie there, with a dummy and an animal."""
+SHORT_EMERGENCY = EmergencyMission(
+    "revinge",
+    ("uav0", "uav1"),
+    ((-170.0, -185.0), (-130.0, -185.0), (-130.0, -145.0), (-170.0, -145.0)),
+    kits=("food",),
+)
+"""A 40 m x 40 m rectangle next to the pads around one body (body04); one box per body."""
+FLAGSHIP_SEED = 2
+"""The flagship's default seed (sensor noise and GPS outages): the one its figures come from."""
 AGENT = "uav0"
 WORLD = "revinge"
 # Open fields west of the town, clear of buildings; legs run south, turns to the east.
@@ -58,7 +81,16 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument(
         "--short",
         action="store_true",
-        help="a smaller survey next to the pad: 2 legs of 100 m, not 3 of 220 m",
+        help="a smaller mission: a small rectangle and one box per body (--basic: 2 legs of 100 m)",
+    )
+    parser.add_argument(
+        "--basic", action="store_true", help="the single-aircraft FCL survey demo instead"
+    )
+    parser.add_argument(
+        "--seed",
+        type=int,
+        default=None,
+        help=f"simulation seed: sensor noise and outages (default {FLAGSHIP_SEED}; --basic: 0)",
     )
     parser.set_defaults(handler=run)
 
@@ -68,6 +100,39 @@ def _echo(line: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """The flagship, or with ``--basic`` the FCL survey; exit 0 only if the mission succeeded."""
+    if not args.basic:
+        return run_flagship(args)
+    return run_basic(args)
+
+
+def run_flagship(args: argparse.Namespace) -> int:
+    """Fly the emergency-services mission; print the summary."""
+    out = Path(args.out)
+    mission = SHORT_EMERGENCY if args.short else EMERGENCY
+    seed = FLAGSHIP_SEED if args.seed is None else args.seed
+    result = Flagship(mission, out, _echo).run(args.speed, args.domain_id, seed)
+    summary = flagship_summary(result, out)
+    recording = out / "run.mcap"
+    if recording.exists():
+        drops = box_drops(result.kits, result.depot) if result.kits else {}
+        evaluation = evaluate(recording, mission.world, mission.region, result.bodies, drops)
+        summary[1:1] = evaluation.summary()
+        page = write_page(
+            out / "report", recording, evaluation, mission.region, result.bodies, summary
+        )
+        summary.append(f"  report: {page}")
+    print()
+    for line in summary:
+        print(line, flush=True)
+    if not result.succeeded:
+        print(f"MISSION FAILED: {result.failure or 'a leg failed'}", file=sys.stderr, flush=True)
+        return 1
+    print("mission completed", flush=True)
+    return 0
+
+
+def run_basic(args: argparse.Namespace) -> int:
     """Launch, fly, stop, report; exit 0 only if every step of the mission finished."""
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -76,7 +141,10 @@ def run(args: argparse.Namespace) -> int:
     frame = frame_from_world(WORLD)
     survey = lawn_mower(SHORT_SURVEY if args.short else SURVEY, leg_speed=8.0, turn_speed=3.0)
     failure = ""
-    system = LaunchedSystem([AGENT], WORLD, args.speed, args.domain_id, record=recording, log=_echo)
+    seed = 0 if args.seed is None else args.seed
+    system = LaunchedSystem(
+        [AGENT], WORLD, args.speed, args.domain_id, record=recording, log=_echo, seed=seed
+    )
     with system, RosProcess() as process:
         client = PlatformClient(process, AGENT)
         mission = SurveyMission(client, frame, survey, log=lambda s: print(f"  {s}"))

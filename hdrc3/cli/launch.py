@@ -24,6 +24,7 @@ from hdrc3.launch_plan import (
     check_monitor_spec,
     check_record_path,
     check_seed,
+    check_topic_pattern,
     check_world,
     parse_capabilities,
     parse_nodes,
@@ -52,6 +53,12 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("--world", default="revinge", help="world to simulate (default revinge)")
     parser.add_argument("--speed", default="1", help="real-time factor, or 'max' (default 1)")
     parser.add_argument("--record", metavar="FILE.mcap", help="record every topic to MCAP")
+    parser.add_argument(
+        "--record-exclude",
+        metavar="REGEX",
+        default=None,
+        help="with --record: topics not to record, e.g. 'image_raw$' (the cameras' images)",
+    )
     parser.add_argument("--domain-id", type=int, help="ROS_DOMAIN_ID for every node (0..101)")
     parser.add_argument("--nodes", help="comma-separated subset of nodes to start")
     parser.add_argument(
@@ -124,6 +131,7 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
         capabilities=parse_capabilities(args.capabilities, parse_agents(args.agents)),
         acl_domain=check_domain_id(args.acl_domain),
         acl_discovery=check_discovery(args.acl_discovery),
+        record_exclude=check_topic_pattern(args.record_exclude),
     )
 
 

@@ -16,38 +16,30 @@ input (syntax, unknown names, inconsistent constraints; errors as FILE:LINE:COLU
 from __future__ import annotations
 
 import argparse
-import csv
-import math
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
 from rich.console import Console
-from rosgraph_msgs.msg import Clock
 
 from hdrc3.fault_trigger import FaultTrigger, TimedFault, parse_fault
 from hdrc3.launch_plan import CAMERA_NODES, CATALOG, EXECUTION_MONITOR
 from hdrc3.launched_system import LaunchedSystem
+from hdrc3.mission_run import Outcome, fly, replies_ok, settle, status_line, write_timeline
 from hdrc3.safety_pilot import hand_over
 from hdrc3.saliency_output import collect
 from hdrc3_base.agents import parse_agents
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import RosProcess
 from hdrc3_tst.check import CheckStatus, load_file, tree_lines
-from hdrc3_tst.mission_client import Created, Reply, TstClient
-from hdrc3_tst.model import NodeKind, NodeState
+from hdrc3_tst.mission_client import Reply, TstClient
+from hdrc3_tst.model import NodeKind
 
 EXIT_OK = 0
 EXIT_FAILED = 1
 EXIT_REFUSED = 3
 EXIT_INVALID = 4
-ABORT_WAIT_S = 30.0
-LAST_STATUS_WAIT_S = 10.0
-"""Wall seconds to wait, once the root has ended, for the other nodes' last statuses."""
-SETTLE_S = 3.0
-"""Sim seconds a launched run goes on after its root ended."""
-SETTLE_WAIT_S = 30.0
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -151,15 +143,6 @@ def _console() -> Console:
     return Console(highlight=False, soft_wrap=True, markup=False)
 
 
-def _replies(console: Console, replies: list[Reply] | tuple[Reply, ...]) -> bool:
-    for reply in replies:
-        word = "ok" if reply.ok else f"refused (code {reply.code})"
-        console.print(f"{reply.agent}: {word} {reply.reason}".rstrip())
-        for line in reply.conflict:
-            console.print(f"  conflict: {line}")
-    return all(r.ok for r in replies)
-
-
 def _on_agents(
     args: argparse.Namespace,
     call: Callable[[TstClient, tuple[str, ...]], list[Reply]],
@@ -168,7 +151,7 @@ def _on_agents(
     """Call every agent given with ``--agents``; print the replies; 0 or ``refused``."""
     console = _console()
     with RosProcess() as process:
-        ok = _replies(console, call(TstClient(process), parse_agents(args.agents)))
+        ok = replies_ok(console.print, call(TstClient(process), parse_agents(args.agents)))
     return EXIT_OK if ok else refused
 
 
@@ -186,31 +169,6 @@ def _set(args: argparse.Namespace) -> int:
         lambda c, a: c.set(args.mission, a, args.node, args.param, args.value),
         EXIT_INVALID,
     )
-
-
-def _status_line(msg: Any) -> str:
-    times = "" if math.isnan(msg.start) else f" TS {msg.start:.1f} s"
-    times += "" if math.isnan(msg.end) else f" TE {msg.end:.1f} s"
-    reason = f": {msg.reason}" if msg.reason else ""
-    return f"{msg.agent}/{msg.node_id} {msg.kind} {msg.state}{times}{reason}"
-
-
-def _culprit(latest: dict[str, Any]) -> Any | None:
-    """The failed node deepest in the tree (the one whose reason explains the others)."""
-    failed = [m for m in latest.values() if m.state == NodeState.FAILED.value]
-    parents = {m.parent.partition("/")[2] for m in failed}
-    leaves = [m for m in failed if m.node_id not in parents]
-    return leaves[0] if leaves else (failed[0] if failed else None)
-
-
-def _write_timeline(path: Path, latest: dict[str, Any]) -> None:
-    with path.open("w", newline="", encoding="utf-8") as out:
-        writer = csv.writer(out)
-        writer.writerow(["node", "agent", "parent", "kind", "state", "start_s", "end_s", "reason"])
-        for m in latest.values():
-            writer.writerow(
-                [m.node_id, m.agent, m.parent, m.kind, m.state, m.start, m.end, m.reason]
-            )
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -278,7 +236,7 @@ def _execute(
         trigger = FaultTrigger(client.node, faults, console.print)
 
         def on_status(msg: Any) -> None:
-            console.print(_status_line(msg))
+            console.print(status_line(msg))
             trigger.on_status(msg)
 
         client.on_status = on_status
@@ -286,33 +244,16 @@ def _execute(
             for agent in agents:
                 hand_over(process, client.node, agent)
                 console.print(f"safety pilot: {agent} engine on, RC switch to autonomous")
-        created = client.create(mission, path.read_text(encoding="utf-8"), str(path), agents)
-        code = _created(console, created)
-        if code != EXIT_OK:
-            return code
-        console.print(
-            f"mission {mission} on {', '.join(created.involved)} "
-            f"(abort: hdrc3 tst abort {mission} --agents {','.join(created.involved)})"
-        )
-        started = client.execute(mission, created.root_agent, created.root)
-        if not _replies(console, [started]):
+        text = path.read_text(encoding="utf-8")
+        flown = fly(process, client, console.print, mission, text, str(path), agents, timeout)
+        if flown.outcome is Outcome.INVALID:
+            return EXIT_INVALID
+        if flown.outcome is Outcome.REFUSED:
             return EXIT_REFUSED
-
-        def root_done() -> bool:
-            return client.finished(mission, created.root) is not None
-
-        if not process.spin_until(root_done, timeout):
-            reason = "operator stop (Ctrl-C)" if process.stop_requested.is_set() else "timeout"
-            console.print(f"aborting mission {mission}: {reason}")
-            process.stop_requested.clear()
-            client.abort(mission, created.involved, reason)
-            process.spin_until(root_done, ABORT_WAIT_S)
-        # other agents' last statuses may arrive after the root's (another publisher)
-        process.spin_until(lambda: not _running(client.latest(mission)), LAST_STATUS_WAIT_S)
         for fault in trigger.not_injected():
             console.print(f"fault: {fault} was never injected (node {fault.node_id} never ran)")
         if hand_over_first:
-            _settle(process, client)
+            settle(process, client)
         latest = client.latest(mission)
         if out is not None and scanned is not None:
             got = collect(process, client.node, agents, scanned, out / "saliency.geojson")
@@ -324,51 +265,7 @@ def _execute(
             for line in got.refused:
                 console.print(f"  map refused: {line}")
     if out is not None:
-        _write_timeline(out / "timeline.csv", latest)
+        write_timeline(out / "timeline.csv", latest)
         console.print(f"timeline: {out / 'timeline.csv'}")
-    root = latest.get(created.root)
-    if root is not None and root.state == NodeState.SUCCEEDED.value:
-        console.print(f"mission {mission} succeeded in {root.end - root.start:.1f} s")
-        return EXIT_OK
-    if root is not None and root.state == NodeState.ABORTED.value:
-        console.print(f"MISSION ABORTED: {_status_line(root)}")
-        return EXIT_FAILED
-    culprit = _culprit(latest)
-    what = _status_line(culprit) if culprit is not None else "the root did not end"
-    console.print(f"MISSION FAILED: {what}")
-    return EXIT_FAILED
-
-
-def _running(latest: dict[str, Any]) -> bool:
-    """True while a node is reported running or paused."""
-    busy = (NodeState.RUNNING.value, NodeState.PAUSED.value)
-    return any(m.state in busy for m in latest.values())
-
-
-def _settle(process: RosProcess, client: TstClient) -> None:
-    """Let SETTLE_S of sim time pass before the launch stops.
-
-    The recording then holds the last node statuses (the recorder is another subscriber) and
-    the aircraft's final state.
-    """
-    clock: list[float] = []
-
-    def on_clock(msg: Any) -> None:
-        clock.append(msg.clock.sec + 1e-9 * msg.clock.nanosec)
-
-    client.node.create_subscription(Clock, "/clock", on_clock, 10)
-    if process.spin_until(lambda: bool(clock), SETTLE_WAIT_S):
-        until = clock[-1] + SETTLE_S
-        process.spin_until(lambda: clock[-1] >= until, SETTLE_WAIT_S)
-
-
-def _created(console: Console, created: Created) -> int:
-    for diag in created.check.diagnostics:
-        console.print(str(diag))
-    if created.check.status is not CheckStatus.OK:
-        return EXIT_INVALID
-    if created.fixed:
-        console.print(f"bound: {', '.join(created.fixed)}")
-    if not _replies(console, created.replies):
-        return EXIT_REFUSED
-    return EXIT_OK
+    console.print(flown.verdict)
+    return EXIT_OK if flown.outcome is Outcome.SUCCEEDED else EXIT_FAILED

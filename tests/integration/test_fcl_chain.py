@@ -314,7 +314,9 @@ def test_short_demo_flies_records_and_reports(
     from hdrc3.message_types import message_class
 
     out = tmp_path / "demo"
-    demo = hdrc3_cli("demo", "--short", "--out", str(out), "--domain-id", str(ros_domain))
+    demo = hdrc3_cli(
+        "demo", "--basic", "--short", "--out", str(out), "--domain-id", str(ros_domain)
+    )
     code = demo.finish(timeout=280.0)
     text = "\n".join(demo.lines)
     assert code == 0, text

@@ -14,6 +14,7 @@ from hdrc3.launch_plan import (
     check_domain_id,
     check_live_port,
     check_record_path,
+    check_topic_pattern,
     check_world,
     parse_nodes,
     parse_speed,
@@ -63,6 +64,30 @@ def test_bad_domain(domain: int) -> None:
 def test_bad_record_path(tmp_path: Path, name: str, message: str) -> None:
     with pytest.raises(ConfigError, match=message):
         check_record_path(str(tmp_path / name))
+
+
+@pytest.mark.parametrize(("pattern", "result"), [(None, ""), ("image_raw$", "image_raw$")])
+def test_a_record_exclusion_is_a_regular_expression(pattern: str | None, result: str) -> None:
+    assert check_topic_pattern(pattern) == result
+
+
+def test_a_bad_record_exclusion_is_refused() -> None:
+    with pytest.raises(ConfigError, match="not a regular expression"):
+        check_topic_pattern("image_raw[")
+
+
+def test_the_recorder_leaves_out_the_excluded_topics() -> None:
+    options = LaunchOptions(
+        agents=("uav0",),
+        nodes=("world_sim",),
+        world="revinge",
+        speed=1.0,
+        record=Path("run.mcap"),
+        domain_id=None,
+        record_exclude="image_raw$",
+    )
+    recorder = build_plan(options, launch_plan.CATALOG)[-1]
+    assert recorder.argv[-2:] == ("--exclude", "image_raw$")
 
 
 def test_plan_namespaces_agent_nodes_and_passes_world_params(tmp_path: Path) -> None:
