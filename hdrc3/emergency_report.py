@@ -94,10 +94,40 @@ class Evaluation:
     tracks: dict[str, list[tuple[float, float, float, float]]] = field(default_factory=dict)
     """Per agent (sim s, east, north, up) in the world's frame."""
     nodes: dict[str, list[tuple[str, str, float, float, str]]] = field(default_factory=dict)
-    """Per agent (mission/node, kind, start s, end s, final state) of elementary nodes."""
+    """Per agent (mission/node, kind, start s, end s, final state) of elementary action nodes
+    (a goal node's are its plan's steps)."""
     modes: dict[str, list[tuple[float, str]]] = field(default_factory=dict)
     min_separation: float = math.inf
     """m: the closest two aircraft came to each other in the air."""
+
+    @property
+    def sim_seconds(self) -> float:
+        """Sim time the recording's Data Interface samples span, s."""
+        times = [p[0] for track in self.tracks.values() for p in track]
+        return max(times) - min(times) if times else 0.0
+
+    def targets(self, wall_seconds: float) -> list[tuple[str, bool]]:
+        """Issue 18's targets for the flagship, each with whether this run met it."""
+        speed = self.sim_seconds / wall_seconds if wall_seconds > 0 else 0.0
+        return [
+            (
+                f"all people in the region found ({len(self.found)}/{len(self.people)}), "
+                f"<= 1 false positive ({len(self.false_positives)})",
+                len(self.found) == len(self.people) and len(self.false_positives) <= 1,
+            ),
+            (
+                f"every box delivered ({sum(d.delivered for d in self.deliveries)}"
+                f"/{len(self.deliveries)})",
+                bool(self.deliveries) and all(d.delivered for d in self.deliveries),
+            ),
+            (f"0 unrecovered violations ({len(self.unrecovered)})", not self.unrecovered),
+            (f"wall time <= 15 min ({wall_seconds / 60:.1f} min)", wall_seconds <= 900.0),
+            (
+                f"faster than real time ({self.sim_seconds:.0f} s of sim in {wall_seconds:.0f} s "
+                f"wall: {speed:.2f}x)",
+                speed >= 1.0,
+            ),
+        ]
 
     def summary(self) -> list[str]:
         """Lines for the demo's one-screen summary."""
@@ -206,7 +236,7 @@ def _read(
 
 
 def _node_status(ev: Evaluation, running: dict[tuple[str, str], float], msg: Any) -> None:
-    if msg.kind in ("sequence", "concurrent", "if", "while", "foreach"):
+    if msg.kind in ("sequence", "concurrent", "if", "while", "foreach", "goal", "call"):
         return
     key = (msg.mission, msg.node_id)
     t = stamp_ms(msg.header.stamp) / 1e3
@@ -328,17 +358,27 @@ def _plot_timeline(path: Path, ev: Evaluation) -> None:
 
     agents = sorted(set(ev.nodes) | set(ev.modes))
     fig, ax = plt.subplots(figsize=(14, 1.6 + 1.4 * len(agents)))
-    colours = {"succeeded": "tab:green", "failed": "tab:red", "aborted": "tab:orange"}
+    colours = {"succeeded": "#b5e3b5", "failed": "tab:red", "aborted": "tab:orange"}
+    palette = plt.get_cmap("tab10")
     for row, agent in enumerate(agents):
         y = 2 * row
         for label, _, start, end, state in ev.nodes.get(agent, []):
-            ax.barh(y + 0.5, end - start, left=start, height=0.8, color=colours.get(state, "grey"))
-            ax.text(start, y + 0.5, label.split("/", 1)[1], fontsize=6, va="center")
+            ax.barh(y + 0.5, end - start, left=start, height=0.8, color=colours.get(state, "grey"),
+                    edgecolor="white")  # fmt: skip
+            ax.text(
+                start + 0.5, y + 0.5, label.split(" ")[-1], fontsize=7, va="center", rotation=30
+            )
         modes = ev.modes.get(agent, [])
         for i, (t, name) in enumerate(modes):
             end = modes[i + 1][0] if i + 1 < len(modes) else t
-            ax.barh(y - 0.4, max(end - t, 0.1), left=t, height=0.6, color="tab:blue", alpha=0.3)
-            ax.text(t, y - 0.4, name, fontsize=5, va="center")
+            colour = (
+                palette(sorted(MODES.values()).index(name) % 10) if name in MODES.values() else "k"
+            )
+            ax.barh(y - 0.4, max(end - t, 0.1), left=t, height=0.6, color=colour)
+    for name in sorted({n for modes in ev.modes.values() for _, n in modes}):
+        if name in MODES.values():
+            ax.barh(0, 0, color=palette(sorted(MODES.values()).index(name) % 10), label=name)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, title="flight mode")
     ax.set_yticks([2 * r for r in range(len(agents))], agents)
     ax.set_xlabel("sim time [s] (upper bar: TST nodes; lower: flight modes)")
     ax.grid(True, axis="x")

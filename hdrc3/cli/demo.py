@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+import time
 from pathlib import Path
 
 from hdrc3.demo_mission import MissionError, SurveyMission
@@ -111,13 +112,18 @@ def run_flagship(args: argparse.Namespace) -> int:
     out = Path(args.out)
     mission = SHORT_EMERGENCY if args.short else EMERGENCY
     seed = FLAGSHIP_SEED if args.seed is None else args.seed
+    started = time.monotonic()
     result = Flagship(mission, out, _echo).run(args.speed, args.domain_id, seed)
+    wall = time.monotonic() - started
     summary = flagship_summary(result, out)
     recording = out / "run.mcap"
     if recording.exists():
         drops = box_drops(result.kits, result.depot) if result.kits else {}
         evaluation = evaluate(recording, mission.world, mission.region, result.bodies, drops)
         summary[1:1] = evaluation.summary()
+        summary += ["targets (issue 18):"] + [
+            f"  [{'met' if met else 'NOT MET'}] {what}" for what, met in evaluation.targets(wall)
+        ]
         page = write_page(
             out / "report", recording, evaluation, mission.region, result.bodies, summary
         )
