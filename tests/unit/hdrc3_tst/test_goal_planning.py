@@ -143,6 +143,23 @@ def test_a_delivery_goal_plans_pick_up_and_drop_steps() -> None:
     ]
 
 
+def test_a_box_the_goal_does_not_name_is_no_reason_to_fly() -> None:
+    # box2 waits at Aisle, which the search tries first (destinations in name order); fetching
+    # a box the goal does not name is a detour the control rules prune: straight to box1
+    stock = {**DELIVERY_POINTS, "Aisle": (-50.0, 0.0, 20.0), "box2": (-50.0, 1.0, 0.0)}
+    loads = (Load("box1", "food-box", "Depot", 6.0), Load("box2", "food-box", "Aisle", 6.0))
+    problem = goal_problem(BOX_GOAL, "uav0", (-100.0, 0.0, 20.0), stock, loads)
+    request = PlanRequest(domain_text(), problem.text(), problem.control())
+    result = TaskPlanner().plan(request, timeout=30.0)
+    assert result.status is PlanStatus.SOLVED, result.reason
+    assert [o.label for o in result.plan] == [
+        "(fly-to uav0 here_uav0 Depot)",
+        "(pick-up-box uav0 box1 Depot)",
+        "(fly-to uav0 Depot Field)",
+        "(drop-box uav0 box1 Field)",
+    ]
+
+
 def test_only_goals_naming_a_load_plan_with_the_control_rules() -> None:
     problem = delivery_problem()
     assert problem.control() == control_text()
