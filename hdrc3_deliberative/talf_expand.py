@@ -206,9 +206,10 @@ class _Expander:
             raise ExpansionError(f"{term.pos}: {spec.name} takes {len(spec.params)} arguments")
         sub.update(zip(spec.params, term.args, strict=True))
         body = self.cact(_subst(spec.body, sub, self.fresh))
+        body = replace(body, label=body.label or self.fresh.name(spec.name))
         plain = not cact.with_vars and cact.where is None and cact.agent is None
         if plain and interval == cact.interval:
-            return replace(body, label=cact.label or body.label)
+            return body if cact.label is None else replace(body, label=cact.label)
         return replace(cact, task=Sequence((body,)))
 
 

@@ -281,13 +281,39 @@ def expr_text(expr: LinExpr) -> str:
     return " ".join(_term(t, i == 0) for i, t in enumerate(expr.terms))
 
 
-def _wrap(formula: Formula) -> str:
-    text = formula_text(formula)
+def _wrap(formula: Formula, timed: bool) -> str:
+    text = _text(formula, timed)
     return f"({text})" if isinstance(formula, And | Or | Implies | Iff) else text
 
 
-def formula_text(formula: Formula) -> str:
-    """ASCII TAL: ``and``, ``or``, ``not``, ``->``, ``<->``, ``exists x (..)``, ``[t] p(x)``."""
+def atom_times(formula: Formula) -> set[str | None]:
+    """The timepoints of the atoms in a formula (None for an untimed atom)."""
+    if isinstance(formula, Atom):
+        return {formula.time}
+    if isinstance(formula, Not):
+        return atom_times(formula.arg)
+    if isinstance(formula, And | Or):
+        return set().union(*(atom_times(a) for a in formula.args))
+    if isinstance(formula, Implies | Iff):
+        return atom_times(formula.left) | atom_times(formula.right)
+    if isinstance(formula, Exists | Forall | Lfp):
+        return atom_times(formula.body)
+    return set()
+
+
+def formula_text(formula: Formula, hoist: bool = True) -> str:
+    """ASCII TAL: ``and``, ``or``, ``not``, ``->``, ``<->``, ``exists x (..)``, ``[t] p(x)``.
+
+    ``[t]`` scopes over the whole formula after it: when every atom is at the same timepoint
+    (and ``hoist``) it is written once in front, else each timed atom as ``([t] p(x))``.
+    """
+    times = atom_times(formula)
+    if hoist and len(times) == 1 and None not in times:
+        return f"[{next(iter(times))}] {_text(formula, False)}"
+    return _text(formula, True)
+
+
+def _text(formula: Formula, timed: bool) -> str:
     if isinstance(formula, Compare):
         return f"{expr_text(formula.left)} {formula.op.value} {expr_text(formula.right)}"
     if isinstance(formula, Member):
@@ -295,27 +321,27 @@ def formula_text(formula: Formula) -> str:
     if isinstance(formula, ConsRef):
         return formula.name.id
     if isinstance(formula, Atom):
-        time = f"[{formula.time}] " if formula.time is not None else ""
-        return f"{time}{formula.name}({args_text(formula.args)})"
+        text = f"{formula.name}({args_text(formula.args)})"
+        return f"([{formula.time}] {text})" if timed and formula.time is not None else text
     if isinstance(formula, TrueF):
         return "true"
     if isinstance(formula, Not):
-        return f"not {_wrap(formula.arg)}"
+        return f"not {_wrap(formula.arg, timed)}"
     if isinstance(formula, And | Or):
         word = " and " if isinstance(formula, And) else " or "
-        return word.join(_wrap(a) for a in formula.args)
+        return word.join(_wrap(a, timed) for a in formula.args)
     if isinstance(formula, Implies | Iff):
         arrow = " -> " if isinstance(formula, Implies) else " <-> "
-        return f"{_wrap(formula.left)}{arrow}{_wrap(formula.right)}"
+        return f"{_wrap(formula.left, timed)}{arrow}{_wrap(formula.right, timed)}"
     if isinstance(formula, Exists | Forall):
         word = "exists" if isinstance(formula, Exists) else "forall"
-        return f"{word} {', '.join(formula.vars)} ({formula_text(formula.body)})"
+        return f"{word} {', '.join(formula.vars)} ({_text(formula.body, timed)})"
     if isinstance(formula, Occurs):
         return f"Occurs({formula.start}, {formula.end}, {formula.name}({args_text(formula.args)}))"
     if isinstance(formula, PredApp):
         return f"{formula.pred}({', '.join(formula.args)})"
     head = f"lfp {formula.pred}({', '.join(formula.params)})"
-    return f"({head}. {formula_text(formula.body)})({', '.join(formula.args)})"
+    return f"({head}. {_text(formula.body, timed)})({', '.join(formula.args)})"
 
 
 def formula_names(formula: Formula) -> tuple[Name, ...]:
