@@ -314,13 +314,15 @@ def _agent_domains(root: CAct, agents: frozenset[str]) -> dict[str, frozenset[st
 
 
 def check_capabilities(
+    mission: str,
     root: CAct,
     actions: Mapping[str, ElementarySpec],
     capabilities: Mapping[str, frozenset[str]],
 ) -> tuple[TalfDiagnostic, ...]:
     """Each elementary action some agent can run, or a T110 naming the node and its needs.
 
-    ``root`` has no composite action terms left (expanded); ``capabilities`` maps every
+    ``root``, the C-ACT of ``mission``, has no composite action terms left (expanded); the
+    node is named by its path of labels from the mission. ``capabilities`` maps every
     agent to the capability names it offers. An action's agent is the nearest ``by`` above it;
     where clauses that fix or restrict that variable restrict the candidates.
     """
@@ -328,9 +330,11 @@ def check_capabilities(
     domains = _agent_domains(root, agents)
     diags: list[TalfDiagnostic] = []
 
-    def visit(cact: CAct, agent: str | None) -> None:
+    def visit(cact: CAct, agent: str | None, path: str) -> None:
         agent = cact.agent if cact.agent is not None else agent
         task = cact.task
+        if cact.label is not None:
+            path = f"{path}/{cact.label}"
         if isinstance(task, ActionTerm) and task.name in actions:
             needs = frozenset(c.value for c in actions[task.name].needs)
             if agent in agents:
@@ -342,7 +346,7 @@ def check_capabilities(
                     f"{a}: {'+'.join(sorted(capabilities[a])) or 'nothing'}"
                     for a in sorted(candidates)
                 )
-                node = f"node {cact.label} ({task.name})" if cact.label else task.name
+                node = path if cact.label else f"{path}/{task.name}"
                 diags.append(
                     TalfDiagnostic(
                         "T110",
@@ -352,7 +356,7 @@ def check_capabilities(
                     )
                 )
         for child in cact.children():
-            visit(child, agent)
+            visit(child, agent, path)
 
-    visit(root, None)
+    visit(root, None, mission)
     return tuple(diags)

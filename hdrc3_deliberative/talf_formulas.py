@@ -238,9 +238,16 @@ def conjuncts(formula: Formula | None) -> tuple[Formula, ...]:
     return formula.args if isinstance(formula, And) else (formula,)
 
 
-def time_le(a: str, b: str) -> Compare:
-    """``a <= b`` over two timepoint variables."""
+def time_le(a: str, b: str) -> Formula:
+    """``a <= b`` over two timepoint variables (``true`` when they are the same)."""
+    if a == b:
+        return TrueF()
     return Compare(LinExpr((Term(1.0, Name(a)),)), Op.LE, LinExpr((Term(1.0, Name(b)),)))
+
+
+def negate(formula: Formula) -> Formula:
+    """``not formula``, without a double negation."""
+    return formula.arg if isinstance(formula, Not) else Not(formula)
 
 
 # --- text --------------------------------------------------------------------------------------

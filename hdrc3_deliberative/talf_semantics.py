@@ -47,6 +47,7 @@ from hdrc3_deliberative.talf_formulas import (
     PredApp,
     conj,
     formula_text,
+    negate,
     time_le,
 )
 from hdrc3_deliberative.talf_syntax import (
@@ -138,7 +139,7 @@ class _Translator:
                 time_le(start, time),
                 time_le(time, end),
                 Implies(task.cond, self.inside(task.then, start, end, agent)),
-                Implies(Not(task.cond), self.inside(task.orelse, start, end, agent)),
+                Implies(negate(task.cond), self.inside(task.orelse, start, end, agent)),
             )
         if isinstance(task, While):
             return self.loop(task, start, end, agent)
@@ -172,7 +173,7 @@ class _Translator:
         )
         fixpoint_body = Or(
             (
-                conj(Not(task.cond), time_le(test, stop)),
+                conj(negate(task.cond), time_le(test, stop)),
                 conj(task.cond, Exists(step_vars, step) if step_vars else step),
             )
         )
