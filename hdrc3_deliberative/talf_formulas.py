@@ -220,12 +220,12 @@ Formula = (
 
 
 def conj(*parts: Formula | None) -> Formula:
-    """The flat conjunction of the parts (None and ``true`` dropped; ``true`` when empty)."""
+    """The flat conjunction of the parts (None, ``true`` and repeats dropped; ``true`` if empty)."""
     flat: list[Formula] = []
     for part in parts:
         if part is None or isinstance(part, TrueF):
             continue
-        flat.extend(part.args if isinstance(part, And) else (part,))
+        flat.extend(p for p in (part.args if isinstance(part, And) else (part,)) if p not in flat)
     if not flat:
         return TrueF()
     return flat[0] if len(flat) == 1 else And(tuple(flat))

@@ -244,8 +244,8 @@ class _Builder(Transformer[Token, Any]):
 
     # --- items --------------------------------------------------------------------------
     def spec(self, children: list[Any]) -> CompositeSpec:
-        (interval, pos), name, params, body = children
-        return CompositeSpec(interval, str(name), params or (), body, pos)
+        (interval, _), name, params, body = children
+        return CompositeSpec(interval, str(name), params or (), body, self._pos(name))
 
     def mission(self, children: list[Any]) -> Mission:
         return Mission(str(children[0]), children[1], self._pos(children[0]))
