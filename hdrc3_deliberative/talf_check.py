@@ -42,8 +42,6 @@ from hdrc3_deliberative.talf_syntax import (
     CompositeSpec,
     Foreach,
     If,
-    Sequence,
-    Concurrent,
     TalfFile,
     While,
 )
@@ -53,37 +51,44 @@ class Valued(Protocol):
     """An enum member: a parameter type or a capability."""
 
     @property
-    def value(self) -> str: ...
+    def value(self) -> str:
+        """The name (``area``, ``camera``)."""
 
 
 class ParamKind(Valued, Protocol):
     """A parameter type: numeric, or the kind of name it takes (``agent``, ``area``, ...)."""
 
     @property
-    def numeric(self) -> bool: ...
+    def numeric(self) -> bool:
+        """Whether the parameter takes a number."""
 
 
 class ParamLike(Protocol):
     """One parameter of an elementary action."""
 
     @property
-    def name(self) -> str: ...
+    def name(self) -> str:
+        """The parameter's name."""
 
     @property
-    def type(self) -> ParamKind: ...
+    def type(self) -> ParamKind:
+        """The parameter's type."""
 
 
 class ElementarySpec(Protocol):
     """What TALF needs of an elementary action type (``hdrc3_tst.actions.ActionSpec``)."""
 
     @property
-    def params(self) -> tuple[ParamLike, ...]: ...
+    def params(self) -> tuple[ParamLike, ...]:
+        """The type-specific parameters, in order."""
 
     @property
-    def required(self) -> int: ...
+    def required(self) -> int:
+        """How many of them must be given."""
 
     @property
-    def needs(self) -> frozenset[Valued]: ...
+    def needs(self) -> frozenset[Valued]:
+        """The platform capabilities the action uses."""
 
 
 @dataclass
@@ -227,10 +232,8 @@ class _Checker:
             self.cact(spec.body, head)
         for mission in self.tree.missions():
             root = mission.body
-            head = {root.interval.start, root.interval.end}
-            if root.agent is not None:
-                head.add(root.agent)
-            self.cact(root, frozenset(head))
+            own = (root.interval.start, root.interval.end)
+            self.cact(root, frozenset(own if root.agent is None else (*own, root.agent)))
             labels: set[str] = set()
             for cact in root.walk():
                 if cact.label is not None and cact.label in labels:
@@ -262,9 +265,7 @@ def terms(cact: CAct) -> Iterator[ActionTerm]:
             yield sub.task
 
 
-def _cycle(
-    name: str, specs: Mapping[str, CompositeSpec], path: tuple[str, ...]
-) -> tuple[str, ...]:
+def _cycle(name: str, specs: Mapping[str, CompositeSpec], path: tuple[str, ...]) -> tuple[str, ...]:
     if name in path:
         return (*path, name) if path[0] == name else ()
     spec = specs.get(name)
@@ -337,10 +338,8 @@ def check_capabilities(
             path = f"{path}/{cact.label}"
         if isinstance(task, ActionTerm) and task.name in actions:
             needs = frozenset(c.value for c in actions[task.name].needs)
-            if agent in agents:
-                candidates = frozenset({agent})
-            else:
-                candidates = domains.get(agent or "", agents)
+            fixed = agent in agents
+            candidates = frozenset({agent or ""}) if fixed else domains.get(agent or "", agents)
             if not any(needs <= capabilities[a] for a in candidates):
                 offered = "; ".join(
                     f"{a}: {'+'.join(sorted(capabilities[a])) or 'nothing'}"

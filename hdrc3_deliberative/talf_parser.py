@@ -26,8 +26,8 @@ from hdrc3_deliberative.talf_formulas import (
     Exists,
     Forall,
     Formula,
-    Implies,
     Iff,
+    Implies,
     LinExpr,
     Member,
     Name,
@@ -292,13 +292,16 @@ def _display(terminal: str) -> str:
     return terminal
 
 
-def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: str) -> TalfDiagnostic:
+def _syntax_diagnostic(
+    exc: lark.exceptions.UnexpectedInput, file: str, text: str
+) -> TalfDiagnostic:
     line = int(getattr(exc, "line", 0) or 0)
     column = int(getattr(exc, "column", 0) or 0)
     names = getattr(exc, "expected", None) or getattr(exc, "allowed", None) or ()
     expected = sorted({_display(name) for name in names})
     if isinstance(exc, lark.exceptions.UnexpectedCharacters):
-        found = repr(text[exc.pos_in_stream]) if exc.pos_in_stream < len(text) else "end of file"
+        at = exc.pos_in_stream or 0
+        found = repr(text[at]) if at < len(text) else "end of file"
     elif isinstance(exc, lark.exceptions.UnexpectedToken) and exc.token.type != "$END":
         found = repr(str(exc.token))
     else:

@@ -228,4 +228,3 @@ def narrative(tree: TalfFile, mission: Mission) -> Narrative:
     statements = [Statement(f"definition {n}", definition(specs[n], tree)) for n in used]
     statements.append(Statement(f"mission {mission.name}", translate(mission.body, tree)))
     return Narrative(tuple(statements))
-

@@ -109,7 +109,7 @@ class CAct:
         return ()
 
     def walk(self) -> tuple[CAct, ...]:
-        """This C-ACT and every one below it, depth first."""
+        """Every C-ACT from this one down, depth first."""
         return (self, *(sub for child in self.children() for sub in child.walk()))
 
 

@@ -175,7 +175,9 @@ def pick_mission(tree: ts.TalfFile, name: str | None) -> ts.Mission:
     chosen = chosen or next((m for m in missions if m.name == name), None)
     if chosen is None:
         have = ", ".join(m.name for m in missions) or "none"
-        raise TranslationError(f"mission {name or ''}".strip(), f"not in the file (missions: {have})")
+        raise TranslationError(
+            f"mission {name or ''}".strip(), f"not in the file (missions: {have})"
+        )
     return chosen
 
 
@@ -191,7 +193,9 @@ def to_tst(tree: ts.TalfFile, mission: str | None = None) -> tst.TstFile:
         elif isinstance(item, ts.ConstraintDef):
             cons = _constraints_to(item.formula, str(item.pos))
             items.append(tst.ConsDef(item.name, cons, _spos(item.pos)))
-        elif isinstance(item, ts.WorldDecl | ts.AgentsDecl | ts.AreaDecl | ts.PointDecl | ts.PathDecl):
+        elif isinstance(
+            item, ts.WorldDecl | ts.AgentsDecl | ts.AreaDecl | ts.PointDecl | ts.PathDecl
+        ):
             items.append(_decl_to(item))
     return tst.TstFile(tuple(items))
 

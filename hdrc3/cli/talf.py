@@ -103,8 +103,11 @@ def _check(args: argparse.Namespace) -> int:
     if result.tree is None or result.diagnostics:
         return EXIT_INVALID
     own = [i for i in result.tree.missions()]
-    print(f"{args.file}: ok ({len(own)} missions, {len(result.tree.specs())} composite action "
-          "types with the library)", flush=True)
+    print(
+        f"{args.file}: ok ({len(own)} missions, {len(result.tree.specs())} composite action "
+        "types with the library)",
+        flush=True,
+    )
     return EXIT_OK
 
 

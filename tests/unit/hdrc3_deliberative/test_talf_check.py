@@ -40,14 +40,24 @@ def test_valid_missions_have_no_diagnostics(text: str) -> None:
     [
         ("mission m: [t, t2] fly-to(6, Nowhere)", "T101", "4:30", "unbound variable 'Nowhere'"),
         ("mission m: [t, t2] ([u, u2] land())", "T101", "4:22", "unbound variable 'u'"),
-        ("mission m: [t, t2] ([t, t2] by X land())", "T101", "4:22", "unbound variable 'X' in 'by'"),
+        (
+            "mission m: [t, t2] ([t, t2] by X land())",
+            "T101",
+            "4:22",
+            "unbound variable 'X' in 'by'",
+        ),
         ("mission m: [t, t2] land() where x <= 3", "T101", "4:33", "unbound variable 'x'"),
         ("mission m: [t, t2] fly(6, D)", "T102", "4:20", "unknown action 'fly'"),
         ("mission m: [t, t2] hover()", "T103", "4:20", "hover takes (duration), got 0"),
         ("mission m: [t, t2] land(0, 1)", "T103", "4:20", "land takes (heading), got 2"),
         ("mission m: [t, t2] fly-to(6, A)", "T104", "4:30", "destination is a point; A is a area"),
         ("mission m: [t, t2] fly-to(6, 7)", "T104", "4:20", "destination is a point, not a number"),
-        ("mission m: [t, t2] scan-area(uav0, A)", "T104", "4:30", "speed is a speed; uav0 is a agent"),
+        (
+            "mission m: [t, t2] scan-area(uav0, A)",
+            "T104",
+            "4:30",
+            "speed is a speed; uav0 is a agent",
+        ),
         (
             "[t, t2] go(p) ~> [t, t2] fly-to(5, p)\nmission m: [a, b] go(D, D)",
             "T103",
@@ -90,7 +100,10 @@ ALL = frozenset({"flight", "camera", "ptu", "hook"})
         (
             "mission m: [t, t2] scan-area(5, A)",
             {"uav0": frozenset({"flight"}), "uav1": frozenset({"flight", "hook"})},
-            ["m/scan-area needs camera+flight+ptu; no agent has it (uav0: flight; uav1: flight+hook)"],
+            [
+                "m/scan-area needs camera+flight+ptu; no agent has it"
+                " (uav0: flight; uav1: flight+hook)"
+            ],
         ),
         (
             # the agent is fixed by the where clause: only uav1 is a candidate

@@ -111,7 +111,9 @@ T = Interval("t", "t2")
                     CAct(T, ActionTerm("hover", (Number(1.0),))),
                 ),
                 where=Compare(
-                    LinExpr((Term(1.0, Name("t2")), Term(-1.0, Name("t")))), Op.LE, LinExpr((Term(9.0),))
+                    LinExpr((Term(1.0, Name("t2")), Term(-1.0, Name("t")))),
+                    Op.LE,
+                    LinExpr((Term(9.0),)),
                 ),
             ),
         ),

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -13,7 +12,6 @@ from hdrc3_deliberative.talf_library import with_library
 from hdrc3_deliberative.talf_parser import parse_file as parse_talf_file
 from hdrc3_deliberative.talf_parser import parse_text as parse_talf
 from hdrc3_deliberative.talf_printer import file_text as talf_text
-from hdrc3_deliberative.talf_syntax import Mission, TalfFile
 from hdrc3_tst.actions import ACTIONS
 from hdrc3_tst.check import CheckStatus, load_text
 from hdrc3_tst.parser import parse_file, parse_text
@@ -75,24 +73,6 @@ LIBRARY_USES = [
 ]
 
 
-def _no_labels(mission: Mission) -> str:
-    return talf_text(TalfFile((replace(mission, body=_strip(mission.body)),)))
-
-
-def _strip(cact):  # type: ignore[no-untyped-def]
-    """Labels are not compared; printing without them shows what is."""
-    from hdrc3_deliberative import talf_syntax as ts
-
-    task = cact.task
-    if isinstance(task, ts.Sequence | ts.Concurrent):
-        task = type(task)(tuple(_strip(c) for c in task.children))
-    elif isinstance(task, ts.If):
-        task = ts.If(task.cond, _strip(task.then), _strip(task.orelse))
-    elif isinstance(task, ts.While | ts.Foreach):
-        task = replace(task, body=_strip(task.body))
-    return replace(cact, task=task, label=None)
-
-
 @pytest.mark.parametrize("use", LIBRARY_USES, ids=lambda u: u.split("]")[1].split("(")[0].strip())
 def test_library_actions_go_to_a_valid_tst_and_back(use: str) -> None:
     parsed = parse_talf(f"{HEADER}mission m: {use} where TS = 0 and TE <= 3600", "m.talf")
@@ -105,7 +85,7 @@ def test_library_actions_go_to_a_valid_tst_and_back(use: str) -> None:
     assert checked.status is CheckStatus.OK, [str(d) for d in checked.diagnostics]
     back = from_tst(parse_text(text).tree)  # type: ignore[arg-type]
     expanded = expand(tree.missions()[0], tree.specs())
-    assert back.missions() == (expanded,), _no_labels(back.missions()[0])
+    assert back.missions() == (expanded,), talf_text(back)
     assert to_tst(back) == tst
 
 
@@ -131,7 +111,10 @@ def test_the_talf_examples_become_tsts_that_check(file: str, mission: str, nodes
 @pytest.mark.parametrize(
     ("talf", "construct"),
     [
-        ("mission m: [t, t2] land() where [t] has-camera(P)", "where clause part '[t] has-camera(P)'"),
+        (
+            "mission m: [t, t2] land() where [t] has-camera(P)",
+            "where clause part '[t] has-camera(P)'",
+        ),
         ("mission m: [t, t2] land() where a = b or a = c", "where clause part 'a = b or a = c'"),
         (
             "mission m: [t, t2] with c do while [c] a(x) and b(x) do [t, t2] land() where true",
