@@ -38,12 +38,15 @@ from hdrc3_deliberative.talf_formulas import (
 )
 from hdrc3_deliberative.talf_syntax import (
     ActionTerm,
+    AgentsDecl,
     CAct,
     CompositeSpec,
     Foreach,
     If,
+    OpenDecl,
     TalfFile,
     While,
+    WorldDecl,
 )
 
 
@@ -122,15 +125,24 @@ class _Checker:
             )
 
     # --- formulas -----------------------------------------------------------------------
-    def formula(self, formula: Formula, scope: frozenset[str], pos: Pos, what: str) -> None:
+    def formula(
+        self,
+        formula: Formula,
+        scope: frozenset[str],
+        pos: Pos,
+        what: str,
+        seen: tuple[str, ...] = (),
+    ) -> None:
         for name in formula_names(formula):
             self.need(name.id, scope, name.pos if name.pos.line else pos, what)
         for part in _refs(formula):
-            definition = self.cons.get(part.name.id)
-            if definition is None:
-                self.error("T107", f"unknown constraint set {part.name.id!r}", part.name.pos)
+            ref = part.name.id
+            definition = self.cons.get(ref)
+            if definition is None or ref in seen:
+                reason = "unknown" if definition is None else "recursive"
+                self.error("T107", f"{reason} constraint set {ref!r}", part.name.pos)
             else:
-                self.formula(definition.formula, scope, part.name.pos, f"{part.name.id}")
+                self.formula(definition.formula, scope, part.name.pos, ref, (*seen, ref))
 
     # --- composite actions --------------------------------------------------------------
     def cact(self, cact: CAct, scope: frozenset[str]) -> None:
@@ -138,6 +150,9 @@ class _Checker:
             self.need(name, scope, cact.pos, "an interval")
         if cact.agent is not None:
             self.need(cact.agent, scope, cact.pos, "'by'")
+            if cact.agent not in scope and cact.agent in self.places:
+                kind = self.places[cact.agent]
+                self.error("T104", f"'by' takes an agent; {cact.agent} is a {kind}", cact.pos)
         inner = scope | set(cact.with_vars)
         task = cact.task
         if isinstance(task, ActionTerm):
@@ -206,11 +221,11 @@ class _Checker:
 
     # --- items --------------------------------------------------------------------------
     def duplicates(self) -> None:
-        seen: set[str] = set()
+        seen: set[str] = set(self.agents)
         for item in self.tree.items:
-            name = getattr(item, "name", None)
-            if not isinstance(name, str) or item.__class__.__name__ == "WorldDecl":
+            if isinstance(item, WorldDecl | AgentsDecl | OpenDecl):
                 continue
+            name = item.name
             if name in seen:
                 self.error("T105", f"{name!r} defined twice", item.pos)
             elif isinstance(item, CompositeSpec) and name in self.actions:

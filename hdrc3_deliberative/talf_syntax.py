@@ -222,8 +222,11 @@ class TalfFile:
 
     def places(self) -> dict[str, str]:
         """Declared areas, points and paths: name -> kind (``area``, ``point``, ``path``)."""
-        kinds = {AreaDecl: "area", PointDecl: "point", PathDecl: "path"}
-        return {i.name: kinds[type(i)] for i in self.items if type(i) in kinds}  # type: ignore[union-attr]
+        out: dict[str, str] = {}
+        for item in self.items:
+            if isinstance(item, AreaDecl | PointDecl | PathDecl):
+                out[item.name] = type(item).__name__.removesuffix("Decl").lower()
+        return out
 
     def open_names(self) -> tuple[str, ...]:
         """The mission parameters declared open."""

@@ -69,6 +69,13 @@ def test_valid_missions_have_no_diagnostics(text: str) -> None:
         ("point D = H2 at 9", "T105", "4:7", "'D' defined twice"),
         ("mission m: [t, t2] land() where nope", "T107", "4:33", "unknown constraint set 'nope'"),
         (
+            "constraint a = b\nconstraint b = a\nmission m: [t, t2] land() where a",
+            "T107",
+            "5:16",
+            "recursive constraint set 'a'",
+        ),
+        ("mission m: [t, t2] ([t, t2] by D land())", "T104", "4:22", "'by' takes an agent; D is a"),
+        (
             "mission m: [t, t2] (a: [t, t2] land() ; a: [t, t2] land())",
             "T105",
             "4:41",
