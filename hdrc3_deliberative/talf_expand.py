@@ -205,7 +205,11 @@ class _Expander:
         if len(term.args) != len(spec.params):
             raise ExpansionError(f"{term.pos}: {spec.name} takes {len(spec.params)} arguments")
         sub.update(zip(spec.params, term.args, strict=True))
-        body = self.cact(_subst(spec.body, sub, self.fresh))
+        try:
+            instance = _subst(spec.body, sub, self.fresh)
+        except ExpansionError as exc:
+            raise ExpansionError(f"{term.pos}: {spec.name}: {exc}") from None
+        body = self.cact(instance)
         body = replace(body, label=body.label or self.fresh.name(spec.name))
         plain = not cact.with_vars and cact.where is None and cact.agent is None
         if plain and interval == cact.interval:

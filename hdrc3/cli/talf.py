@@ -85,9 +85,8 @@ def _load(args: argparse.Namespace) -> LoadResult:
     result = load_file(args.file, ACTIONS, parse_capabilities(getattr(args, "capabilities", None)))
     for diag in result.diagnostics:
         print(diag, flush=True)
-    if result.tree is not None and not result.diagnostics:
-        return result
-    print(f"{args.file}: {result.status.value}", flush=True)
+    if result.tree is None or result.diagnostics:
+        print(f"{args.file}: {result.status.value}", flush=True)
     return result
 
 
@@ -102,10 +101,9 @@ def _check(args: argparse.Namespace) -> int:
     result = _load(args)
     if result.tree is None or result.diagnostics:
         return EXIT_INVALID
-    own = [i for i in result.tree.missions()]
+    missions, specs = len(result.tree.missions()), len(result.tree.specs())
     print(
-        f"{args.file}: ok ({len(own)} missions, {len(result.tree.specs())} composite action "
-        "types with the library)",
+        f"{args.file}: ok ({missions} missions, {specs} composite action types with the library)",
         flush=True,
     )
     return EXIT_OK

@@ -64,5 +64,7 @@ def test_elementary_actions_are_left_alone() -> None:
 def test_a_number_where_a_timepoint_is_needed_is_refused() -> None:
     parsed = parse_text("[t, t2] f(a) ~> [t, t2] ([a, t2] land())\nmission m: [x, y] f(3)")
     assert parsed.tree is not None
-    with pytest.raises(ExpansionError, match="timepoint 'a' is given the number 3"):
+    with pytest.raises(
+        ExpansionError, match=r"^<string>:2:19: f: timepoint 'a' is given the number 3$"
+    ):
         expand(parsed.tree.missions()[0], parsed.tree.specs())
