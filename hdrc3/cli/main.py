@@ -29,6 +29,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "hdrc3.cli.plan",
     "hdrc3.cli.path",
     "hdrc3.cli.tst",
+    "hdrc3.cli.talf",
     "hdrc3.cli.keys",
     "hdrc3.cli.delegate",
     "hdrc3.cli.monitor",
