@@ -1,11 +1,13 @@
 """`hdrc3 demo`: the main job: the emergency-services mission (chapter 11.1) with two RMAXes.
 
-By default it flies the flagship (``hdrc3.flagship``): leg I scans the fields south-west of
-revinge's town with both aircraft and builds the saliency map; TALplanner allocates a food and a
+By default it flies the flagship (``hdrc3.flagship``) from a TALF mission file (``--mission``,
+default ``hdrc3/missions/emergency.talf``; a file refused by the TALF checks exits 4 before
+anything starts): leg I scans the fields south-west of revinge's town with both aircraft and
+builds the saliency map; TALplanner allocates a food and a
 medicine box per body found; leg II delivers them under execution monitoring and lands. Products
 go to ``--out``: the recording, both TSTs, the planning problem and plan, the map, the timelines.
-``--short`` flies the same mission over a small rectangle next to the pads with one box per
-body (the test suite runs it).
+``--short`` flies ``emergency_short.talf``, a small rectangle next to the pads, with one box per
+body (``make flights`` runs it).
 
 ``--basic`` is the first demo: one RMAX surveys a field through FCL alone (take-off, fly-to, a
 lawn-mower survey streamed as traj3d segments, landing) and a PNG of track, speed profile and
@@ -18,11 +20,13 @@ import argparse
 import math
 import sys
 import time
+from importlib.resources import files
 from pathlib import Path
 
 from hdrc3.demo_mission import MissionError, SurveyMission
-from hdrc3.emergency_mission import EmergencyMission, box_drops
+from hdrc3.emergency_mission import box_drops
 from hdrc3.emergency_report import evaluate, write_page
+from hdrc3.emergency_spec import load_mission
 from hdrc3.flagship import Flagship, flagship_summary
 from hdrc3.flight_report import build_report, plot_report
 from hdrc3.launched_system import LaunchedSystem
@@ -33,19 +37,10 @@ from hdrc3_base.ros_runtime import RosProcess
 from hdrc3_platform_server.client import PlatformClient
 from hdrc3_platform_server.geo_frame import frame_from_world
 
-EMERGENCY = EmergencyMission(
-    "revinge",
-    ("uav0", "uav1"),
-    ((-180.0, -180.0), (-80.0, -180.0), (-80.0, -50.0), (-180.0, -50.0)),
-)
-"""The fields south-west of the town: bodies 03 and 04 lie there, with a dummy and an animal."""
-SHORT_EMERGENCY = EmergencyMission(
-    "revinge",
-    ("uav0", "uav1"),
-    ((-170.0, -185.0), (-130.0, -185.0), (-130.0, -145.0), (-170.0, -145.0)),
-    kits=("food",),
-)
-"""A 40 m x 40 m rectangle next to the pads around one body (body04); one box per body."""
+MISSIONS = files("hdrc3.missions")
+"""The flagship's TALF mission files (``hdrc3/missions/``)."""
+FULL_KITS = ("food", "medicine")
+SHORT_KITS = ("food",)
 FLAGSHIP_SEED = 2
 """The flagship's default seed (sensor noise and GPS outages): the one its figures come from."""
 AGENT = "uav0"
@@ -73,6 +68,10 @@ SHORT_SURVEY = SurveyArea(
 )
 
 
+EXIT_INVALID = 4
+"""The mission file was refused (syntax, names, capabilities): nothing flew."""
+
+
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the `demo` subcommand."""
     parser = subparsers.add_parser("demo", help="fly the demo survey mission and report on it")
@@ -86,6 +85,12 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     )
     parser.add_argument(
         "--basic", action="store_true", help="the single-aircraft FCL survey demo instead"
+    )
+    parser.add_argument(
+        "--mission",
+        default=None,
+        help="the flagship's TALF mission file (default: hdrc3/missions/emergency.talf, "
+        "--short: emergency_short.talf)",
     )
     parser.add_argument(
         "--seed",
@@ -110,7 +115,16 @@ def run(args: argparse.Namespace) -> int:
 def run_flagship(args: argparse.Namespace) -> int:
     """Fly the emergency-services mission; print the summary."""
     out = Path(args.out)
-    mission = SHORT_EMERGENCY if args.short else EMERGENCY
+    default = "emergency_short.talf" if args.short else "emergency.talf"
+    path = Path(args.mission) if args.mission else Path(str(MISSIONS.joinpath(default)))
+    spec = load_mission(path, SHORT_KITS if args.short else FULL_KITS)
+    for diag in spec.diagnostics:
+        print(diag, flush=True)
+    if spec.mission is None:
+        print(f"{path}: {spec.status.value}; nothing flew", file=sys.stderr, flush=True)
+        return EXIT_INVALID
+    mission = spec.mission
+    print(f"mission {path}: {', '.join(mission.agents)} in {mission.world}", flush=True)
     seed = FLAGSHIP_SEED if args.seed is None else args.seed
     started = time.monotonic()
     result = Flagship(mission, out, _echo).run(args.speed, args.domain_id, seed)

@@ -28,9 +28,10 @@ pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 def test_the_short_flagship_finds_the_body_and_delivers_its_box(
     hdrc3_cli: Callable[..., Any], ros_domain: int, tmp_path: Path
 ) -> None:
-    from hdrc3.cli.demo import SHORT_EMERGENCY
+    from hdrc3.cli.demo import MISSIONS, SHORT_KITS
     from hdrc3.emergency_mission import box_drops, confirmed_bodies, kits_for
     from hdrc3.emergency_report import evaluate
+    from hdrc3.emergency_spec import load_mission
     from hdrc3.flagship import depot_stock
 
     out = tmp_path / "demo"
@@ -44,9 +45,11 @@ def test_the_short_flagship_finds_the_body_and_delivers_its_box(
     assert "mission leg1 succeeded" in text and "mission leg2 succeeded" in text
 
     bodies = confirmed_bodies(json.loads((out / "saliency.geojson").read_text())["features"])
-    depot, boxes = depot_stock(SHORT_EMERGENCY.world, SHORT_EMERGENCY.depot)
-    drops = box_drops(kits_for(bodies, boxes, SHORT_EMERGENCY.kits), depot)
-    ev = evaluate(out / "run.mcap", SHORT_EMERGENCY.world, SHORT_EMERGENCY.region, bodies, drops)
+    mission = load_mission(Path(str(MISSIONS.joinpath("emergency_short.talf"))), SHORT_KITS).mission
+    assert mission is not None
+    depot, boxes = depot_stock(mission.world, mission.depot)
+    drops = box_drops(kits_for(bodies, boxes, mission.kits), depot)
+    ev = evaluate(out / "run.mcap", mission.world, mission.region, bodies, drops)
     assert [p[0] for p in ev.people] == ["body04"]
     assert set(ev.found) == {"body04"} and not ev.false_positives, ev.summary()
     assert ev.deliveries and all(d.delivered for d in ev.deliveries), ev.deliveries
