@@ -20,7 +20,7 @@ the PTU angles. The world file's objects are read here only to place the views a
    pair (``time.process_time`` of ``process`` alone, rendering excluded).
 
 Run: .venv/bin/python bench/saliency_rendered.py [--height 30] [--views 6] [--worlds 0]
-     [--scan] [--rate 5] [--no-views]
+     [--scan] [--rate 5] [--legs 3] [--no-views] [--no-revinge]
 """
 
 from __future__ import annotations
@@ -280,9 +280,11 @@ def main() -> None:
     parser.add_argument("--no-views", action="store_true", help="skip part 1")
     parser.add_argument("--rate", type=float, default=5.0, help="pairs per second in scans")
     parser.add_argument("--legs", type=int, default=3, help="legs per scan")
+    parser.add_argument("--no-revinge", action="store_true", help="generated worlds only")
     args = parser.parse_args()
     print(f"nadir views from {args.height:g} m, {args.views} per object", flush=True)
-    evaluate(load_world("revinge"), args)
+    if not args.no_revinge:
+        evaluate(load_world("revinge"), args)
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(1, args.worlds + 1):
             evaluate(generated_world(seed, Path(tmp) / f"gen{seed}.toml"), args)

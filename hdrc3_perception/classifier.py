@@ -10,8 +10,9 @@ Two real, trained detectors from OpenCV, chosen by :class:`Detector`:
 - ``HAAR_KRUPPA``: the seed's choice, the Viola-Jones cascades for full, upper and lower body
   trained by Kruppa et al. (2003) that ship in ``cv2.data.haarcascades``, configured as in the
   chapter (``minNeighbors`` 1, search window grown by 20 % per scale). A region is positive if
-  any of the three cascades fires. On the simulator's rendered people seen from 30 m they fire
-  on animals as often as on people (``bench/saliency_rendered.py``), so they are not the default.
+  any of the three cascades fires. On the simulator's rendered people seen from 30 m they find
+  about as many people and animals as HOG at twice its CPU time (``bench/saliency_rendered.py``),
+  so they are not the default.
 
 Both detectors were trained on upright pedestrians; a person lying on the ground seen from above
 is a frontal or back view of one (the chapter's argument for the cascades). The classifier
