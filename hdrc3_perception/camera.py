@@ -137,15 +137,27 @@ class CameraPose:
         pixels[local[:, 2] <= 1e-9] = np.nan
         return pixels
 
-    def sees(self, intrinsics: Intrinsics, points: NDArray[np.float64]) -> NDArray[np.bool_]:
-        """Mask of the ENU points (N, 3) that project inside the image."""
-        px = self.project(intrinsics, points)
-        with np.errstate(invalid="ignore"):
+    def sees(
+        self, intrinsics: Intrinsics, points: NDArray[np.float64], margin_m: float = 0.0
+    ) -> NDArray[np.bool_]:
+        """Mask of the ENU points (N, 3) that project inside the image.
+
+        Args:
+            intrinsics: The camera's calibration.
+            points: ENU points (N, 3).
+            margin_m: Ground distance a point must keep from the image border: the border
+                margin in pixels is ``margin_m`` x focal length / range, per point.
+        """
+        pts = np.atleast_2d(points)
+        px = self.project(intrinsics, pts)
+        distance = np.linalg.norm(pts - self.position, axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            m = margin_m * (intrinsics.fx + intrinsics.fy) / 2.0 / distance
             inside: NDArray[np.bool_] = (
-                (px[:, 0] >= 0.0)
-                & (px[:, 0] <= intrinsics.width)
-                & (px[:, 1] >= 0.0)
-                & (px[:, 1] <= intrinsics.height)
+                (px[:, 0] >= m)
+                & (px[:, 0] <= intrinsics.width - m)
+                & (px[:, 1] >= m)
+                & (px[:, 1] <= intrinsics.height - m)
             )
         return inside
 

@@ -2,17 +2,27 @@
 
 Two real, trained detectors from OpenCV, chosen by :class:`Detector`:
 
+- ``HOG_PEOPLE`` (default): OpenCV's HOG + linear SVM people detector (Dalal-Triggs), searched
+  over positions and scales around the expected body size (``detectMultiScale``); overlapping
+  windows are grouped and a region is positive when a group of at least
+  :attr:`ClassifierParams.hog_group` + 1 windows remains (the weak-classification setting the
+  certainty map prunes).
 - ``HAAR_KRUPPA``: the seed's choice, the Viola-Jones cascades for full, upper and lower body
   trained by Kruppa et al. (2003) that ship in ``cv2.data.haarcascades``, configured as in the
-  chapter to accept weak classifications (``minNeighbors`` 1, search window grown by 20 % per
-  scale). A region is positive if any of the three cascades fires.
-- ``HOG_PEOPLE``: OpenCV's HOG + linear SVM people detector (Dalal-Triggs), the alternative when
-  the cascades do not suit the rendered people.
+  chapter (``minNeighbors`` 1, search window grown by 20 % per scale). A region is positive if
+  any of the three cascades fires. On the simulator's rendered people seen from 30 m they find
+  about as many people and animals as HOG at twice its CPU time (``bench/saliency_rendered.py``),
+  so they are not the default.
 
-The pipeline hands over an upright patch: the colour region around the body's centre, rotated so
-that the body's major axis (from the thermal ellipse) is vertical and scaled so the body spans
-:data:`BODY_PIXELS` - both detectors were trained on upright pedestrians, and a fixed patch size
-bounds the classifier's time per region. Neither detector sees anything but the image.
+Both detectors were trained on upright pedestrians; a person lying on the ground seen from above
+is a frontal or back view of one (the chapter's argument for the cascades). The classifier
+therefore gets upright patches: the colour image around the body's centre, turned so that the
+body's major axis (from the thermal ellipse) is vertical, and scaled from the cameras' geometry
+(pixels per metre at the body's range, not the thermal blob's length, which blur and cooler
+clothing shorten) so that a :data:`BODY_LENGTH_M` body spans :data:`BODY_PIXELS`. The thermal
+ellipse's axis is off the body's for spread arms and legs drawn up, and it does not say where
+the head is: each region is tried at :attr:`ClassifierParams.turns_deg` about that axis and in
+both orientations. Neither detector sees anything but the image.
 """
 
 from __future__ import annotations
@@ -30,8 +40,11 @@ from hdrc3_base.errors import Hdrc3Error
 
 BODY_PIXELS = 96
 """Body length in the classifier patch, px (HOG's window is 64x128 for a ~96 px person)."""
-PATCH_SIZE = (80, 144)
-"""(width, height) of the upright patch handed to the detectors, px."""
+BODY_LENGTH_M = 1.75
+"""Length of an adult lying stretched out, m: the patch's scale."""
+PATCH_SIZE = (96, 160)
+"""(width, height) of the upright patch handed to the detectors, px (room to search around
+the thermal centre, which the warmer torso pulls off the body's middle)."""
 MIN_PART = 0.4
 """Smallest Haar window searched, as a fraction of BODY_PIXELS (upper/lower body ~ half)."""
 KRUPPA_CASCADES = (
@@ -56,11 +69,17 @@ class ClassifierError(Hdrc3Error):
 class ClassifierParams:
     """Detector settings (chapter: minNeighbors 1, scale step 1.2)."""
 
-    detector: Detector = Detector.HAAR_KRUPPA
+    detector: Detector = Detector.HOG_PEOPLE
     min_neighbors: int = 1
     scale_factor: float = 1.2
     hog_threshold: float = 0.0
     """SVM margin a HOG window must exceed."""
+    hog_group: int = 2
+    """HOG windows are grouped (``groupRectangles``); a group needs more than this many."""
+    hog_scale: float = 1.05
+    """Step between HOG search scales (from the expected body size up)."""
+    turns_deg: tuple[float, ...] = (-15.0, 0.0, 15.0)
+    """Turns of the patch about the thermal ellipse's axis, deg."""
 
 
 class BodyClassifier:
@@ -85,6 +104,27 @@ class BodyClassifier:
             weights = cv2.HOGDescriptor.getDefaultPeopleDetector()
             self._hog.setSVMDetector(np.asarray(weights, dtype=np.float32))
 
+    def classify(
+        self,
+        gray: NDArray[np.uint8],
+        center: tuple[float, float],
+        axis_angle: float,
+        pixels_per_metre: float,
+    ) -> int:
+        """Detections of a body around ``center`` over every turn and both orientations.
+
+        Args:
+            gray: Colour image converted to grey.
+            center: Body centre in the colour image, px.
+            axis_angle: Direction of the body's major axis in the colour image, rad from +x.
+            pixels_per_metre: Colour pixels per metre on the ground at the body.
+        """
+        total = 0
+        for turn in self.params.turns_deg:
+            patch = upright_patch(gray, center, axis_angle + math.radians(turn), pixels_per_metre)
+            total += self.hits(patch)
+        return total
+
     def hits(self, patch: NDArray[np.uint8]) -> int:
         """Detections in an upright grey patch and in the patch turned by 180 degrees.
 
@@ -97,8 +137,13 @@ class BodyClassifier:
     def _hits(self, patch: NDArray[np.uint8]) -> int:
         p = self.params
         if self._hog is not None:
-            found, _ = self._hog.detect(
-                patch, hitThreshold=p.hog_threshold, winStride=(8, 8), padding=(8, 8)
+            found, _ = self._hog.detectMultiScale(
+                patch,
+                hitThreshold=p.hog_threshold,
+                winStride=(8, 8),
+                padding=(16, 16),
+                scale=p.hog_scale,
+                groupThreshold=p.hog_group,
             )
             return len(found)
         total = 0
@@ -114,17 +159,17 @@ def upright_patch(
     gray: NDArray[np.uint8],
     center: tuple[float, float],
     axis_angle: float,
-    body_length_px: float,
+    pixels_per_metre: float,
 ) -> NDArray[np.uint8]:
-    """The patch around ``center``: body axis vertical, body length scaled to BODY_PIXELS.
+    """The patch around ``center``: body axis vertical, a BODY_LENGTH_M body BODY_PIXELS long.
 
     Args:
         gray: Colour image converted to grey.
         center: Body centre in the colour image, px.
         axis_angle: Direction of the body's major axis in the colour image, rad from +x.
-        body_length_px: Body length in the colour image, px.
+        pixels_per_metre: Colour pixels per metre on the ground at the body.
     """
-    scale = BODY_PIXELS / max(body_length_px, 1.0)
+    scale = BODY_PIXELS / max(BODY_LENGTH_M * pixels_per_metre, 1.0)
     # rotate the major axis onto the image's vertical axis, then scale, then centre the patch
     degrees = float(np.degrees(axis_angle)) - 90.0
     matrix = cv2.getRotationMatrix2D(center, degrees, scale)

@@ -19,7 +19,7 @@ reason, per-stage counts) for every thermal image, and when the map changed ``~/
 ``geojson_path`` set, the file is rewritten on each change.
 
 Parameters: ``world`` (shipped name or .toml path: origin and terrain), ``detector``
-(``haar_kruppa`` | ``hog_people``), ``geojson_path`` ("" = no file), ``pair_tolerance_s``,
+(``hog_people``, default, | ``haar_kruppa``), ``geojson_path`` ("" = no file), ``pair_tolerance_s``,
 ``gated`` (default true).
 """
 
@@ -97,7 +97,7 @@ class SaliencyNode(Node):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__("saliency", **kwargs)
         world_name = str(self.declare_parameter("world", "revinge").value)
-        detector = str(self.declare_parameter("detector", Detector.HAAR_KRUPPA.value).value)
+        detector = str(self.declare_parameter("detector", Detector.HOG_PEOPLE.value).value)
         path = str(self.declare_parameter("geojson_path", "").value)
         self._tolerance = float(self.declare_parameter("pair_tolerance_s", 0.02).value)
         gated = bool(self.declare_parameter("gated", True).value)

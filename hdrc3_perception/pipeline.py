@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hdrc3_perception.camera import MOUNT_OFFSET, CameraPose, Intrinsics, NavPose, Vec3
-from hdrc3_perception.classifier import BodyClassifier, ClassifierParams, upright_patch
+from hdrc3_perception.classifier import BodyClassifier, ClassifierParams
 from hdrc3_perception.geolocation import Ground, correspond, geolocate
 from hdrc3_perception.saliency_map import MapParams, SaliencyMap
 from hdrc3_perception.thermal import RegionVerdict, ThermalParams, find_regions
@@ -98,6 +98,10 @@ class PipelineConfig:
     map: MapParams = field(default_factory=MapParams)
     color_mount: Vec3 = MOUNT_OFFSET
     thermal_mount: Vec3 = MOUNT_OFFSET
+    view_margin_m: float = 1.0
+    """A location counts as in view (T_frame) only this far inside both images, m on the
+    ground: a body nearer the border than half its length is cut by it, and the thermal step
+    rejects cut regions, so such a frame could never count for T_body."""
     detect_frozen: bool = True
     """Reject a thermal image byte-identical to the previous one (a noise-free renderer of a camera
     hovering still would trip it: turn off for such streams)."""
@@ -154,10 +158,13 @@ class SaliencyPipeline:
             if gray is None:
                 rgb = np.asarray(pair.color.data, dtype=np.uint8)
                 gray = np.asarray(cv2.cvtColor(rgb, cv2.COLOR_RGB2GRAY), dtype=np.uint8)
-            patch = upright_patch(
-                gray, centre.color_pixel, math.atan2(v1 - v0, u1 - u0), math.hypot(u1 - u0, v1 - v0)
+            distance = float(np.linalg.norm(centre.ground - color_pose.position))
+            hits = self.classifier.classify(
+                gray,
+                centre.color_pixel,
+                math.atan2(v1 - v0, u1 - u0),
+                (color_k.fx + color_k.fy) / 2.0 / max(distance, 1e-6),
             )
-            hits = self.classifier.hits(patch)
             if hits > 0:
                 g = centre.ground
                 detections.append(
@@ -165,8 +172,9 @@ class SaliencyPipeline:
                 )
 
         def visible(points: NDArray[np.float64]) -> NDArray[np.bool_]:
-            both: NDArray[np.bool_] = color_pose.sees(color_k, points) & thermal_pose.sees(
-                thermal_k, points
+            margin = cfg.view_margin_m
+            both: NDArray[np.bool_] = color_pose.sees(color_k, points, margin) & thermal_pose.sees(
+                thermal_k, points, margin
             )
             return both
 

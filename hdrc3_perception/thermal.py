@@ -4,7 +4,9 @@ The thermal image (``mono16``, centi-kelvin) is thresholded to the temperatures 
 seen from above, the connected regions are found (OpenCV contours) and an ellipse is fitted to
 each (``cv2.fitEllipse``). A region is kept when the ratio of its minor to major axis is that of
 a body and its size matches a body at the region's range: the expected length in pixels is the
-body length times the focal length over the range, so the filter tightens as the aircraft climbs.
+body length times the focal length over the range, so the filter tightens as the aircraft climbs;
+the ellipse's area on the ground must be a body's too (a car's warm bonnet has a body's length
+and axis ratio but four times its area).
 """
 
 from __future__ import annotations
@@ -33,9 +35,13 @@ class ThermalParams:
     min_axis_ratio: float = 0.15
     max_axis_ratio: float = 0.9
     """Minor/major axis ratio of a body's ellipse (a round blob is no person lying down)."""
-    min_length_m: float = 0.6
+    min_length_m: float = 0.5
     max_length_m: float = 2.6
-    """Major axis on the ground, m: a person sitting to a person lying with arms out."""
+    """Major axis on the ground, m: a person sitting (seen from above the warm region is the
+    torso and thighs, ~0.55-0.6 m after blur) to a person lying with arms out."""
+    max_area_m2: float = 1.6
+    """Ellipse area on the ground, m^2: a person lying with arms out is ~0.4 (95 % < 1.1 on the
+    rendered people); a car's warm bonnet, ~2.4, is not a body."""
     min_pixels: int = 4
     """Regions smaller than this are noise whatever the range."""
 
@@ -51,6 +57,8 @@ class RegionVerdict(enum.Enum):
     AXIS_RATIO = "axis_ratio"
     TOO_SMALL = "too_small"
     TOO_LARGE = "too_large"
+    TOO_BROAD = "too_broad"
+    """Ellipse area on the ground above a body's."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -156,4 +164,7 @@ def _verdict(
         return RegionVerdict.TOO_SMALL
     if length_m > params.max_length_m:
         return RegionVerdict.TOO_LARGE
+    metres_per_px = distance / focal
+    if math.pi / 4.0 * major * minor * metres_per_px**2 > params.max_area_m2:
+        return RegionVerdict.TOO_BROAD
     return RegionVerdict.BODY

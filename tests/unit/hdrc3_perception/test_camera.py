@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from hdrc3_perception.camera import MOUNT_OFFSET, CameraPose, Intrinsics, NavPose
+from hdrc3_perception.geolocation import Ground, geolocate
 from sim.sensors.camera import COLOR_CAMERA, THERMAL_CAMERA
 from sim.sensors.camera_model import Intrinsics as SimIntrinsics
 from sim.sensors.camera_model import camera_pose, project
@@ -92,3 +93,25 @@ def test_calibration_from_camera_info(
     assert (intrinsics is not None) == usable
     if intrinsics is not None:
         assert intrinsics.k() == pytest.approx(k)
+
+
+@pytest.mark.parametrize(
+    ("u", "margin_m", "seen"),
+    [
+        (2.0, 0.0, True),
+        (2.0, 1.0, False),  # 0.17 m inside the border on the ground
+        (20.0, 1.0, True),  # 1.7 m inside
+        (158.0, 1.0, False),
+        (140.0, 1.0, True),
+        (80.0, 4.5, True),  # the centre is 6.6 m from the sides, 5 m from top and bottom
+        (80.0, 5.5, False),
+    ],
+)
+def test_a_view_margin_is_a_ground_distance_from_the_border(
+    u: float, margin_m: float, seen: bool
+) -> None:
+    pose = CameraPose.of(NavPose((0.0, 0.0, 30.0), 0.0, 0.0, 0.0), 0.0, math.pi / 2)
+    k = Intrinsics.from_fov(160, 120, math.radians(25.0))
+    point = geolocate(pose, k, u, 60.0, Ground())
+    assert point is not None
+    assert pose.sees(k, point[None, :], margin_m).tolist() == [seen]

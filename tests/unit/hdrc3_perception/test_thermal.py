@@ -39,6 +39,9 @@ def regions_of(body: Body, altitude: float = 40.0) -> list[RegionVerdict]:
         (Body(-2.0, 1.0, 1.0, kelvin=292.0), 40.0, []),  # cold ground
         (Body(0.0, 0.0, 0.0, length=1.2, width=1.2), 40.0, [RegionVerdict.AXIS_RATIO]),
         (Body(0.0, 0.0, 0.0, length=4.5, width=1.6), 40.0, [RegionVerdict.TOO_LARGE]),
+        # a warm car bonnet: a body's length and axis ratio, four times its area
+        (Body(0.0, 0.0, 0.3, length=2.0, width=1.6), 30.0, [RegionVerdict.TOO_BROAD]),
+        (Body(0.0, 0.0, 0.3, length=0.55, width=0.35), 20.0, [RegionVerdict.BODY]),  # sitting
         (Body(0.0, 0.0, 0.0, length=0.45, width=0.2), 20.0, [RegionVerdict.TOO_SMALL]),
         (Body(8.0, 0.0, 0.0), 40.0, [RegionVerdict.AT_BORDER]),  # half out of the image
         (Body(0.0, 0.0, 0.0, length=0.2, width=0.2), 80.0, [RegionVerdict.TOO_FEW_PIXELS]),
