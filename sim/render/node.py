@@ -30,12 +30,13 @@ from rclpy.context import Context
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import CameraInfo, Image
+from std_msgs.msg import Header
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import run_events_node
 from hdrc3_interfaces.msg import CameraState, SimRun, WorldObjects
 from sim.agent_topics import set_time
-from sim.node import LATCHED_QOS
+from sim.node import LATCHED_QOS, RENDER_PROGRESS_QOS, RENDER_PROGRESS_TOPIC
 from sim.render.camera_feed import (
     CameraFeed,
     CameraMeta,
@@ -127,6 +128,10 @@ class WorldRenderNode(Node):
                     self._on_pose(topics),
                     INPUT_QOS,
                 )
+        self._progress_pub = self.create_publisher(
+            Header, RENDER_PROGRESS_TOPIC, RENDER_PROGRESS_QOS
+        )
+        self._progress = Header()
         self.create_subscription(WorldObjects, "/world_sim/objects", self._on_objects, LATCHED_QOS)
         self.create_subscription(SimRun, "/world_sim/run", self._on_run, LATCHED_QOS)
 
@@ -148,8 +153,12 @@ class WorldRenderNode(Node):
                         "camera pose with non-finite values or a non-unit quaternion ignored",
                         throttle_duration_sec=5.0,
                     )
-                    return
-                self._offer(topics, topics.feed.on_pose(_ns(msg.header.stamp), pose))
+                else:
+                    self._offer(topics, topics.feed.on_pose(_ns(msg.header.stamp), pose))
+            # handled (rendered and published, or not wanted): world_sim may go on (RenderGate)
+            self._progress.stamp = msg.header.stamp
+            self._progress.frame_id = topics.agent
+            self._progress_pub.publish(self._progress)
 
         return callback
 
