@@ -7,11 +7,12 @@ Each case launches the real stack through the real CLI on a private ROS domain, 
   (a /clock subscriber of this process watches; it adds one reader to a topic that has several).
 
 Figures come from the recording: the first and last ``/clock`` message give the sim time flown and
-the wall time it took (their log times), so start-up and the report are not counted; the total
-wall time of the command is printed too. Per process, the CPU seconds it used per sim second
-(psutil, sampled every second over the command's process tree) are the costs; the largest are
-listed. For leg I also the images per sim second and agent (``camera_info`` is published with
-every image) and the saliency pairs processed (``saliency/pair_result``, one per thermal image).
+the wall time it took (their log times), so start-up and the report are not counted; the total wall
+time of the command is printed too. Per process, the CPU seconds it used per sim second (psutil,
+sampled every second over the command's process tree, from the first /clock on so that start-up
+imports are not counted) are the costs; the largest are listed. For leg I also the images per sim
+second and agent (``camera_info`` is published with every image) and the saliency pairs processed
+(``saliency/pair_result``, one per thermal image).
 
 The machine is shared: the load average before and after is printed with the figures.
 
@@ -21,6 +22,7 @@ Run: .venv/bin/python bench/mission.py [--case demo|leg1|all] [--leg1-seconds 12
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import signal
 import subprocess
@@ -87,6 +89,7 @@ class TreeCpu:
         """Watch the tree under pid ``root``."""
         self.root = psutil.Process(root)
         self.last: dict[int, tuple[str, float]] = {}
+        self.start: dict[int, float] = {}
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._loop, daemon=True)
         self._thread.start()
@@ -109,13 +112,18 @@ class TreeCpu:
             except psutil.Error:
                 continue
 
+    def mark(self) -> None:
+        """Count CPU from now on (called at the first /clock: start-up imports excluded)."""
+        self.sample()
+        self.start = {pid: cpu for pid, (_, cpu) in self.last.items()}
+
     def stop(self) -> dict[str, float]:
-        """Stop sampling; CPU seconds per process label (same labels summed)."""
+        """Stop sampling; CPU seconds per process label since :meth:`mark` (labels summed)."""
         self._stop.set()
         self._thread.join()
         out: dict[str, float] = defaultdict(float)
-        for name, cpu in self.last.values():
-            out[name] += cpu
+        for pid, (name, cpu) in self.last.items():
+            out[name] += cpu - self.start.get(pid, 0.0)
         return dict(out)
 
 
@@ -125,6 +133,7 @@ class ClockWatch:
     def __init__(self, domain_id: int, until_s: float) -> None:
         """Watch ``/clock`` until it reads ``until_s`` s past the first message seen."""
         self.reached = threading.Event()
+        self.started = threading.Event()
         self._until = until_s
         self._first: float | None = None
         self._stop = threading.Event()
@@ -153,6 +162,7 @@ class ClockWatch:
         t = msg.clock.sec + msg.clock.nanosec * 1e-9
         if self._first is None:
             self._first = t
+            self.started.set()
         if t - self._first >= self._until:
             self.reached.set()
 
@@ -171,19 +181,21 @@ def run_case(name: str, command: list[str], recording: Path, until_s: float | No
     with tempfile.TemporaryFile("w+") as log:
         proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT)
         cpu = TreeCpu(proc.pid)
-        watch = ClockWatch(DOMAIN_ID, until_s) if until_s is not None else None
+        watch = ClockWatch(DOMAIN_ID, math.inf if until_s is None else until_s)
         try:
+            marked = False
             while proc.poll() is None and time.monotonic() - start < TIMEOUT_S:
-                if watch is not None and watch.reached.wait(0.5):
+                if not marked and watch.started.is_set():
+                    cpu.mark()
+                    marked = True
+                if watch.reached.wait(0.5):
                     proc.send_signal(signal.SIGINT)
                     break
-                time.sleep(0.5 if watch is None else 0.0)
             code = proc.wait(timeout=TIMEOUT_S)
         finally:
             if proc.poll() is None:
                 proc.kill()
-            if watch is not None:
-                watch.close()
+            watch.close()
         total = time.monotonic() - start
         costs = cpu.stop()
         log.seek(0)
