@@ -107,8 +107,9 @@ class TreeCpu:
         for p in procs:
             try:
                 t = p.cpu_times()
-                name = self.last[p.pid][0] if p.pid in self.last else _label(p)
-                self.last[p.pid] = (name, t.user + t.system)
+                # labelled at every sample: a child seen between fork and exec has its
+                # parent's command line
+                self.last[p.pid] = (_label(p), t.user + t.system)
             except psutil.Error:
                 continue
 
