@@ -11,8 +11,11 @@ publishes ``sensor_msgs/Image`` + ``CameraInfo`` stamped with the exposure's sim
 - ``/<agent>/camera/thermal/image_raw`` (``mono16``, value = temperature in centi-kelvin, i.e.
   value / 100 = K), ``/<agent>/camera/thermal/camera_info``, frame ``<agent>/thermal_optical``.
 
-A camera is rendered only while one of its two topics has a subscriber. When the renderer falls
-behind, it renders the newest exposure and skips older ones (it never holds the simulation).
+A camera is rendered only while one of its two topics has a subscriber. After each exposure's
+pose it publishes ``/world_render/progress`` (``std_msgs/Header``: that stamp, ``frame_id`` =
+agent), and world_sim holds its ticks while the exposures run more than ``render_lag`` ahead of
+it (:mod:`sim.render_gate`), so images follow sim time at any speed; a renderer that falls
+behind anyway still renders the newest exposure and skips older ones.
 While both cameras of an agent have subscribers, the two images of one exposure are rendered
 together and a half whose partner was skipped is not rendered (:class:`ExposurePairs`): the
 saliency pipeline needs pairs. See ``sim/WORLD_SIM.md`` ("Camera images").
