@@ -24,7 +24,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import UInt8
 
-from hdrc3_base.ros_runtime import run_node
+from hdrc3_base.ros_runtime import run_events_node
 from hdrc3_control.pad_tracking import PadSighting
 from hdrc3_control.ppc_kernel import PpcKernel, PpcOutputs
 from hdrc3_control.ppc_modes import ImageProcessing, Pose
@@ -149,7 +149,8 @@ class PerceptionKernelNode(Node):
 
 def main() -> int:
     """Console script `hdrc3-perception-kernel`."""
-    return run_node(PerceptionKernelNode, args=sys.argv)
+    # the events executor: ~200 callbacks per sim second (PFC state, PTU, cameras, /clock)
+    return run_events_node(PerceptionKernelNode, "hdrc3-perception-kernel")
 
 
 if __name__ == "__main__":

@@ -108,12 +108,22 @@ class AgentTopics:
         self.m_odom.child_frame_id = f"{agent}/base_link"
         self.m_truth = TruthState()
         self.m_truth.header.frame_id = "world_enu"
+        self.last_exposure_ns: int | None = None
+        """Stamp of the newest exposure pose published (None: none yet, or nobody listens)."""
 
     def publish_readings(self, readings: Sequence[SensorReadings]) -> None:
-        """Publish every sample of ``readings`` (time order) that somebody subscribes to.
+        """Publish every sample of ``readings``: :meth:`publish_control`, then the payload's."""
+        self.publish_control(readings)
+        self.publish_payload(readings)
 
-        Building and publishing a message costs 10-40 us; topics nobody listens to (truth and
-        camera topics in most runs) are skipped. ``get_subscription_count`` costs < 1 us.
+    def publish_control(self, readings: Sequence[SensorReadings]) -> None:
+        """The samples the control kernel reads (time order), those somebody subscribes to.
+
+        IMU, attitude, ground contact, GPS, barometer, rotor rpm, power: world_sim publishes
+        them before ``/clock`` and the payload's after it (:meth:`publish_payload`), so that the
+        lockstepped controller already computes while the rest goes out.
+        Building and publishing a message costs 10-40 us; topics nobody listens to are
+        skipped. ``get_subscription_count`` costs < 1 us.
         """
         imu = self.imu.get_subscription_count() > 0
         attitude = self.attitude.get_subscription_count() > 0
@@ -155,6 +165,10 @@ class AgentTopics:
                 stamp_header(m.header, _ns(r.power.time))
                 m.status, m.voltage, m.current = r.power.status, r.power.voltage, r.power.current
                 self.power.publish(m)
+
+    def publish_payload(self, readings: Sequence[SensorReadings]) -> None:
+        """The payload's samples (time order): PTU, camera exposures and their poses, laser."""
+        for r in readings:
             if r.ptu is not None and self.ptu.get_subscription_count():
                 m = self.m_ptu
                 stamp_header(m.header, _ns(r.ptu.time))
@@ -178,7 +192,8 @@ class AgentTopics:
 
     def _camera_pose(self, frame: CameraFrame, publisher: Any) -> None:
         m = self.m_pose
-        stamp_header(m.header, _ns(frame.time))
+        self.last_exposure_ns = _ns(frame.time)
+        stamp_header(m.header, self.last_exposure_ns)
         position, quat = pose_to_ros(frame.pose)
         p, q = m.pose.position, m.pose.orientation
         p.x, p.y, p.z = position

@@ -24,6 +24,7 @@ from rclpy.context import Context
 from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
+from std_msgs.msg import Header
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
 from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
@@ -59,6 +60,7 @@ from sim.checkpoint import Checkpoints, RunEvent, RunKind, RunState, new_run_id
 from sim.lockstep import LockstepBarrier, Offer, Verdict
 from sim.pacer import Pacer
 from sim.rc_transmitter import FlightModeSwitch
+from sim.render_gate import DEFAULT_LAG_S, RenderGate
 from sim.sim_services import RcRequest, SimCode, SimResult, SimServices
 from sim.wind import WindSettings
 from sim.world_loader import load_world, shipped_worlds
@@ -91,6 +93,11 @@ LATCHED_QOS = QoSProfile(
 )
 """/clock, /world_sim/objects and /world_sim/run: a late joiner gets the current value at once."""
 MAX_CHECKPOINT_PERIOD_S = 60.0
+RENDER_PROGRESS_TOPIC = "/world_render/progress"
+"""world_render's handled exposures: ``std_msgs/Header``, frame_id = agent (``RenderGate``)."""
+RENDER_PROGRESS_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+RENDER_STALL_S = 2.0
+"""Wall time a tick waits at most for a renderer that does not report (then it runs anyway)."""
 """Longest accepted checkpoint period, sim seconds."""
 
 
@@ -162,6 +169,11 @@ class WorldSimNode(SteppedNode):
             for name in names
         }
         self.topics = {name: AgentTopics(self, name, SENSOR_QOS, IMU_QOS) for name in names}
+        self.render_gate = RenderGate.from_seconds(self._float("render_lag", DEFAULT_LAG_S))
+        self._render_wait_since = 0.0
+        self._render_sub = self.create_subscription(
+            Header, RENDER_PROGRESS_TOPIC, self._on_render_progress, RENDER_PROGRESS_QOS
+        )
         self._command_subs = {}
         for name in names:
             self._command_subs[name] = self.create_subscription(
@@ -204,6 +216,10 @@ class WorldSimNode(SteppedNode):
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise ConfigError(f"parameter {name}: expected a number, got {value!r}")
         return float(value)
+
+    def _on_render_progress(self, msg: Any) -> None:
+        stamp = msg.stamp.sec * 1_000_000_000 + msg.stamp.nanosec
+        self.render_gate.report(str(msg.frame_id), stamp)
 
     # -------------------------------------------------------------- commands
     def _command_callback(self, agent: str) -> Callable[[Any], None]:
@@ -445,9 +461,13 @@ class WorldSimNode(SteppedNode):
         topics.status.publish(m)
 
     def publish_tick(self, repeat: bool = False) -> None:
-        """Outputs of the current tick: sensor samples, status, truth, wind, then /clock last.
+        """Outputs of the current tick: control samples and status, /clock, then the rest.
 
-        ``repeat`` re-announces a stalled tick for late joiners: status, truth and /clock again
+        The lockstepped controllers read the control samples (IMU, attitude, GPS, ...) and
+        ``yacs/status``, and answer once ``/clock`` is in: those go out first, then ``/clock``;
+        the payload's samples (PTU, camera exposures and poses, laser), ground truth, carrying,
+        objects and wind follow while the controllers compute their answer.
+        ``repeat`` re-announces a stalled tick for late joiners: status, /clock and truth again
         with the same stamp, but no sensor sample twice.
         """
         sim = self.sim
@@ -455,9 +475,16 @@ class WorldSimNode(SteppedNode):
         readings = {} if repeat else sim.take_readings()
         for name, topics in self.topics.items():
             if not repeat:
-                topics.publish_readings(readings[name])
+                topics.publish_control(readings[name])
             if topics.status.get_subscription_count():
                 self._publish_status(topics, name, ns)
+        set_time(self._clock_msg.clock, ns)
+        self._clock_pub.publish(self._clock_msg)
+        for name, topics in self.topics.items():
+            if not repeat:
+                topics.publish_payload(readings[name])
+                if topics.last_exposure_ns is not None:
+                    self.render_gate.announce(name, topics.last_exposure_ns)
             topics.publish_truth(sim.truth(name), ns)
             if not repeat and sim.tick % PAYLOAD_EVERY == 0:
                 self._publish_carrying(name, ns)
@@ -470,8 +497,6 @@ class WorldSimNode(SteppedNode):
             w.gust.x, w.gust.y, w.gust.z = sim.wind.gust
             w.gust_intensity = sim.wind.settings.gust_intensity
             self._wind_pub.publish(w)
-        set_time(self._clock_msg.clock, ns)
-        self._clock_pub.publish(self._clock_msg)
 
     # ------------------------------------------------------------------ loop
     def connected(self) -> list[str]:
@@ -484,6 +509,7 @@ class WorldSimNode(SteppedNode):
         waiting = barrier.begin_tick(self.sim.time_ns, () if barrier.explicit else self.connected())
         paced = not waiting or self.pace_lockstep
         checked = time.monotonic()
+        self._render_wait_since = checked
         while True:
             if stop.is_set() or not self.context.ok() or self._restart:
                 return False
@@ -499,6 +525,9 @@ class WorldSimNode(SteppedNode):
                     self._check_controllers()
                     self.publish_tick(repeat=True)
                 continue
+            if self._render_behind():
+                executor.spin_once(timeout_sec=WAIT_STEP_S)
+                continue
             if paced:
                 wait = self.pacer.wait_time(self.sim.time + TICK_S, time.monotonic())
                 if wait > 0.0:
@@ -510,6 +539,30 @@ class WorldSimNode(SteppedNode):
                 if self._restart:
                     return False
             return True
+
+    def _render_behind(self) -> bool:
+        """True while world_render lags too far behind the exposures (``RenderGate``).
+
+        After :data:`RENDER_STALL_S` of wall time since this tick's wait began without catching
+        up, the tick runs anyway (a stuck renderer must not stop the world).
+        """
+        gate = self.render_gate
+        if not gate.announced or self._render_sub.get_publisher_count() == 0:
+            return False
+        behind = gate.behind()
+        if not behind:
+            return False
+        now = time.monotonic()
+        if now - self._render_wait_since > RENDER_STALL_S:
+            gate.stalls += 1
+            self.get_logger().warning(
+                f"world_render did not catch up with {', '.join(behind)} within "
+                f"{RENDER_STALL_S} s: running on ({gate.stalls} stalled ticks)",
+                throttle_duration_sec=10.0,
+            )
+            self._render_wait_since = now
+            return False
+        return True
 
     def _check_controllers(self) -> None:
         """While stuck: drop vanished controllers (automatic mode) or say whom we wait for."""
@@ -547,6 +600,9 @@ class WorldSimNode(SteppedNode):
 
     def _full_reset_done(self) -> None:
         """After a full reset: a new run, checkpointed and announced before its first tick."""
+        self.render_gate.reset()
+        for topics in self.topics.values():
+            topics.last_exposure_ns = None
         self.run_state = RunState(new_run_id())
         self._checkpoint()
         self._publish_run(

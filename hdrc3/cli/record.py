@@ -60,7 +60,8 @@ def run(args: argparse.Namespace) -> int:
     writer = RecordingWriter(args.output)
     code = 0
     try:
-        with RosProcess() as process:
+        # the events executor: a recorder of every topic takes thousands of messages per second
+        with RosProcess(events=True) as process:
             node = RecorderNode(process.context, writer, args.topics, args.exclude, live)
             process.add_node(node)
             start = time.monotonic()

@@ -11,8 +11,11 @@ publishes ``sensor_msgs/Image`` + ``CameraInfo`` stamped with the exposure's sim
 - ``/<agent>/camera/thermal/image_raw`` (``mono16``, value = temperature in centi-kelvin, i.e.
   value / 100 = K), ``/<agent>/camera/thermal/camera_info``, frame ``<agent>/thermal_optical``.
 
-A camera is rendered only while one of its two topics has a subscriber. When the renderer falls
-behind, it renders the newest exposure and skips older ones (it never holds the simulation).
+A camera is rendered only while one of its two topics has a subscriber. After each exposure's
+pose it publishes ``/world_render/progress`` (``std_msgs/Header``: that stamp, ``frame_id`` =
+agent), and world_sim holds its ticks while the exposures run more than ``render_lag`` ahead of
+it (:mod:`sim.render_gate`), so images follow sim time at any speed; a renderer that falls
+behind anyway still renders the newest exposure and skips older ones.
 While both cameras of an agent have subscribers, the two images of one exposure are rendered
 together and a half whose partner was skipped is not rendered (:class:`ExposurePairs`): the
 saliency pipeline needs pairs. See ``sim/WORLD_SIM.md`` ("Camera images").
@@ -30,12 +33,13 @@ from rclpy.context import Context
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import CameraInfo, Image
+from std_msgs.msg import Header
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import run_events_node
 from hdrc3_interfaces.msg import CameraState, SimRun, WorldObjects
 from sim.agent_topics import set_time
-from sim.node import LATCHED_QOS
+from sim.node import LATCHED_QOS, RENDER_PROGRESS_QOS, RENDER_PROGRESS_TOPIC
 from sim.render.camera_feed import (
     CameraFeed,
     CameraMeta,
@@ -127,6 +131,10 @@ class WorldRenderNode(Node):
                     self._on_pose(topics),
                     INPUT_QOS,
                 )
+        self._progress_pub = self.create_publisher(
+            Header, RENDER_PROGRESS_TOPIC, RENDER_PROGRESS_QOS
+        )
+        self._progress = Header()
         self.create_subscription(WorldObjects, "/world_sim/objects", self._on_objects, LATCHED_QOS)
         self.create_subscription(SimRun, "/world_sim/run", self._on_run, LATCHED_QOS)
 
@@ -148,8 +156,12 @@ class WorldRenderNode(Node):
                         "camera pose with non-finite values or a non-unit quaternion ignored",
                         throttle_duration_sec=5.0,
                     )
-                    return
-                self._offer(topics, topics.feed.on_pose(_ns(msg.header.stamp), pose))
+                else:
+                    self._offer(topics, topics.feed.on_pose(_ns(msg.header.stamp), pose))
+            # handled (rendered and published, or not wanted): world_sim may go on (RenderGate)
+            self._progress.stamp = msg.header.stamp
+            self._progress.frame_id = topics.agent
+            self._progress_pub.publish(self._progress)
 
         return callback
 

@@ -6,6 +6,7 @@ import contextlib
 import signal
 
 import pytest
+from rclpy.node import Node
 
 from hdrc3_base.ros_runtime import RosProcess
 
@@ -35,3 +36,23 @@ def test_a_signal_is_a_stop_request(
                 signal.raise_signal(sig)  # the handler runs before the next statement
         assert process.stop_requested.wait(10.0)
     assert {sig: signal.getsignal(sig) for sig in before} == before
+
+
+@pytest.mark.parametrize("events", [False, True])
+def test_either_executor_delivers_raw_messages_in_order(ros_domain: int, events: bool) -> None:
+    # the recorder spins on the events executor and takes every message as CDR bytes
+    from rclpy.serialization import deserialize_message
+    from std_msgs.msg import UInt32
+
+    with RosProcess(domain_id=ros_domain, handle_signals=False, events=events) as process:
+        node = process.add_node(Node("raw_probe", context=process.context))
+        got: list[bytes] = []
+        node.create_subscription(UInt32, "/raw_probe", got.append, 100, raw=True)
+        pub = node.create_publisher(UInt32, "/raw_probe", 100)
+        assert process.spin_until(lambda: pub.get_subscription_count() > 0, 10.0)
+        for i in range(50):
+            pub.publish(UInt32(data=i))
+        assert process.spin_until(lambda: len(got) == 50, 10.0), len(got)
+        assert all(isinstance(data, bytes) for data in got)
+        assert [deserialize_message(d, UInt32).data for d in got] == list(range(50))
+        node.destroy_node()
