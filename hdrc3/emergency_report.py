@@ -232,7 +232,7 @@ def _read(
         o = objects.get(box)
         final = (o.east, o.north) if o is not None else None
         ev.deliveries.append(Delivery(box, body, target, final, o.held_by if o else ""))
-    ev.min_separation = _min_separation(ev.tracks)
+    ev.min_separation = min_separation(ev.tracks)
 
 
 def _node_status(ev: Evaluation, running: dict[tuple[str, str], float], msg: Any) -> None:
@@ -247,7 +247,7 @@ def _node_status(ev: Evaluation, running: dict[tuple[str, str], float], msg: Any
         ev.nodes.setdefault(msg.agent, []).append((label, msg.kind, running.pop(key), t, msg.state))
 
 
-def _min_separation(tracks: dict[str, list[tuple[float, float, float, float]]]) -> float:
+def min_separation(tracks: dict[str, list[tuple[float, float, float, float]]]) -> float:
     """Closest approach of two airborne aircraft (> 2 m up), on 1 s bins of their tracks."""
     binned: dict[int, dict[str, tuple[float, float, float]]] = defaultdict(dict)
     for agent, track in tracks.items():
