@@ -74,6 +74,8 @@ class FlagshipResult:
     kits: KitPlan | None = None
     deliveries: dict[str, list[tuple[str, str]]] = field(default_factory=dict)
     failure: str = ""
+    problems: list[str] = field(default_factory=list)
+    """What went wrong after the mission (stopping the system)."""
     depot: tuple[float, float] = (0.0, 0.0)
     plan_lines: tuple[str, ...] = ()
 
@@ -149,8 +151,9 @@ class Flagship:
             except ConfigError as exc:
                 result.failure = str(exc)
             settle(process, client)
-        if system.returncode not in (0, None) and not result.failure:
-            result.failure = f"the launch ended with code {system.returncode}"
+        if system.returncode not in (0, None):
+            # the mission is over by then: a slow teardown is reported, not a failed mission
+            result.problems.append(f"the launch ended with code {system.returncode}")
         return result
 
     def _fly(self, process: RosProcess, client: TstClient, result: FlagshipResult) -> None:
@@ -284,5 +287,6 @@ def flagship_summary(result: FlagshipResult, out: Path) -> list[str]:
         lines.append(f"  {agent} delivers {listed}")
     if result.failure:
         lines.append(f"  failure: {result.failure}")
+    lines += [f"  problem: {p}" for p in result.problems]
     lines.append(f"  products: {out}")
     return lines

@@ -18,7 +18,7 @@ from types import TracebackType
 from hdrc3_base.errors import ConfigError
 
 READY_TIMEOUT_S = 120.0
-STOP_TIMEOUT_S = 30.0
+STOP_TIMEOUT_S = 60.0
 
 
 class LaunchedSystem:
