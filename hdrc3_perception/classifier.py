@@ -95,7 +95,7 @@ class BodyClassifier:
                 cascade = cv2.CascadeClassifier(str(root / name))
                 if cascade.empty():
                     raise ClassifierError(f"cannot load {root / name}")
-                # the thermal step fixed the body's scale: search from MIN_PART of it upwards
+                # the range fixed the body's scale in the patch: search from MIN_PART of it up
                 w, h = cascade.getOriginalWindowSize()
                 grow = max(MIN_PART * BODY_PIXELS / h, 1.0)
                 self._cascades.append((cascade, (math.ceil(w * grow), math.ceil(h * grow))))

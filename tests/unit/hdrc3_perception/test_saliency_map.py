@@ -42,7 +42,10 @@ def run(frames: list[list[np.ndarray]], params: MapParams | None = None) -> Sali
     [
         # (positives per frame, [(t_frame, t_body, confirmed)] per location)
         ([[A]] * 6, [(6, 6, True)]),
-        ([[A]] * 4, [(4, 4, False)]),  # not observed long enough
+        ([[A]] * 3, [(3, 3, True)]),
+        ([[A]] * 2, [(2, 2, False)]),  # not observed long enough
+        ([[A], [A], []], [(3, 2, True)]),  # two positives in three frames
+        ([[A], [], []], [(3, 1, False)]),  # one weak classification is never a body
         ([[A], [], [A], [], [A], []], [(6, 3, False)]),  # p_body 0.5 is not > 0.5
         ([[A], [A], [], [A], [], [A], [A]], [(7, 5, True)]),
         (
@@ -141,16 +144,16 @@ def test_geojson() -> None:
 def test_maps_of_two_aircraft_merge_where_both_saw_a_body() -> None:
     origin = GeodeticOrigin(55.72, 13.54, 60.0)
     west = run([[A]] * 3 + [[]] * 2)  # uav0 saw A at the edge of its band: 5 frames, 3 positive
-    east = run([[A + D1, B]] * 4)  # uav1 saw A (1.8 m off) and B
+    east = run([[A + D1, B]] * 2 + [[A + D1]] * 2)  # uav1 saw A (1.8 m off) and B
     merged = SaliencyMap()
     for one in (west, east):
         merged.absorb(locations_from_geojson(json.loads(dumps_geojson(one, origin))))
     counts = sorted((loc.t_frame, loc.t_body) for loc in merged.locations)
-    assert counts == [(4, 4), (9, 7)]
+    assert counts == [(4, 2), (9, 7)]
     a = next(loc for loc in merged.locations if loc.t_frame == 9)
     # the mean of the 3 + 4 observations
     assert (a.east, a.north) == pytest.approx(tuple((3 * A + 4 * (A + D1))[:2] / 7))
-    assert len(merged.confirmed()) == 1  # A: 7 of 9 frames; B: seen in 4 frames only
+    assert len(merged.confirmed()) == 1  # A: 7 of 9 frames; B: 2 of 4 (p_body 0.5)
     assert to_geojson(merged, origin)["features"][0]["properties"]["up"] == pytest.approx(0.0)
 
 
