@@ -203,10 +203,10 @@ def _read(
         if m.topic == "/world_sim/objects":
             last_objects = msg
         elif m.topic.endswith("/helicopter_state"):
-            values = (msg.longitude, msg.latitude, msg.altitude)
-            if all(math.isfinite(v) for v in values):
-                e, n, u = frame.to_enu(*values)
-                ev.tracks.setdefault(agent, []).append((stamp_ms(msg.header.stamp) / 1e3, e, n, u))
+            position = frame.state_enu(msg)
+            if position is not None:
+                t = stamp_ms(msg.header.stamp) / 1e3
+                ev.tracks.setdefault(agent, []).append((t, *position))
         elif m.topic.endswith("/pfc/state"):
             name = MODES.get(int(msg.mode), str(msg.mode))
             modes = ev.modes.setdefault(agent, [])

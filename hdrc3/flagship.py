@@ -217,10 +217,9 @@ class Flagship:
 
         def keep(agent: str) -> Callable[[Any], None]:
             def on_state(msg: Any) -> None:
-                values = (msg.longitude, msg.latitude, msg.altitude)
-                if all(math.isfinite(v) for v in values):
-                    e, n, u = frame.to_enu(*values)
-                    seen[agent] = (e, n, u)
+                position = frame.state_enu(msg)
+                if position is not None:
+                    seen[agent] = position
 
             return on_state
 

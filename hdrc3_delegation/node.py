@@ -311,10 +311,9 @@ class GatewayNode(Node):
             self.get_logger().warning("inbox full: speech act dropped")
 
     def _on_state(self, msg: Any) -> None:
-        values = (msg.longitude, msg.latitude, msg.altitude)
-        if all(math.isfinite(v) for v in values):
-            east, north, up = self.frame.to_enu(*values)
-            self.server.position = (east, north, up)
+        position = self.frame.state_enu(msg)
+        if position is not None:
+            self.server.position = position
 
     def _work(self) -> None:
         while not self._stop.is_set():

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Protocol
 
 import pymap3d
 
@@ -18,6 +19,14 @@ from hdrc3_base.errors import ConfigError
 
 GroundFn = Callable[[float, float], float]
 """Terrain height (m, ENU up) at (east, north)."""
+
+
+class Geodetic(Protocol):
+    """A WGS84 position (``HelicopterState`` has these fields)."""
+
+    longitude: float
+    latitude: float
+    altitude: float
 
 
 def _flat(east: float, north: float) -> float:
@@ -53,6 +62,14 @@ class WorldFrame:
             latitude, longitude, altitude, self.latitude, self.longitude, self.altitude
         )
         return (float(e), float(n), float(u))
+
+    def state_enu(self, state: Geodetic) -> tuple[float, float, float] | None:
+        """(east, north, up) of a WGS84 position, e.g. a Data Interface state (None: not finite)."""
+        values = (state.longitude, state.latitude, state.altitude)
+        if not all(math.isfinite(v) for v in values):
+            return None
+        e, n, u = self.to_enu(*values)
+        return (e, n, u)
 
     def to_wgs84(self, east: float, north: float, up: float) -> tuple[float, float, float]:
         """(longitude, latitude, altitude) of an ENU position."""

@@ -232,10 +232,10 @@ class RosPlatform:
             handle.end(state, f"{event.kind.name} {event.reason}".strip())
 
     def _on_state(self, msg: Any) -> None:
-        values = (msg.longitude, msg.latitude, msg.altitude)
-        if not all(math.isfinite(v) for v in values):
+        position = self._frame.state_enu(msg)
+        if position is None:
             return
-        east, north, up = self._frame.to_enu(*values)
+        east, north, up = position
         self._state = PlatformState(
             east,
             north,

@@ -1,6 +1,7 @@
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import pytest
 
@@ -44,3 +45,13 @@ def test_bad_origins(values: tuple[float, float, float]) -> None:
 def test_unknown_world() -> None:
     with pytest.raises(ConfigError, match="cannot load world"):
         frame_from_world("no_such_world_here")
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf])
+def test_a_state_with_a_non_finite_coordinate_has_no_enu_position(bad: float) -> None:
+    frame = frame_from_world("revinge")
+    good = SimpleNamespace(
+        longitude=frame.longitude, latitude=frame.latitude, altitude=frame.altitude
+    )
+    assert frame.state_enu(good) == pytest.approx((0.0, 0.0, 0.0), abs=1e-6)
+    assert frame.state_enu(SimpleNamespace(longitude=bad, latitude=0.0, altitude=0.0)) is None
