@@ -24,8 +24,10 @@ import time
 from collections import Counter
 from collections.abc import Callable, Sequence
 from types import FrameType, TracebackType
+from typing import Any
 
 import rclpy
+from rclpy.client import Client
 from rclpy.context import Context
 from rclpy.executors import Executor, SingleThreadedExecutor
 from rclpy.experimental.events_executor import EventsExecutor
@@ -170,6 +172,41 @@ class RosProcess:
             if tick is not None:
                 tick()
         return True
+
+    def first_answer(
+        self, client: Client, request: Any, timeout_s: float, attempt_s: float = 2.0
+    ) -> Any | None:
+        """Call ``client`` until one answer arrives: proof that both directions of it are matched.
+
+        ``service_is_ready()`` only says that the server's request reader matched this client's
+        request writer. The answer travels on a second pair, the server's response writer and
+        this client's response reader, which DDS discovers separately. Fast DDS (rmw_fastrtps,
+        ``__rmw_send_response``) waits at most 100 ms for that pair and otherwise drops the
+        answer with "client will not receive response" (rclpy only warns). On a loaded machine
+        the first answers to a new client were lost that way (issue 21: 148 of 150 in CI).
+
+        Only for requests that may be repeated: an unanswered attempt may still have been served.
+
+        Args:
+            client: A client whose service :meth:`Client.service_is_ready` reports.
+            request: The request to send on each attempt.
+            timeout_s: Wall-clock bound for all attempts.
+            attempt_s: How long one attempt waits before the request is sent again.
+
+        Returns:
+            The first response, or None when no attempt was answered in time.
+
+        """
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            future = client.call_async(request)
+            wait_s = min(attempt_s, deadline - time.monotonic())
+            if self.spin_until(future.done, wait_s):
+                return future.result()
+            client.remove_pending_request(future)
+            if self.stop_requested.is_set():
+                break
+        return None
 
     def spin_until_stopped(
         self, step_s: float = 0.1, tick: Callable[[], None] | None = None

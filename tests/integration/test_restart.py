@@ -343,6 +343,8 @@ def test_a_burst_of_concurrent_calls_is_answered(hdrc3_cli: Callable[..., Any], 
             )
         ]
         assert process.spin_until(lambda: all(c.service_is_ready() for c, _ in calls), 60.0)
+        # an answer back first: the burst measures queueing, not the discovery of the answer path
+        assert all(process.first_answer(c, request, 60.0) is not None for c, request in calls)
         futures = [client.call_async(request) for client, request in calls for _ in range(50)]
         process.spin_until(lambda: all(f.done() for f in futures), 120.0)
         answered = [f.result() for f in futures if f.done()]

@@ -56,3 +56,50 @@ def test_either_executor_delivers_raw_messages_in_order(ros_domain: int, events:
         assert all(isinstance(data, bytes) for data in got)
         assert [deserialize_message(d, UInt32).data for d in got] == list(range(50))
         node.destroy_node()
+
+
+@pytest.mark.parametrize(
+    ("server_after_attempts", "answered"),
+    [
+        (0, True),  # the first attempt is answered
+        (1, True),  # the first request is lost, as a dropped answer is; the next is answered
+        (None, False),  # no server at all: the bound ends it, without an exception
+    ],
+)
+def test_first_answer_sends_again_until_one_is_answered(
+    ros_domain: int, server_after_attempts: int | None, answered: bool
+) -> None:
+    from std_srvs.srv import Trigger
+
+    from hdrc3_base.ros_runtime import SERVICE_QOS
+
+    with RosProcess(domain_id=ros_domain, handle_signals=False) as process:
+        node = process.add_node(Node("first_answer_probe", context=process.context))
+        served: list[int] = []
+
+        def serve(request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
+            served.append(1)
+            response.success = True
+            return response
+
+        client = node.create_client(Trigger, "/first_answer", qos_profile=SERVICE_QOS)
+        sent: list[int] = []
+        original_call = client.call_async
+
+        def call_async(request: Trigger.Request):  # type: ignore[no-untyped-def]
+            if server_after_attempts is not None and len(sent) == server_after_attempts:
+                node.create_service(Trigger, "/first_answer", serve, qos_profile=SERVICE_QOS)
+                process.spin_until(client.service_is_ready, 10.0)
+            sent.append(1)
+            return original_call(request)
+
+        client.call_async = call_async  # type: ignore[method-assign]
+        response = process.first_answer(client, Trigger.Request(), timeout_s=6.0, attempt_s=1.0)
+        assert (response is not None and response.success) is answered
+        if server_after_attempts is None:
+            assert not served
+            assert len(sent) >= 2  # sent again after the first unanswered attempt
+        else:
+            assert len(served) >= 1
+            assert len(sent) >= server_after_attempts + 1
+        node.destroy_node()
