@@ -18,7 +18,9 @@ end passes, and applies the control semantics:
   (:meth:`ExecutionEngine.on_violation`) is recovered from as ``recovery.py`` decides (§9.3.1):
   the running step is aborted, the aircraft brakes if asked (FCL ``emergency_brake``) and hovers
   (the PFC hovers between commands), the new problem is planned once the brake has ended, and
-  the goal continues with the new plan's nodes, or fails when recovery gives up.
+  the goal continues with the new plan's nodes, or fails when recovery gives up. A planned step
+  that fails on its own is recovered the same way with the ``step-failed`` operator when the
+  recovery operators have one (the packaged ones do: plan again, twice at most).
 
 A child on another agent is started through :class:`EngineSink.start_remote` and followed
 through :meth:`ExecutionEngine.on_remote_status`. ``tick`` is called with the sim time; the
@@ -56,6 +58,7 @@ from hdrc3_tst.network import FixStatus
 from hdrc3_tst.platform_port import Command, PlatformPort
 from hdrc3_tst.queries import Answer, QueryDomain, ask, ask_all
 from hdrc3_tst.recovery import (
+    STEP_FAILED,
     Recovery,
     RecoveryReport,
     RecoveryStatus,
@@ -333,6 +336,8 @@ class ExecutionEngine:
         elif kind is NodeKind.GOAL:
             self._advance_goal(node, rec)
         elif kind in (NodeKind.SEQUENCE, NodeKind.CALL):
+            if node.kind is NodeKind.GOAL and self._recover_failed_step(node, rec):
+                return
             self._advance_sequence(node, rec)
         elif kind is NodeKind.CONCURRENT:
             self._advance_concurrent(node, rec)
@@ -733,6 +738,28 @@ class ExecutionEngine:
         rec.problem, rec.plan, rec.recovering = decision.problem, None, violation
         self._advance(goal_id)
         return last
+
+    def _recover_failed_step(self, goal: Node, rec: NodeRecord) -> bool:
+        """Recover a planned goal whose current step failed, when the operators say how.
+
+        The failure is recovered like a violation of the ``step-failed`` operator
+        (:data:`STEP_FAILED`), one fault per action name: the goal plans again from where the
+        aircraft is and what the succeeded steps did. True when that recovery was started.
+        """
+        if STEP_FAILED not in self.ctx.recovery.operators or rec.cursor >= len(goal.children):
+            return False
+        step_id = goal.children[rec.cursor].node_id
+        step = self.records[step_id]
+        if step.state is not NodeState.FAILED or rec.problem is None:
+            return False
+        action = self.tst.tree.node(step_id).action
+        violation = Violation(
+            f"{STEP_FAILED}@{step_id}",
+            STEP_FAILED,
+            arguments={"action": action},
+            cause=f"{step_id} ({action}) failed: {step.reason}",
+        )
+        return self.on_violation(violation, step_id).step is not RecoveryStep.IGNORED
 
     def _goal_of(self, node_id: str) -> str | None:
         """The running, planned goal node this agent holds that ``node_id`` is under."""

@@ -31,6 +31,10 @@ from hdrc3_tst.recovery_spec import (
     RecoverySpecParser,
 )
 
+STEP_FAILED = "step-failed"
+"""The recovery operator a goal uses when one of its planned steps fails (not a monitor
+violation: the step's executor gave up); with no operator of that name, the goal fails."""
+
 LOAD_PARAMS = ("box", "carrier")
 """Action parameters naming a load; an action with one and no ``place`` takes it onto the hook,
 one with a ``place`` puts it down there."""
@@ -69,6 +73,8 @@ class Violation:
     recovery: str = ""
     emergency_brake: bool = False
     arguments: Mapping[str, str] = field(default_factory=dict)
+    cause: str = ""
+    """What went wrong, for the record (a failed step's reason); not part of the fault."""
 
     @property
     def fault(self) -> tuple[str, ...]:
@@ -184,7 +190,8 @@ class Recovery:
                 (*halt, RecoveryStep.GIVE_UP),
                 attempt,
                 reason=f"{violation.monitor_id}: failed {attempt} times on the same fault "
-                f"({operator.name} recovers from {operator.attempts})",
+                f"({operator.name} recovers from {operator.attempts})"
+                + (f"; last: {violation.cause}" if violation.cause else ""),
             )
         here = after(problem.agent, attempt)
         current = progressed(problem, done).moved(here, position)

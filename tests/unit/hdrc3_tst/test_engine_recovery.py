@@ -4,16 +4,21 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import pytest
+
 from hdrc3_platform_server.codes import FclCommand
 from hdrc3_platform_server.geo_frame import frame_from_world
+from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_tst.check import CheckStatus, load_text
 from hdrc3_tst.distribution import bind_open_agents
 from hdrc3_tst.engine import EngineContext, ExecutionEngine
 from hdrc3_tst.fake_platform import FakePlatform, RecordingSink, SolvingPlanner
 from hdrc3_tst.goal_planning import Load
 from hdrc3_tst.model import NodeState
+from hdrc3_tst.payload_executors import PICK_ATTEMPTS
 from hdrc3_tst.platform_port import Command, PlatformState, Sighting
-from hdrc3_tst.recovery import RecoveryStep, Violation
+from hdrc3_tst.recovery import RecoveryStep, Violation, default_recovery
+from hdrc3_tst.recovery_spec import RecoverySpec, RecoverySpecParser
 from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
 
 FRAME = frame_from_world("revinge")
@@ -26,12 +31,14 @@ m(P, TS, TE) = goal at(box1, Field) where P = uav0
 """
 LOADS = (Load("box1", "food-box", "Depot", 5.0),)
 BOX_LOST = Violation("held@m/3", "box-lost", True, {"av": "uav0", "box": "box1"})
+MISSED = "FAILED the magnet gripped nothing"
 
 
 class Rig:
     """One engine on the fake platform; the planner is TALplanner itself."""
 
-    def __init__(self) -> None:
+    def __init__(self, recovery: RecoverySpec | None = None, misses: int = 0) -> None:
+        """``misses``: how many attaches of the magnet grip nothing, the first ones."""
         loaded = load_text(MISSION)
         assert loaded.status is CheckStatus.OK, loaded.diagnostics
         assert loaded.tst is not None
@@ -39,8 +46,16 @@ class Rig:
         self.platform, self.planner, self.sink = FakePlatform(), SolvingPlanner(), RecordingSink()
         self.platform.sample = PlatformState(-50.0, 0.0, 20.0, on_ground=False, autonomous=True)
         ctx = EngineContext(
-            "uav0", self.platform, self.planner, self.sink, FRAME, RMAX_EXECUTORS, loads=LOADS
+            "uav0",
+            self.platform,
+            self.planner,
+            self.sink,
+            FRAME,
+            RMAX_EXECUTORS,
+            loads=LOADS,
+            recovery=recovery or default_recovery(),
         )
+        self.misses = misses
         self.engine = ExecutionEngine("m", loaded.tst, ctx)
         self.t = 1000.0
         assert self.engine.execute("m", self.t, self.t) == ""
@@ -61,6 +76,10 @@ class Rig:
     def complete(self, command: Command) -> None:
         if command.command is FclCommand.TRAJ3D and not command.segment_requested:
             command.segment_requested = True
+            return
+        if command.command is HookAction.ATTACH and self.misses > 0:
+            self.misses -= 1
+            self.platform.complete(command, ok=False, reason=MISSED)
             return
         self.platform.complete(command)
 
@@ -144,3 +163,42 @@ def test_a_violation_outside_any_planned_goal_is_ignored() -> None:
     assert rig.state("m") is NodeState.RUNNING
     assert all(c.command is not FclCommand.EMERGENCY_BRAKE for c in rig.platform.sent)
     assert rig.sink.recoveries == [report]
+
+
+@pytest.mark.parametrize(
+    ("failed_pick_ups", "outcome", "recoveries", "reason"),
+    [
+        # all lowerings of the first pick-up missed: planned again, picked up, delivered
+        (1, NodeState.SUCCEEDED, 1, ""),
+        (2, NodeState.SUCCEEDED, 2, ""),
+        # the operator plans again twice; the third failed pick-up fails the goal, saying why
+        (
+            3,
+            NodeState.FAILED,
+            3,
+            "failed 3 times on the same fault (step-failed recovers from 2); "
+            "last: m/3.2 (pick-up-box) failed: ppcl_hook: FAILED the magnet gripped nothing",
+        ),
+    ],
+)
+def test_a_failed_step_is_planned_again_until_the_operator_gives_up(
+    failed_pick_ups: int, outcome: NodeState, recoveries: int, reason: str
+) -> None:
+    rig = Rig(misses=failed_pick_ups * PICK_ATTEMPTS)
+    rig.run_until(lambda: rig.state("m").finished)
+    assert rig.state("m") is outcome, rig.engine.records["m"].reason
+    assert reason in rig.engine.records["m"].reason
+    suspended = [r for r in rig.sink.recoveries if r.step is RecoveryStep.SUSPEND]
+    assert [r.monitor_id.split("@")[0] for r in suspended] == ["step-failed"] * recoveries
+    assert all(c.command is not FclCommand.EMERGENCY_BRAKE for c in rig.platform.sent)
+    if outcome is NodeState.SUCCEEDED:
+        # planned from where the aircraft hovers: to the depot again, the box, the field
+        assert actions(rig, f"m/{recoveries + 1}.") == actions(rig, "m/")[:4]
+
+
+def test_without_a_step_failed_operator_a_failed_step_fails_its_goal() -> None:
+    rig = Rig(RecoverySpecParser().parse("recovery retry: replan;"), misses=PICK_ATTEMPTS)
+    rig.run_until(lambda: rig.state("m").finished)
+    assert rig.state("m") is NodeState.FAILED
+    assert rig.engine.records["m"].reason == f"m/2 failed: ppcl_hook: {MISSED}"
+    assert rig.sink.recoveries == []
