@@ -12,25 +12,39 @@ Bounds add with ``(w1 + w2, min(s1, s2))`` and compare lexicographically, so a c
 inconsistent when its bound is below ``(0, 0)``: ``x - x < 0`` as well as ``x - x <= -1``.
 Every variable gets ``v - Z <= HORIZON`` and ``Z - v <= 0`` (all times after the origin), so
 every negative cycle is reachable from ``Z`` in both directions.
+
+Distances are summed in whole nanoseconds (Python integers, exact): float sums of seconds
+round, and at the horizon's 1e9 s a cycle of equalities (``t1 = t``, ``t3 = t2``, ``t7 = t2`` of
+a ``monitor-single``) came out 1e-7 s negative, an inconsistency that was not there (and the
+predecessor walk that names a cycle then never ended).
 """
 
 from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 Bound = tuple[float, int]
 """(value, strictness): strictness -1 for ``<``, 0 for ``<=``."""
+Weight = tuple[float, int]
+"""A bound in whole nanoseconds (an ``int``; ``math.inf`` when unbounded), and its strictness."""
+TICKS_PER_S = 1_000_000_000
 
 ORIGIN = "Z"
 HORIZON = 1.0e9
 """Seconds; a latest time beyond half the horizon is shown as unbounded."""
-_INF: Bound = (math.inf, 0)
+_INF: Weight = (math.inf, 0)
+_ZERO: Weight = (0, 0)
 
 
-def _add(a: Bound, b: Bound) -> Bound:
+def _add(a: Weight, b: Weight) -> Weight:
     return (a[0] + b[0], min(a[1], b[1]))
+
+
+def _ticks(seconds: float) -> float:
+    """Whole nanoseconds (an ``int``), or the infinity itself."""
+    return round(seconds * TICKS_PER_S) if math.isfinite(seconds) else seconds
 
 
 @dataclass(frozen=True)
@@ -41,6 +55,12 @@ class Edge:
     target: str
     bound: Bound
     label: str
+    weight: Weight = field(init=False, repr=False, compare=False)
+    """The bound in whole nanoseconds: what propagation adds."""
+
+    def __post_init__(self) -> None:
+        """Quantise the bound once."""
+        object.__setattr__(self, "weight", (_ticks(self.bound[0]), self.bound[1]))
 
 
 @dataclass(frozen=True)
@@ -74,9 +94,9 @@ class SimpleTemporalNetwork:
     def __init__(self) -> None:
         self._out: dict[str, dict[str, Edge]] = {ORIGIN: {}}
         self._in: dict[str, dict[str, Edge]] = {ORIGIN: {}}
-        self._from: dict[str, Bound] = {ORIGIN: (0.0, 0)}
+        self._from: dict[str, Weight] = {ORIGIN: _ZERO}
         """Shortest distance Z -> v: the latest time of v."""
-        self._to: dict[str, Bound] = {ORIGIN: (0.0, 0)}
+        self._to: dict[str, Weight] = {ORIGIN: _ZERO}
         """Shortest distance v -> Z: minus the earliest time of v."""
 
     def copy(self) -> SimpleTemporalNetwork:
@@ -115,7 +135,7 @@ class SimpleTemporalNetwork:
 
     def _store(self, edge: Edge) -> bool:
         old = self._out[edge.source].get(edge.target)
-        if old is not None and old.bound <= edge.bound:
+        if old is not None and old.weight <= edge.weight:
             return False
         self._out[edge.source][edge.target] = edge
         self._in[edge.target][edge.source] = edge
@@ -149,20 +169,20 @@ class SimpleTemporalNetwork:
 
     def _sweeps(
         self, names: list[str], graph: dict[str, dict[str, Edge]], end: str
-    ) -> dict[str, Bound]:
+    ) -> dict[str, Weight]:
         index = {name: i for i, name in enumerate(names)}
         n = len(names)
         value = [math.inf] * n
         strict = [0] * n
         pred: list[Edge | None] = [None] * n
-        value[index[ORIGIN]] = 0.0
+        value[index[ORIGIN]] = 0
         up: list[list[tuple[int, float, int, Edge]]] = [[] for _ in range(n)]
         down: list[list[tuple[int, float, int, Edge]]] = [[] for _ in range(n)]
         for name, edges in graph.items():
             i = index[name]
             for edge in edges.values():
                 j = index[getattr(edge, end)]
-                (up if j > i else down)[i].append((j, edge.bound[0], edge.bound[1], edge))
+                (up if j > i else down)[i].append((j, edge.weight[0], edge.weight[1], edge))
         for _ in range(n + 1):
             changed = False
             for order, lists in ((range(n), up), (range(n - 1, -1, -1), down)):
@@ -221,23 +241,23 @@ class SimpleTemporalNetwork:
             self._revert(first)
             raise
 
-    _Undo = tuple[Edge, "Edge | None", dict[str, Bound], dict[str, Bound]]
+    _Undo = tuple[Edge, "Edge | None", dict[str, Weight], dict[str, Weight]]
 
     def _add_undoable(self, edge: Edge) -> _Undo:
         earlier, later = edge.source, edge.target
         old = self._out[earlier].get(later)
         undo: SimpleTemporalNetwork._Undo = (edge, old, {}, {})
-        if old is not None and old.bound <= edge.bound:
+        if old is not None and old.weight <= edge.weight:
             return undo
         self._store(edge)
         try:
-            if _add(self._from[earlier], edge.bound) < self._from[later]:
+            if _add(self._from[earlier], edge.weight) < self._from[later]:
                 undo[2][later] = self._from[later]
-                self._from[later] = _add(self._from[earlier], edge.bound)
+                self._from[later] = _add(self._from[earlier], edge.weight)
                 self._relax(self._from, self._out, "target", edge, undo[2])
-            if _add(self._to[later], edge.bound) < self._to[earlier]:
+            if _add(self._to[later], edge.weight) < self._to[earlier]:
                 undo[3][earlier] = self._to[earlier]
-                self._to[earlier] = _add(self._to[later], edge.bound)
+                self._to[earlier] = _add(self._to[later], edge.weight)
                 self._relax(self._to, self._in, "source", edge, undo[3])
         except Inconsistent:
             self._revert(undo)
@@ -257,11 +277,11 @@ class SimpleTemporalNetwork:
 
     def _relax(
         self,
-        dist: dict[str, Bound],
+        dist: dict[str, Weight],
         graph: dict[str, dict[str, Edge]],
         end: str,
         edge: Edge,
-        undo: dict[str, Bound],
+        undo: dict[str, Weight],
     ) -> None:
         """Propagate what the new ``edge`` improved, over the changed region only (FIFO).
 
@@ -281,7 +301,7 @@ class SimpleTemporalNetwork:
             base = dist[node]
             for out in graph[node].values():
                 nxt = getattr(out, end)
-                cand = (base[0] + out.bound[0], min(base[1], out.bound[1]))
+                cand = (base[0] + out.weight[0], min(base[1], out.weight[1]))
                 if cand < dist[nxt]:
                     undo.setdefault(nxt, dist[nxt])
                     dist[nxt] = cand
@@ -305,4 +325,4 @@ class SimpleTemporalNetwork:
     def window(self, name: str) -> Window:
         """Earliest and latest time of ``name`` after the last propagation."""
         lo, hi = self._to[name], self._from[name]
-        return Window(-lo[0] + 0.0, hi[0], lo[1] < 0, hi[1] < 0)
+        return Window(-lo[0] / TICKS_PER_S + 0.0, hi[0] / TICKS_PER_S, lo[1] < 0, hi[1] < 0)

@@ -123,3 +123,27 @@ def test_a_copy_is_independent_of_its_original() -> None:
     assert stn.window("b") == before and before.earliest == 0.0
     assert stn.edge_count + 1 == copy.edge_count
     assert all(e.label != "b - a >= 5" for e in stn.edges())
+
+
+def _equal(a: str, b: str, by: float = 0.0) -> tuple[tuple[str, str, float, bool], ...]:
+    """``a - b = by`` as two bounds."""
+    return ((a, b, by, False), (b, a, -by, False))
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("start", [100.0 + 0.1 * k for k in range(40)])
+def test_cycles_of_equalities_stay_consistent_at_any_start(start: float) -> None:
+    # monitor-single: hover and measure start with the node and last 60 s, and end with it;
+    # float sums at the 1e9 s horizon made this cycle 1e-7 s negative (and the walk that names
+    # the cycle never ended) for a start of 100.2 s
+    stn = network(
+        ("n_s", "prev_e", 0.0, False),
+        *_equal("h_s", "n_s"), *_equal("r_s", "n_s"),
+        *_equal("h_e", "h_s", 60.0), *_equal("r_e", "r_s", 60.0),
+        *_equal("h_e", "n_e"), *_equal("r_e", "n_e"),
+    )  # fmt: skip
+    stn.propagate()
+    stn.fix("prev_e", start, "the previous node ended")
+    stn.fix("n_s", start, "the node started")
+    assert stn.window("n_e").earliest == pytest.approx(start + 60.0)
+    assert stn.window("n_e").latest == pytest.approx(start + 60.0)
