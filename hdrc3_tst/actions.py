@@ -61,6 +61,7 @@ class Capability(enum.Enum):
     CAMERA = "camera"
     PTU = "ptu"
     HOOK = "hook"
+    RADIATION = "radiation"
 
 
 _FLY = frozenset({Capability.FLIGHT})
@@ -191,6 +192,14 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
                 frozenset({Capability.CAMERA}),
             ),
             ActionSpec("wait", "do nothing for a while", (_DURATION,), "duration", "", frozenset()),
+            ActionSpec(
+                "monitor-radiation",
+                "measure the gamma dose rate for a while and estimate it at 1 m from a target",
+                (ParamSpec("target", ParamType.POINT, "point"), _DURATION),
+                "duration",
+                "(radiation detector, /<agent>/sensors/radiation)",
+                frozenset({Capability.RADIATION}),
+            ),
             ActionSpec("pick-up-box", "pick a box up onto the hook", (_BOX,), None, _HOOK, _LIFT),
             ActionSpec("drop-box", "put the held box down", (_BOX, _PLACE), None, _HOOK, _LIFT),
             ActionSpec(

@@ -20,7 +20,13 @@ from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_tst.engine import NodeRecord
 from hdrc3_tst.goal_planning import PlanHandle
 from hdrc3_tst.model import NodeRef, NodeState
-from hdrc3_tst.platform_port import Command, CommandState, PlatformState, Sighting
+from hdrc3_tst.platform_port import (
+    Command,
+    CommandState,
+    DoseSample,
+    PlatformState,
+    Sighting,
+)
 from hdrc3_tst.recovery import RecoveryReport
 
 
@@ -37,10 +43,16 @@ class FakePlatform:
     """Commands answered as refused, with the reason."""
     sightings: dict[str, Sighting] = field(default_factory=dict)
     """What the hook camera sees, by tag (the test sets it)."""
+    dose_sample: DoseSample | None = None
+    """The radiation detector's latest sample (the test sets it)."""
 
     def seen(self, tag: str) -> Sighting | None:
         """The scripted sighting of ``tag``."""
         return self.sightings.get(tag)
+
+    def dose(self) -> DoseSample | None:
+        """The scripted radiation sample."""
+        return self.dose_sample
 
     def send(self, command: FclCommand | PpclCommand, **args: float) -> Command:
         """Record the command; refused ones fail at once, the others run."""

@@ -91,6 +91,19 @@ class Sighting:
     """s, sim time of the image."""
 
 
+@dataclass(frozen=True)
+class DoseSample:
+    """One integration of the radiation detector (``/<agent>/sensors/radiation``)."""
+
+    dose_rate: float
+    """microsievert per hour at the aircraft."""
+    counts: int
+    integration_time: float
+    """s."""
+    time: float
+    """s, sim time of the end of the integration."""
+
+
 class PlatformPort(Protocol):
     """One agent's Platform Server, as executors use it."""
 
@@ -111,3 +124,6 @@ class PlatformPort(Protocol):
 
     def seen(self, tag: str) -> Sighting | None:
         """The hook camera's latest sighting of the object ``tag``, None if never seen."""
+
+    def dose(self) -> DoseSample | None:
+        """The radiation detector's latest sample, None before the first one."""

@@ -32,6 +32,7 @@ from hdrc3_tst.executor_steps import DATA_TIMEOUT_S, Steps, airborne, finish, fl
 from hdrc3_tst.payload_executors import PAYLOAD_EXECUTORS
 from hdrc3_tst.planned_flight import PlannedFlight, segment_args
 from hdrc3_tst.polyline import polyline
+from hdrc3_tst.radiation_executor import RADIATION_EXECUTORS
 
 SEGMENTS_DONE = "segments_done"
 """``ActionContext.memory`` key: segments of a streamed pattern flown to their end."""
@@ -261,6 +262,7 @@ RMAX_EXECUTORS: Mapping[str, type[ActionExecutor]] = MappingProxyType(
         "camera-zoom": CameraZoom,
         "wait": Wait,
         **PAYLOAD_EXECUTORS,
+        **RADIATION_EXECUTORS,
     }
 )
 """The RMAX's executor of every action in :data:`~hdrc3_tst.actions.ACTIONS` (a test checks)."""

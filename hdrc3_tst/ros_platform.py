@@ -19,7 +19,13 @@ from rclpy.client import Client
 from rclpy.node import Node
 
 from hdrc3_base.ros_runtime import SERVICE_QOS
-from hdrc3_interfaces.msg import FclReturn, HelicopterState, PlatformEvent, PpclReturn
+from hdrc3_interfaces.msg import (
+    FclReturn,
+    HelicopterState,
+    PlatformEvent,
+    PpclReturn,
+    RadiationDose,
+)
 from hdrc3_interfaces.srv import PpclControl, PpclHook
 from hdrc3_platform_server.client import event_from_msg
 from hdrc3_platform_server.codes import EventKind, FclCommand, PpclCommand, Resource
@@ -32,6 +38,7 @@ from hdrc3_tst.platform_port import (
     AnyCommand,
     Command,
     CommandState,
+    DoseSample,
     PlatformState,
     Sighting,
 )
@@ -75,6 +82,10 @@ class RosPlatform:
             HelicopterState, f"/{agent}/helicopter_state", self._on_state, STATE_QOS
         )
         self._seen: dict[str, Sighting] = {}
+        self._dose: DoseSample | None = None
+        node.create_subscription(
+            RadiationDose, f"/{agent}/sensors/radiation", self._on_dose, STATE_QOS
+        )
         node.create_subscription(
             PointStamped, f"/{agent}/sensors/hook_camera", self._on_seen, STATE_QOS
         )
@@ -125,6 +136,16 @@ class RosPlatform:
     def seen(self, tag: str) -> Sighting | None:
         """The hook camera's latest sighting of ``tag``."""
         return self._seen.get(tag)
+
+    def dose(self) -> DoseSample | None:
+        """The radiation detector's latest sample."""
+        return self._dose
+
+    def _on_dose(self, msg: Any) -> None:
+        if not (math.isfinite(msg.dose_rate) and math.isfinite(msg.integration_time)):
+            return
+        stamp = float(msg.header.stamp.sec) + 1e-9 * float(msg.header.stamp.nanosec)
+        self._dose = DoseSample(msg.dose_rate, int(msg.counts), msg.integration_time, stamp)
 
     def _on_seen(self, msg: Any) -> None:
         p = msg.point

@@ -23,6 +23,7 @@ from hdrc3_interfaces.msg import (
     GroundContact,
     PowerStatus,
     PtuState,
+    RadiationDose,
     RotatingLaserScan,
     RotorRpm,
     TruthState,
@@ -73,6 +74,7 @@ class AgentTopics:
         self.color_pose = pub(PoseStamped, f"{ns}/ground_truth/color_camera_pose", qos)
         self.thermal_pose = pub(PoseStamped, f"{ns}/ground_truth/thermal_camera_pose", qos)
         self.laser = pub(RotatingLaserScan, f"{ns}/sensors/laser", qos)
+        self.radiation = pub(RadiationDose, f"{ns}/sensors/radiation", qos)
         self.status = pub(YacsStatus, f"{ns}/yacs/status", qos)
         self.odometry = pub(Odometry, f"{ns}/ground_truth/odometry", qos)
         self.truth = pub(TruthState, f"{ns}/ground_truth/state", qos)
@@ -102,6 +104,7 @@ class AgentTopics:
         self.m_pose = PoseStamped()
         self.m_pose.header.frame_id = "world_enu"
         self.m_laser = RotatingLaserScan()
+        self.m_radiation = RadiationDose()
         self.m_status = YacsStatus()
         self.m_odom = Odometry()
         self.m_odom.header.frame_id = "world_enu"
@@ -167,7 +170,7 @@ class AgentTopics:
                 self.power.publish(m)
 
     def publish_payload(self, readings: Sequence[SensorReadings]) -> None:
-        """The payload's samples (time order): PTU, camera exposures and their poses, laser."""
+        """The payload's samples (time order): PTU, cameras and their poses, laser, radiation."""
         for r in readings:
             if r.ptu is not None and self.ptu.get_subscription_count():
                 m = self.m_ptu
@@ -189,6 +192,12 @@ class AgentTopics:
                     self._camera_pose(frame, pose_publisher)
             if r.laser is not None and self.laser.get_subscription_count():
                 self._laser(r)
+            if r.radiation is not None and self.radiation.get_subscription_count():
+                m = self.m_radiation
+                stamp_header(m.header, _ns(r.radiation.time))
+                m.dose_rate, m.counts = r.radiation.dose_rate, r.radiation.counts
+                m.integration_time = r.radiation.integration_time
+                self.radiation.publish(m)
 
     def _camera_pose(self, frame: CameraFrame, publisher: Any) -> None:
         m = self.m_pose

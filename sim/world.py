@@ -126,6 +126,21 @@ class Depot:
 
 
 @dataclass(frozen=True, slots=True)
+class RadiationSource:
+    """A gamma point source (the chapter's damaged reactor, section 9.4's Fukushima examples)."""
+
+    name: str
+    east: float
+    north: float
+    height: float
+    """m above the ground under it."""
+    dose_rate: float
+    """microsievert per hour at 1 m, before air attenuation."""
+    attenuation: float
+    """1/m, linear attenuation of the gamma rays in air (0.0093 for Cs-137's 662 keV)."""
+
+
+@dataclass(frozen=True, slots=True)
 class DynamicObject:
     """A movable object: person, dummy or animal on the ground, supply box, carrier or car.
 
@@ -163,6 +178,9 @@ class World:
     pads: tuple[LandingPad, ...] = ()
     depots: tuple[Depot, ...] = ()
     objects: tuple[DynamicObject, ...] = ()
+    radiation_sources: tuple[RadiationSource, ...] = ()
+    radiation_background: float = 0.1
+    """microsievert per hour everywhere (natural background)."""
     description: str = ""
     source: Path | None = field(default=None, compare=False)
     """File the world was loaded from (None for worlds built in code)."""

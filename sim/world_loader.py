@@ -31,6 +31,7 @@ from sim.world import (
     ObjectKind,
     Place,
     Point2,
+    RadiationSource,
     Road,
     Vegetation,
     World,
@@ -52,8 +53,14 @@ DEFAULT_SIZES: dict[ObjectKind, tuple[float, float, float]] = {
 }
 """Default object dimensions (length, width, height), m, when the file gives no ``size``."""
 
+AIR_ATTENUATION = 0.0093
+"""1/m, default linear attenuation of a radiation source's gamma rays in air (Cs-137, 662 keV:
+0.0775 cm2/g x 1.205 kg/m3)."""
+DEFAULT_BACKGROUND = 0.1
+"""microsievert per hour, default natural background of a world."""
+
 _TABLE_KEYS: dict[str, frozenset[str]] = {
-    "world": frozenset({"name", "description"}),
+    "world": frozenset({"name", "description", "radiation_background"}),
     "origin": frozenset({"latitude", "longitude", "altitude"}),
     "terrain": frozenset({"east0", "north0", "spacing", "heights"}),
 }
@@ -63,6 +70,7 @@ _ARRAY_KEYS: dict[str, frozenset[str]] = {
     "vegetation": frozenset({"name", "polygon", "height"}),
     "no_fly_zone": frozenset({"name", "polygon", "floor", "ceiling"}),
     "place": frozenset({"name", "position"}),
+    "radiation_source": frozenset({"name", "position", "height", "dose_rate", "attenuation"}),
     "pad": frozenset({"name", "position", "radius", "heading_deg", "pattern"}),
     "depot": frozenset({"name", "type", "position", "radius"}),
     "object": frozenset(
@@ -212,6 +220,11 @@ class _Reader:
         description = self._guard(
             lambda: self._string(parts["world"], "world", 0, "description", required=False)
         )
+        background = self._guard(
+            lambda: self._number(
+                parts["world"], "world", 0, "radiation_background", DEFAULT_BACKGROUND, 0.0
+            )
+        )
         objects = tuple(self._entries(data, "object", self._object))
         world = (
             World(
@@ -226,6 +239,10 @@ class _Reader:
                 pads=tuple(self._entries(data, "pad", self._pad)),
                 depots=tuple(self._entries(data, "depot", self._depot)),
                 objects=objects,
+                radiation_sources=tuple(
+                    self._entries(data, "radiation_source", self._radiation_source)
+                ),
+                radiation_background=DEFAULT_BACKGROUND if background is None else background,
                 description=description or "",
                 source=source,
             )
@@ -439,6 +456,17 @@ class _Reader:
         name = self._string(value, "place", entry, "name")
         east, north = self._point(value, "place", entry)
         return Place(name, east, north)
+
+    def _radiation_source(self, value: dict[str, Any], entry: int) -> RadiationSource:
+        table = "radiation_source"
+        name = self._string(value, table, entry, "name")
+        east, north = self._point(value, table, entry)
+        height = self._number(value, table, entry, "height", default=1.0, minimum=0.0)
+        dose = self._number(value, table, entry, "dose_rate", minimum=0.0, exclusive=True)
+        attenuation = self._number(
+            value, table, entry, "attenuation", default=AIR_ATTENUATION, minimum=0.0
+        )
+        return RadiationSource(name, east, north, height, dose, attenuation)
 
     def _pad(self, value: dict[str, Any], entry: int) -> LandingPad:
         name = self._string(value, "pad", entry, "name")

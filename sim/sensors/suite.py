@@ -23,6 +23,7 @@ from sim.sensors.imu import Imu, ImuSample
 from sim.sensors.laser import LaserRangeFinder, LaserScan
 from sim.sensors.power import PowerManager, PowerSample, PowerSensor
 from sim.sensors.ptu import PanTiltUnit, PtuSample, PtuSensor
+from sim.sensors.radiation import RadiationField, RadiationSample, RadiationSensor
 from sim.sensors.sensor import Sensor
 from sim.truth_state import TruthState
 from sim.world import World
@@ -45,6 +46,7 @@ class SensorReadings:
     color_camera: CameraFrame | None
     thermal_camera: CameraFrame | None
     laser: LaserScan | None
+    radiation: RadiationSample | None
 
 
 class SensorSuite:
@@ -66,6 +68,7 @@ class SensorSuite:
         self.color_camera = Camera(COLOR_CAMERA, self.ptu, power=self.power)
         self.thermal_camera = Camera(THERMAL_CAMERA, self.ptu, power=self.power)
         self.laser = LaserRangeFinder(geometry, power=self.power)
+        self.radiation = RadiationSensor(RadiationField(world))
         self.reset(seed)
 
     def sensors(self) -> dict[str, Sensor[Any]]:
@@ -82,6 +85,7 @@ class SensorSuite:
             self.color_camera,
             self.thermal_camera,
             self.laser,
+            self.radiation,  # last: the seeds of the others do not change
         ]
         return {s.name: s for s in all_sensors}
 
@@ -124,4 +128,5 @@ class SensorSuite:
             color_camera=self.color_camera.update(truth),
             thermal_camera=self.thermal_camera.update(truth),
             laser=self.laser.update(truth),
+            radiation=self.radiation.update(truth),
         )

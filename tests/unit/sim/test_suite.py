@@ -41,7 +41,7 @@ def test_same_seed_same_readings_and_independent_streams() -> None:
 
 def test_fault_and_power_by_name() -> None:
     suite = SensorSuite(WORLD, seed=1, geometry=GEOMETRY)
-    assert len(suite.sensors()) == 11
+    assert len(suite.sensors()) == 12
     suite.sensor("gps").fault.set(FaultMode.DROP)
     suite.power.switch(PowerDevice.LASER, on=False)
     readings = fly(suite, 0.5)

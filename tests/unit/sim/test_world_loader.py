@@ -155,6 +155,19 @@ BAD_WORLDS = {
         ),
         "rectangular grid",
     ),
+    "radiation source without dose rate": (
+        BASE + '[[radiation_source]]  # <-- error\nname = "r"\nposition = [0.0, 0.0]\n',
+        "radiation_source 'r' has no dose_rate",
+    ),
+    "radiation source dose rate zero": (
+        BASE + '[[radiation_source]]\nname = "r"\nposition = [0.0, 0.0]\n'
+        "dose_rate = 0.0  # <-- error\n",
+        "dose_rate must be > 0.0",
+    ),
+    "negative background": (
+        BASE.replace('name = "test"', 'name = "test"\nradiation_background = -1.0  # <-- error'),
+        "radiation_background must be >= 0.0",
+    ),
     "unknown depot type": (
         BASE + '[[depot]]\nname = "d"\ntype = "fuel"  # <-- error\nposition = [0.0, -50.0]\n'
         "radius = 5.0\n",

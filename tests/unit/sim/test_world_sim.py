@@ -99,6 +99,7 @@ def test_a_tick_is_four_fdm_steps_with_sensors_at_their_rates() -> None:
         "thermal_camera": 25,
         "gps": 10,
         "power": 5,
+        "radiation": 1,
     }  # the laser is switched off at start
 
 

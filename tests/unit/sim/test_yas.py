@@ -45,6 +45,7 @@ def readings(
         color_camera=None,
         thermal_camera=None,
         laser=None,
+        radiation=None,
     )
 
 
