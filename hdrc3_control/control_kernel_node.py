@@ -3,7 +3,8 @@
 Lockstep with ``world_sim`` in sim time: world_sim publishes the sensor samples of tick k, the
 YACS status and then ``/clock`` = t_k; once both the clock and the status of t_k are in, the node
 runs one kernel tick (Algorithm 1) and answers with exactly one ``yacs/command`` stamped t_k,
-whatever the mode (manual, on the ground, between two functions). Events to and from the DRC
+whatever the mode (manual, on the ground, between two functions); when world_sim re-announces
+t_k (it never got the answer), the same answer goes out again. Events to and from the DRC
 (platform_server) and the PPC travel over the HCSM ROS transport (``hcsm/events/<COMPUTER>``).
 
 Topics (relative to the agent namespace): in ``sensors/{imu,attitude,gps/fix,gps/velocity,
@@ -174,6 +175,8 @@ class ControlKernelNode(SteppedNode):
         self._clock_ns: int | None = None
         self._status_ns: int | None = None
         self._answered_ns = -1
+        self.answers_resent = 0
+        """Answers sent again for a re-announced tick (world_sim had not received them)."""
         self.overruns = 0
         self.step_time = 0.0
         self.ticks = 0
@@ -207,7 +210,14 @@ class ControlKernelNode(SteppedNode):
 
     # ------------------------------------------------------------------ inputs
     def _on_clock(self, msg: Any) -> None:
-        self._clock_ns = _ns(msg.clock)
+        ns = _ns(msg.clock)
+        if ns == self._clock_ns == self._answered_ns:
+            # world_sim re-announces a tick it still waits for: our answer never reached it (a
+            # writer that has not matched world_sim's reader yet sends it to nobody, as at a
+            # launch's first tick). The same answer again; an answer it had is a duplicate.
+            self.command_pub.publish(self._command)
+            self.answers_resent += 1
+        self._clock_ns = ns
 
     def _on_status(self, msg: Any) -> None:
         self._status_ns = _ns(msg.header.stamp)

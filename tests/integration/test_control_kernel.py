@@ -315,3 +315,62 @@ def test_bad_parameters_exit_2_with_one_line(
 
     assert main(["hdrc3-control-kernel", "--ros-args", "-p", param]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_a_reannounced_tick_is_answered_again(
+    hdrc3_cli: Callable[..., Any], ros_domain: int
+) -> None:
+    """world_sim re-announces a tick whose answer it never got: the PFC answers it again.
+
+    At a launch's first tick the PFC's command writer may not have matched world_sim's reader
+    yet, and a reliable writer sends to matched readers only: the answer was lost and the whole
+    simulation waited for it for good (a flagship run stalled at 0 s). The test is world_sim.
+    """
+    from rclpy.node import Node
+    from rosgraph_msgs.msg import Clock
+
+    from hdrc3_base.ros_runtime import RosProcess
+    from hdrc3_control.control_kernel_node import CLOCK_QOS, COMMAND_QOS, SENSOR_QOS
+    from hdrc3_interfaces.msg import YacsCommand, YacsStatus
+
+    launch = hdrc3_cli("launch", "--agents", AGENT, "--nodes", "control_kernel")
+    launch.wait_for_line("READY", timeout=90)
+    with RosProcess(domain_id=ros_domain, handle_signals=False) as process:
+        node = process.add_node(Node("fake_world_sim", context=process.context))
+        answers: list[int] = []
+        node.create_subscription(
+            YacsCommand,
+            f"/{AGENT}/yacs/command",
+            lambda m: answers.append(m.header.stamp.sec * 10**9 + m.header.stamp.nanosec),
+            COMMAND_QOS,
+        )
+        status = node.create_publisher(YacsStatus, f"/{AGENT}/yacs/status", SENSOR_QOS)
+        clock = node.create_publisher(Clock, "/clock", CLOCK_QOS)
+        assert process.spin_until(
+            lambda: status.get_subscription_count() > 0 and clock.get_subscription_count() > 0,
+            60.0,
+        )
+
+        def announce(ns: int) -> None:
+            s = YacsStatus()
+            s.header.stamp.sec, s.header.stamp.nanosec = divmod(ns, 10**9)
+            status.publish(s)
+            c = Clock()
+            c.clock.sec, c.clock.nanosec = divmod(ns, 10**9)
+            clock.publish(c)
+
+        tick = 20_000_000
+        # as world_sim does: announce the tick again every half second until it is answered
+        for _ in range(120):
+            announce(tick)
+            if process.spin_until(lambda: tick in answers, 0.5):
+                break
+        assert answers and set(answers) == {tick}, answers
+        announce(tick)  # re-announced: world_sim says it has no answer for it
+        # answered again (a PFC answers each tick once otherwise: the count would stay 1)
+        assert process.spin_until(lambda: answers.count(tick) >= 2, 30.0), answers
+        announce(2 * tick)
+        assert process.spin_until(lambda: 2 * tick in answers, 30.0), answers
+        assert answers[-1] == 2 * tick and set(answers) == {tick, 2 * tick}, answers
+        node.destroy_node()
+    assert launch.interrupt(timeout=30) == 0
