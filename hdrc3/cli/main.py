@@ -37,6 +37,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "hdrc3.cli.ppcl",
     "hdrc3.cli.state",
     "hdrc3.cli.rc",
+    "hdrc3.cli.workspace",
 )
 
 

@@ -20,12 +20,16 @@ class Child:
     """A running `hdrc3 ...` process whose output is read with bounded waits."""
 
     def __init__(
-        self, args: list[str], prefix: Sequence[str] = (), env: Mapping[str, str] | None = None
+        self,
+        args: list[str],
+        prefix: Sequence[str] = (),
+        env: Mapping[str, str] | None = None,
+        program: str = HDRC3,
     ) -> None:
-        """Start ``[*prefix, hdrc3, *args]`` (``prefix``: e.g. ``ip netns exec NS``)."""
+        """Start ``[*prefix, program, *args]`` (``prefix``: e.g. ``ip netns exec NS``)."""
         self.args = args
         self.proc = subprocess.Popen(
-            [*prefix, HDRC3, *args],
+            [*prefix, program, *args],
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             start_new_session=True,
