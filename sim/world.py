@@ -17,6 +17,11 @@ from sim.terrain import Terrain
 
 Point2 = tuple[float, float]
 """(east, north) in metres."""
+AIR_ATTENUATION = 0.0093
+"""1/m, default linear attenuation of a radiation source's gamma rays in air (Cs-137, 662 keV:
+0.0775 cm2/g x 1.205 kg/m3)."""
+DEFAULT_BACKGROUND = 0.1
+"""microsievert per hour, default natural background of a world."""
 
 
 class ObjectKind(enum.Enum):
@@ -179,7 +184,7 @@ class World:
     depots: tuple[Depot, ...] = ()
     objects: tuple[DynamicObject, ...] = ()
     radiation_sources: tuple[RadiationSource, ...] = ()
-    radiation_background: float = 0.1
+    radiation_background: float = DEFAULT_BACKGROUND
     """microsievert per hour everywhere (natural background)."""
     description: str = ""
     source: Path | None = field(default=None, compare=False)

@@ -21,6 +21,8 @@ from sim.geodesy import GeodeticOrigin
 from sim.landing_pattern import PAD_HALF_WIDTH_M
 from sim.terrain import Terrain
 from sim.world import (
+    AIR_ATTENUATION,
+    DEFAULT_BACKGROUND,
     BoxContents,
     Building,
     Depot,
@@ -52,12 +54,6 @@ DEFAULT_SIZES: dict[ObjectKind, tuple[float, float, float]] = {
     ObjectKind.ANIMAL: (1.1, 0.4, 0.8),
 }
 """Default object dimensions (length, width, height), m, when the file gives no ``size``."""
-
-AIR_ATTENUATION = 0.0093
-"""1/m, default linear attenuation of a radiation source's gamma rays in air (Cs-137, 662 keV:
-0.0775 cm2/g x 1.205 kg/m3)."""
-DEFAULT_BACKGROUND = 0.1
-"""microsievert per hour, default natural background of a world."""
 
 _TABLE_KEYS: dict[str, frozenset[str]] = {
     "world": frozenset({"name", "description", "radiation_background"}),
