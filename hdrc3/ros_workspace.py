@@ -26,7 +26,7 @@ from pathlib import Path
 from hdrc3_base.errors import ConfigError
 
 SCRIPT_PREFIX = "hdrc3-"
-"""Console scripts are ``hdrc3-<executable>``; the ``hdrc3`` CLI keeps its name."""
+"""Console scripts are ``hdrc3-<executable>``; the ``hdrc3`` CLI keeps its name (no prefix)."""
 UNDERLAY = ("hdrc3_interfaces", "rclpy")
 """ROS packages the workspace's packages may depend on that come from the underlay."""
 VERSION_DEFAULT = "0.0.0"
@@ -133,8 +133,7 @@ def ros_packages(project: Project) -> tuple[RosPackage, ...]:
 
 
 def _executable(script: str) -> str:
-    name = script.removeprefix(SCRIPT_PREFIX) if script != SCRIPT_PREFIX.rstrip("-") else script
-    return name.replace("-", "_")
+    return script.removeprefix(SCRIPT_PREFIX).replace("-", "_")
 
 
 def package_xml(package: RosPackage, project: Project) -> str:

@@ -54,6 +54,11 @@ _PPCL_CODES = {
 }
 
 
+def _stamp_s(header: Any) -> float:
+    """Seconds of sim time of a message header's stamp."""
+    return float(header.stamp.sec) + 1e-9 * float(header.stamp.nanosec)
+
+
 class RosPlatform:
     """:class:`~hdrc3_tst.platform_port.PlatformPort` of ``agent`` for a node's executor."""
 
@@ -144,15 +149,15 @@ class RosPlatform:
     def _on_dose(self, msg: Any) -> None:
         if not (math.isfinite(msg.dose_rate) and math.isfinite(msg.integration_time)):
             return
-        stamp = float(msg.header.stamp.sec) + 1e-9 * float(msg.header.stamp.nanosec)
-        self._dose = DoseSample(msg.dose_rate, int(msg.counts), msg.integration_time, stamp)
+        self._dose = DoseSample(
+            msg.dose_rate, int(msg.counts), msg.integration_time, _stamp_s(msg.header)
+        )
 
     def _on_seen(self, msg: Any) -> None:
         p = msg.point
         if not all(math.isfinite(v) for v in (p.x, p.y, p.z)):
             return
-        stamp = float(msg.header.stamp.sec) + 1e-9 * float(msg.header.stamp.nanosec)
-        self._seen[str(msg.header.frame_id)] = Sighting((p.x, p.y, p.z), stamp)
+        self._seen[str(msg.header.frame_id)] = Sighting((p.x, p.y, p.z), _stamp_s(msg.header))
 
     # --- calls ----------------------------------------------------------------------------
     def _client(self, srv_type: Any, name: str) -> Client:
