@@ -45,6 +45,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from hdrc3_base.stamps import stamp_s
+
 AGENT = "uav0"
 WORLD = "revinge"
 ALTITUDE = 12.0
@@ -59,10 +61,6 @@ HOVER_THROTTLE = 0.55
 
 def log(text: str) -> None:
     print(text, flush=True)
-
-
-def stamp_s(stamp: Any) -> float:
-    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
 
 
 class Launch:

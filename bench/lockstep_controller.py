@@ -28,6 +28,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, NavSatFix
 
+from hdrc3_base.stamps import stamp_s
 from hdrc3_interfaces.msg import (
     Attitude,
     Barometer,
@@ -90,7 +91,7 @@ class Controller(Node):
 
     def answer(self, msg: Clock) -> None:
         """Answer one tick (and start the measurement at the first one)."""
-        sim = msg.clock.sec + msg.clock.nanosec * 1e-9
+        sim = stamp_s(msg.clock)
         wall = time.perf_counter()
         if self.first is None:
             self.first = (sim, wall)

@@ -43,6 +43,7 @@ from rclpy.serialization import deserialize_message
 from rosgraph_msgs.msg import Clock
 
 from hdrc3.mcap_recording import RecordingReader
+from hdrc3_base.stamps import stamp_s
 
 HDRC3 = str(Path(sys.executable).parent / "hdrc3")
 ROOT = Path(__file__).resolve().parent.parent
@@ -160,7 +161,7 @@ class ClockWatch:
         context.try_shutdown()
 
     def _on_clock(self, msg: Clock) -> None:
-        t = msg.clock.sec + msg.clock.nanosec * 1e-9
+        t = stamp_s(msg.clock)
         if self._first is None:
             self._first = t
             self.started.set()
@@ -211,7 +212,7 @@ def run_case(name: str, command: list[str], recording: Path, until_s: float | No
         result.counts[m.topic] += 1
         if m.topic == "/clock":
             c = deserialize_message(m.data, Clock).clock
-            sample = (c.sec + c.nanosec * 1e-9, m.log_time_ns * 1e-9)
+            sample = (stamp_s(c), m.log_time_ns * 1e-9)
             first = first or sample
             last = sample
     if first is not None and last is not None:

@@ -31,6 +31,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from hdrc3_base.stamps import stamp_s
+
 BIN = Path(sys.executable).parent
 AGENT = "uav0"
 
@@ -84,7 +86,7 @@ class Client:
             self.finished.add(msg.command_id)
 
     def _on_state(self, msg: Any) -> None:
-        self.stamps.append(msg.pfc_time.sec + 1e-9 * msg.pfc_time.nanosec)
+        self.stamps.append(stamp_s(msg.pfc_time))
 
     def spin_until(self, done: Callable[[], bool], timeout: float) -> bool:
         """Spin until ``done()`` or the wall-clock timeout."""

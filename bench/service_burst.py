@@ -7,6 +7,8 @@ every client sends a burst of calls at once without waiting (``call_async``), ro
 FCL_NOT_ACCEPTED), ``ppcl/ptu_limits`` (PPCL_OK) and ``/world_sim/teleport`` (unknown frame:
 INVALID_ARGUMENT) - every one of them has a defined answer - then waits (bounded) for all answers
 before the next burst. Refusals are answers; a call without an answer after the wait is lost.
+Before the start every client gets one answer from each service (sent again until answered), so
+that a lost count is a queueing loss and not DDS dropping the first answers to a new client.
 
 Figures: calls sent, answered, lost per client and in total; slowest answer of a burst (wall).
 Target (issue 21): 1,000 calls in bursts from 5 clients, 100 % answered.
@@ -54,7 +56,7 @@ def client_main(args: argparse.Namespace) -> int:
     from rclpy.node import Node
     from rclpy.qos import qos_profile_services_default
 
-    from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
+    from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess, first_answer
 
     qos = qos_profile_services_default if args.client_qos == "default" else SERVICE_QOS
     with RosProcess(domain_id=args.domain_id, handle_signals=False) as process:
@@ -62,12 +64,25 @@ def client_main(args: argparse.Namespace) -> int:
         executor = SingleThreadedExecutor(context=process.context)
         executor.add_node(node)
         clients = _clients(node, qos)
+
+        def spin(done: Any, timeout: float) -> bool:
+            wait_until = time.monotonic() + timeout
+            while not done() and time.monotonic() < wait_until:
+                executor.spin_once(timeout_sec=0.05)
+            return bool(done())
+
         deadline = time.monotonic() + 60.0
         while not all(c.service_is_ready() for c, _ in clients):
             if time.monotonic() > deadline:
                 print(json.dumps({"client": args.client, "error": "services not found"}))
                 return 1
             executor.spin_once(timeout_sec=0.1)
+        # one answer per client first (each is a refusal or a query: repeatable), so that the
+        # burst measures queueing, not DDS discovery dropping the first answers to a new client
+        for client, request in clients:
+            if first_answer(client, request(), 30.0, spin) is None:
+                print(json.dumps({"client": args.client, "error": "no first answer"}))
+                return 1
         while time.time() < args.start:
             executor.spin_once(timeout_sec=min(0.1, max(0.0, args.start - time.time())))
         sent = answered = 0

@@ -20,6 +20,7 @@ from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_base.stamps import stamp_s
 from hdrc3_interfaces.srv import SimInjectFault
 
 _FAULT = re.compile(
@@ -103,7 +104,7 @@ class FaultTrigger:
                 self._armed[i] = self._now + fault.delay_s
 
     def _on_clock(self, msg: Any) -> None:
-        self._now = msg.clock.sec + 1e-9 * msg.clock.nanosec
+        self._now = stamp_s(msg.clock)
         for i, due in self._armed.items():
             if i not in self._sent and self._now >= due:
                 self._sent.add(i)

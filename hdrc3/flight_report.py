@@ -21,6 +21,7 @@ from rclpy.serialization import deserialize_message
 from hdrc3.mcap_recording import RecordedMessage, RecordingReader
 from hdrc3.message_types import message_class
 from hdrc3_base.errors import DataError
+from hdrc3_base.stamps import stamp_s
 from hdrc3_control.path_segment import PathSegment
 
 _EVENT_KINDS = {0: "FINISHED", 1: "FAILED", 2: "CANCELLED", 3: "SEGMENT_REQUEST", 4: "INFO"}
@@ -181,7 +182,7 @@ class FlightReportBuilder:
     def add(self, message: RecordedMessage) -> None:
         """Take one message of one of :attr:`topics`."""
         msg = self._decode(message)
-        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        stamp = stamp_s(msg.header.stamp)
         report = self.report
         if message.topic == self.pfc_topic:
             if self._t0 is None:

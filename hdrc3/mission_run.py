@@ -19,6 +19,7 @@ from typing import Any
 from rosgraph_msgs.msg import Clock
 
 from hdrc3_base.ros_runtime import RosProcess
+from hdrc3_base.stamps import stamp_s
 from hdrc3_tst.check import CheckStatus
 from hdrc3_tst.mission_client import Created, Reply, TstClient
 from hdrc3_tst.model import NodeState
@@ -166,7 +167,7 @@ def settle(process: RosProcess, client: TstClient) -> None:
     clock: list[float] = []
 
     def on_clock(msg: Any) -> None:
-        clock.append(msg.clock.sec + 1e-9 * msg.clock.nanosec)
+        clock.append(stamp_s(msg.clock))
 
     client.node.create_subscription(Clock, "/clock", on_clock, 10)
     if process.spin_until(lambda: bool(clock), SETTLE_WAIT_S):

@@ -19,7 +19,7 @@ from __future__ import annotations
 import ast
 import fnmatch
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -102,20 +102,24 @@ def read_project(root: Path) -> Project:
     )
 
 
+def module_imports(path: Path) -> Iterator[tuple[int, str]]:
+    """(line, absolute module) of every import statement in one file, also inside functions."""
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+        if isinstance(node, ast.Import):
+            yield from ((node.lineno, alias.name) for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            yield node.lineno, node.module
+
+
 def imported_packages(directory: Path, candidates: Iterable[str]) -> tuple[str, ...]:
     """The ``candidates`` the modules under ``directory`` import (itself excluded)."""
-    wanted, found = set(candidates) - {directory.name}, set[str]()
-    for module in directory.rglob("*.py"):
-        tree = ast.parse(module.read_text(), str(module))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.Import):
-                names = [alias.name for alias in node.names]
-            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-                names = [node.module]
-            else:
-                continue
-            found.update(n.split(".", 1)[0] for n in names if n.split(".", 1)[0] in wanted)
-    return tuple(sorted(found))
+    wanted = set(candidates) - {directory.name}
+    found = {
+        module.split(".", 1)[0]
+        for path in directory.rglob("*.py")
+        for _, module in module_imports(path)
+    }
+    return tuple(sorted(found & wanted))
 
 
 def ros_packages(project: Project) -> tuple[RosPackage, ...]:

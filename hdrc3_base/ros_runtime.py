@@ -176,43 +176,60 @@ class RosProcess:
     def first_answer(
         self, client: Client, request: Any, timeout_s: float, attempt_s: float = 2.0
     ) -> Any | None:
-        """Call ``client`` until one answer arrives: proof that both directions of it are matched.
-
-        ``service_is_ready()`` only says that the server's request reader matched this client's
-        request writer. The answer travels on a second pair, the server's response writer and
-        this client's response reader, which DDS discovers separately. Fast DDS (rmw_fastrtps,
-        ``__rmw_send_response``) waits at most 100 ms for that pair and otherwise drops the
-        answer with "client will not receive response" (rclpy only warns). On a loaded machine
-        the first answers to a new client were lost that way (issue 21: 148 of 150 in CI).
-
-        Only for requests that may be repeated: an unanswered attempt may still have been served.
-
-        Args:
-            client: A client whose service :meth:`Client.service_is_ready` reports.
-            request: The request to send on each attempt.
-            timeout_s: Wall-clock bound for all attempts.
-            attempt_s: How long one attempt waits before the request is sent again.
-
-        Returns:
-            The first response, or None when no attempt was answered in time.
-
-        """
-        deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
-            future = client.call_async(request)
-            wait_s = min(attempt_s, deadline - time.monotonic())
-            if self.spin_until(future.done, wait_s):
-                return future.result()
-            client.remove_pending_request(future)
-            if self.stop_requested.is_set():
-                break
-        return None
+        """:func:`first_answer` spinning this process's executor."""
+        return first_answer(
+            client, request, timeout_s, self.spin_until, attempt_s, self.stop_requested.is_set
+        )
 
     def spin_until_stopped(
         self, step_s: float = 0.1, tick: Callable[[], None] | None = None
     ) -> None:
         """Spin until SIGINT/SIGTERM (or :attr:`stop_requested` set), calling ``tick`` each pass."""
         self.spin_until(lambda: not self.context.ok(), math.inf, step_s, tick)
+
+
+def first_answer(
+    client: Client,
+    request: Any,
+    timeout_s: float,
+    spin_until: Callable[[Callable[[], bool], float], bool],
+    attempt_s: float = 2.0,
+    stopped: Callable[[], bool] = lambda: False,
+) -> Any | None:
+    """Call ``client`` until one answer arrives: proof that both directions of it are matched.
+
+    ``service_is_ready()`` only says that the server's request reader matched this client's
+    request writer. The answer travels on a second pair, the server's response writer and this
+    client's response reader, which DDS discovers separately. Fast DDS (rmw_fastrtps,
+    ``__rmw_send_response``) waits at most 100 ms for that pair and otherwise drops the answer
+    with "client will not receive response" (rclpy only warns). On a loaded machine the first
+    answers to a new client were lost that way (issue 21: 148 of 150 in CI).
+
+    Only for requests that may be repeated: queries, and commands with a ``request_key`` (the
+    server answers a known key with its first answer); an unanswered attempt may have been served.
+
+    Args:
+        client: A client whose service :meth:`Client.service_is_ready` reports.
+        request: The request to send on each attempt.
+        timeout_s: Wall-clock bound for all attempts.
+        spin_until: Spins the client's executor until ``done()`` or ``timeout`` seconds; whether
+            it is done (:meth:`RosProcess.spin_until`).
+        attempt_s: How long one attempt waits before the request is sent again.
+        stopped: Whether to give up at once (e.g. after SIGINT).
+
+    Returns:
+        The first response, or None when no attempt was answered in time.
+
+    """
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        future = client.call_async(request)
+        if spin_until(future.done, min(attempt_s, deadline - time.monotonic())):
+            return future.result()
+        client.remove_pending_request(future)
+        if stopped():
+            break
+    return None
 
 
 def node_name_counts(node: Node) -> Counter[str]:

@@ -43,6 +43,7 @@ from std_msgs.msg import String
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
+from hdrc3_base.stamps import set_stamp_ns, stamp_ns, stamp_s
 from hdrc3_control.commands import EstimatorHealth, VerticalMode
 from hdrc3_control.kernel import PfcKernel, TickResult, UiCommand
 from hdrc3_control.kernel_config import KernelConfig
@@ -93,18 +94,6 @@ _HEALTH = {
     EstimatorHealth.DEGRADED: PfcState.HEALTH_DEGRADED,
     EstimatorHealth.LOST: PfcState.HEALTH_LOST,
 }
-
-
-def _sec(stamp: Any) -> float:
-    return float(stamp.sec) + float(stamp.nanosec) * 1e-9
-
-
-def _ns(stamp: Any) -> int:
-    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
-
-
-def _set_stamp(stamp: Any, ns: int) -> None:
-    stamp.sec, stamp.nanosec = ns // 1_000_000_000, ns % 1_000_000_000
 
 
 class FiringTrace:
@@ -210,7 +199,7 @@ class ControlKernelNode(SteppedNode):
 
     # ------------------------------------------------------------------ inputs
     def _on_clock(self, msg: Any) -> None:
-        ns = _ns(msg.clock)
+        ns = stamp_ns(msg.clock)
         if ns == self._clock_ns == self._answered_ns:
             # world_sim re-announces a tick it still waits for: our answer never reached it (a
             # writer that has not matched world_sim's reader yet sends it to nobody, as at a
@@ -220,10 +209,10 @@ class ControlKernelNode(SteppedNode):
         self._clock_ns = ns
 
     def _on_status(self, msg: Any) -> None:
-        self._status_ns = _ns(msg.header.stamp)
+        self._status_ns = stamp_ns(msg.header.stamp)
         self.kernel.feed_status(
             PlatformStatus(
-                _sec(msg.header.stamp),
+                stamp_s(msg.header.stamp),
                 msg.mode == YacsStatus.MODE_AUTONOMOUS,
                 bool(msg.rc_link_ok),
                 bool(msg.engine_running),
@@ -233,11 +222,11 @@ class ControlKernelNode(SteppedNode):
 
     def _on_imu(self, msg: Any) -> None:
         a, w = msg.linear_acceleration, msg.angular_velocity
-        t = _sec(msg.header.stamp)
+        t = stamp_s(msg.header.stamp)
         self.kernel.feed(ImuMeasurement(t, (a.x, a.y, a.z), (w.x, w.y, w.z)))
 
     def _on_attitude(self, msg: Any) -> None:
-        t = _sec(msg.header.stamp)
+        t = stamp_s(msg.header.stamp)
         self.kernel.feed(AttitudeMeasurement(t, msg.roll, msg.pitch, msg.heading))
 
     def _on_fix(self, msg: Any) -> None:
@@ -245,11 +234,11 @@ class ControlKernelNode(SteppedNode):
         e, n, u = pymap3d.geodetic2enu(
             msg.latitude, msg.longitude, msg.altitude, o.latitude, o.longitude, o.altitude
         )
-        self._gps_pair(_ns(msg.header.stamp), fix=(float(e), float(n), float(u)))
+        self._gps_pair(stamp_ns(msg.header.stamp), fix=(float(e), float(n), float(u)))
 
     def _on_gps_velocity(self, msg: Any) -> None:
         v = msg.twist.linear
-        self._gps_pair(_ns(msg.header.stamp), vel=(v.x, v.y, v.z))
+        self._gps_pair(stamp_ns(msg.header.stamp), vel=(v.x, v.y, v.z))
 
     def _gps_pair(
         self,
@@ -270,11 +259,11 @@ class ControlKernelNode(SteppedNode):
                 del pending[old]
 
     def _on_baro(self, msg: Any) -> None:
-        t = _sec(msg.header.stamp)
+        t = stamp_s(msg.header.stamp)
         self.kernel.feed(BaroMeasurement(t, msg.altitude - self.origin.altitude))
 
     def _on_ground(self, msg: Any) -> None:
-        t = _sec(msg.header.stamp)
+        t = stamp_s(msg.header.stamp)
         self.kernel.feed(GroundContactMeasurement(t, bool(msg.on_ground), 0.0))
 
     def _on_vision(self, msg: Any) -> None:
@@ -289,14 +278,14 @@ class ControlKernelNode(SteppedNode):
                 )
             return
         position = (float(p.x), float(p.y), float(p.z))
-        t = _sec(msg.header.stamp)
+        t = stamp_s(msg.header.stamp)
         self.kernel.feed(VisionPoseMeasurement(t, position, math.sqrt(variance)))
 
     def _on_rpm(self, msg: Any) -> None:
         self.kernel.feed_rpm(float(msg.rpm))
 
     def _on_power(self, msg: Any) -> None:
-        self.kernel.feed_power(PowerReading(_sec(msg.header.stamp), int(msg.status)))
+        self.kernel.feed_power(PowerReading(stamp_s(msg.header.stamp), int(msg.status)))
 
     def _on_ui(self, msg: Any) -> None:
         try:
@@ -365,7 +354,7 @@ class ControlKernelNode(SteppedNode):
 
     def _publish_command(self, ns: int, result: TickResult) -> None:
         cmd, m = result.command, self._command
-        _set_stamp(m.header.stamp, ns)
+        set_stamp_ns(m.header.stamp, ns)
         m.roll, m.pitch, m.yaw_rate, m.vertical = cmd.roll, cmd.pitch, cmd.yaw_rate, cmd.vertical
         m.vertical_mode = (
             YacsCommand.COLLECTIVE
@@ -385,8 +374,8 @@ class ControlKernelNode(SteppedNode):
 
     def _publish_state(self, ns: int, result: TickResult) -> None:
         s, m = result.snapshot, self._state
-        _set_stamp(m.header.stamp, ns)
-        _set_stamp(m.pfc_time, ns)
+        set_stamp_ns(m.header.stamp, ns)
+        set_stamp_ns(m.pfc_time, ns)
         m.position_enu = list(s.position)
         m.velocity_enu = list(s.velocity)
         o = self.origin

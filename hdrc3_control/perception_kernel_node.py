@@ -25,6 +25,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import UInt8
 
 from hdrc3_base.ros_runtime import run_events_node
+from hdrc3_base.stamps import set_stamp_ns, stamp_s
 from hdrc3_control.pad_tracking import PadSighting
 from hdrc3_control.ppc_kernel import PpcKernel, PpcOutputs
 from hdrc3_control.ppc_modes import ImageProcessing, Pose
@@ -45,11 +46,6 @@ IMAGE_PROCESSING_TOPIC = "ppc/image_processing"
 LATCHED = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
-
-
-def _set_stamp(stamp: Any, ns: int) -> None:
-    stamp.sec = ns // 1_000_000_000
-    stamp.nanosec = ns % 1_000_000_000
 
 
 class PerceptionKernelNode(Node):
@@ -92,7 +88,7 @@ class PerceptionKernelNode(Node):
 
     def _on_pad(self, msg: Any) -> None:
         p, stamp = msg.pose.position, msg.header.stamp
-        time = float(stamp.sec) + 1e-9 * float(stamp.nanosec)
+        time = stamp_s(stamp)
         self.kernel.see_pad(PadSighting(time, (float(p.x), float(p.y), float(p.z))))
 
     def _on_camera(self, msg: Any) -> None:
@@ -100,13 +96,13 @@ class PerceptionKernelNode(Node):
         out = CameraState()
         out.header = msg.header
         out.id, out.pan, out.tilt, out.zoom = msg.id, msg.pan, msg.tilt, msg.zoom
-        _set_stamp(out.ipc_time, self._now_ns())
+        set_stamp_ns(out.ipc_time, self._now_ns())
         self.state_pub.publish(out)
 
     def _on_ptu(self, msg: Any) -> None:
         now_ns = self._now_ns()
         stamp = msg.header.stamp
-        time = float(stamp.sec) + 1e-9 * float(stamp.nanosec)
+        time = stamp_s(stamp)
         self.kernel.ptu_reading(time, float(msg.pan), float(msg.tilt))
         try:
             out = self.kernel.step(
@@ -120,18 +116,18 @@ class PerceptionKernelNode(Node):
     def _publish(self, out: PpcOutputs, now_ns: int) -> None:
         if out.ptu is not None:
             m = PtuCommand()
-            _set_stamp(m.header.stamp, now_ns)
+            set_stamp_ns(m.header.stamp, now_ns)
             m.pan, m.tilt = out.ptu
             self.ptu_pub.publish(m)
         for c in out.cameras:
             cm = CameraCommand()
-            _set_stamp(cm.header.stamp, now_ns)
+            set_stamp_ns(cm.header.stamp, now_ns)
             cm.camera_id, cm.zoom, cm.auto_exposure = c.camera_id, c.zoom, c.auto_exposure
             cm.iris, cm.shutter = c.iris, c.shutter
             self.camera_pub.publish(cm)
         if out.laser is not None:
             lm = LaserCommand()
-            _set_stamp(lm.header.stamp, now_ns)
+            set_stamp_ns(lm.header.stamp, now_ns)
             la = out.laser
             lm.angular_resolution, lm.distance_resolution = (
                 la.angular_resolution,

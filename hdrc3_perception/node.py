@@ -45,6 +45,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 from hdrc3_base.errors import ConfigError, Hdrc3Error
 from hdrc3_base.ros_env import apply_localhost_default
 from hdrc3_base.ros_runtime import run_node
+from hdrc3_base.stamps import stamp_s
 from hdrc3_control.ppc_modes import ImageProcessing
 from hdrc3_interfaces.msg import CameraState, HelicopterState
 from hdrc3_perception.camera import Intrinsics, NavPose
@@ -68,11 +69,6 @@ _DTYPES: dict[str, tuple[type[np.uint8] | type[np.uint16], int]] = {
     "rgb8": (np.uint8, 3),
     "mono16": (np.uint16, 1),
 }
-
-
-def stamp_s(msg: Any) -> float:
-    """A header's stamp in seconds."""
-    return float(msg.header.stamp.sec) + 1e-9 * float(msg.header.stamp.nanosec)
 
 
 def image_array(msg: Image) -> NDArray[np.generic] | str:
@@ -173,12 +169,12 @@ class SaliencyNode(Node):
 
     def _on_color(self, msg: Image) -> None:
         if self.engaged:  # an image the executor took before the stop is dropped
-            self._color = (stamp_s(msg), msg)
+            self._color = (stamp_s(msg.header.stamp), msg)
             self._try_pair()
 
     def _on_thermal(self, msg: Image) -> None:
         if self.engaged:
-            self._thermal = (stamp_s(msg), msg)
+            self._thermal = (stamp_s(msg.header.stamp), msg)
             self._try_pair()
 
     def _try_pair(self) -> None:

@@ -41,11 +41,12 @@ from std_msgs.msg import String
 from hdrc3_base.errors import Hdrc3Error
 from hdrc3_base.ros_env import apply_localhost_default
 from hdrc3_base.ros_runtime import run_node
+from hdrc3_base.stamps import stamp_s
 from hdrc3_control.ppc_modes import ImageProcessing
 from hdrc3_interfaces.msg import PtuState
 from hdrc3_perception.camera import Intrinsics, body_to_enu
 from hdrc3_perception.image_gate import ImageGate
-from hdrc3_perception.node import RESULT_QOS, image_array, stamp_s
+from hdrc3_perception.node import RESULT_QOS, image_array
 from hdrc3_perception.pad_fix import FixStatus, PadPlacement, PtuHistory, helicopter_fix
 from hdrc3_perception.pad_pose import PoseStatus, estimate
 from sim.world_loader import load_world
@@ -87,7 +88,7 @@ class PadPoseNode(Node):
         ]
 
     def _on_ptu(self, msg: PtuState) -> None:
-        self._ptu.add(stamp_s(msg), float(msg.pan), float(msg.tilt))
+        self._ptu.add(stamp_s(msg.header.stamp), float(msg.pan), float(msg.tilt))
 
     def _on_info(self, msg: CameraInfo) -> None:
         self._intrinsics = Intrinsics.from_k(int(msg.width), int(msg.height), list(msg.k))
@@ -95,7 +96,7 @@ class PadPoseNode(Node):
     def _on_image(self, msg: Image) -> None:
         if not self.gate.engaged:  # taken by the executor before the stop
             return
-        report: dict[str, Any] = {"time": stamp_s(msg)}
+        report: dict[str, Any] = {"time": stamp_s(msg.header.stamp)}
         pixels = image_array(msg) if msg.encoding == "rgb8" else f"encoding {msg.encoding!r}: rgb8"
         if isinstance(pixels, str):
             report |= {"status": PoseStatus.BAD_IMAGE.value, "reason": pixels}
@@ -127,7 +128,7 @@ class PadPoseNode(Node):
 
     def _publish_fix(self, image: Image, rotation: Any, translation: Any) -> dict[str, Any]:
         """The helicopter fix of this image on ``~/fix``; its summary for the result."""
-        time = stamp_s(image)
+        time = stamp_s(image.header.stamp)
         fix = helicopter_fix(time, rotation, translation, self._ptu.at(time), self.placement)
         if fix.status is not FixStatus.OK:
             return {"status": fix.status.value, "reason": fix.reason}

@@ -17,7 +17,9 @@ from rclpy.node import Node
 from hdrc3_base.agents import parse_agents
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
+from hdrc3_base.stamps import stamp_s
 from hdrc3_interfaces.msg import PlatformEvent
+from hdrc3_platform_server.answer_memory import RESEND_S, keyed, new_request_key
 from hdrc3_platform_server.codes import EventKind
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
 from hdrc3_platform_server.node import EVENT_QOS
@@ -40,7 +42,7 @@ def event_from_msg(msg: Any) -> CompletionEvent:
         str(msg.command),
         EventKind(int(msg.kind)),
         str(msg.reason),
-        float(stamp.sec) + 1e-9 * float(stamp.nanosec),
+        stamp_s(stamp),
     )
 
 
@@ -63,7 +65,12 @@ class PlatformClient:
             self.events.append(event_from_msg(msg))
 
     def call(self, srv_type: Any, name: str, request: Any, timeout: float) -> Any:
-        """Call ``/<agent>/<name>``; ConfigError if no such service, None on timeout."""
+        """Call ``/<agent>/<name>``; ConfigError if no such service, None on timeout.
+
+        A command request gets a fresh ``request_key`` and is sent again every
+        :data:`RESEND_S` until answered: a lost answer (see ``answer_memory``) costs a resend,
+        and the server runs the command once.
+        """
         client = self.node.create_client(srv_type, f"/{self.agent}/{name}", qos_profile=SERVICE_QOS)
         if not self.process.spin_until(client.service_is_ready, SERVICE_WAIT_S):
             raise ConfigError(
@@ -72,6 +79,9 @@ class PlatformClient:
             )
         # give the events subscription a moment to match before the call can complete
         self.process.spin_until(lambda: self._events_matched(), 1.0)
+        if keyed(request):
+            request.request_key = request.request_key or new_request_key()
+            return self.process.first_answer(client, request, timeout, RESEND_S)
         future: Any = client.call_async(request)  # rclpy's Future is untyped
         self.process.spin_until(lambda: bool(future.done()), timeout)
         return future.result() if future.done() else None

@@ -10,7 +10,6 @@ Run: ``python -m hdrc3_platform_server.fake_node --ros-args -r __ns:=/uav0 -p sp
 from __future__ import annotations
 
 import sys
-from typing import Any
 
 from rclpy.clock import Clock
 from rclpy.clock_type import ClockType
@@ -20,6 +19,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rosgraph_msgs.msg import Clock as ClockMsg
 
 from hdrc3_base.ros_runtime import run_node
+from hdrc3_base.stamps import set_stamp_s
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import CameraState, PfcState
 from hdrc3_platform_server.fakes import FakePfc, FakePfcTiming, FakePpc
@@ -32,11 +32,6 @@ CLOCK_QOS = QoSProfile(  # type: ignore[no-untyped-call]  # rclpy is partly anno
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
-
-
-def _stamp(stamp: Any, seconds: float) -> None:
-    ns = round(seconds * 1e9)
-    stamp.sec, stamp.nanosec = ns // 1_000_000_000, ns % 1_000_000_000
 
 
 class FakeKernelsNode(Node):
@@ -65,12 +60,12 @@ class FakeKernelsNode(Node):
     def _tick(self) -> None:
         self.t = round(self.t + TICK_S, 9)
         clock = ClockMsg()
-        _stamp(clock.clock, self.t)
+        set_stamp_s(clock.clock, self.t)
         self.clock_pub.publish(clock)
         s = self.pfc.step(self.t)
         msg = PfcState()
-        _stamp(msg.header.stamp, self.t)
-        _stamp(msg.pfc_time, self.t)
+        set_stamp_s(msg.header.stamp, self.t)
+        set_stamp_s(msg.pfc_time, self.t)
         msg.position_enu = list(s.position_enu)
         msg.velocity_enu = list(s.velocity_enu)
         msg.heading, msg.rpm = s.heading, s.rpm
@@ -82,9 +77,9 @@ class FakeKernelsNode(Node):
             return  # the PPC reports the cameras at 25 Hz
         for cam in cameras:
             c = CameraState()
-            _stamp(c.header.stamp, self.t)
+            set_stamp_s(c.header.stamp, self.t)
             c.id, c.pan, c.tilt, c.zoom = cam.camera_id, cam.pan, cam.tilt, cam.zoom
-            _stamp(c.ipc_time, cam.ipc_time)
+            set_stamp_s(c.ipc_time, cam.ipc_time)
             self.camera_pub.publish(c)
 
 

@@ -26,6 +26,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
+from hdrc3_base.stamps import set_stamp_s, stamp_s
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import (
     CameraState,
@@ -44,6 +45,7 @@ from hdrc3_interfaces.srv import (
     PpclPtuActivityInfo,
     PpclPtuLimits,
 )
+from hdrc3_platform_server.answer_memory import AnswerMemory, key_problem, keyed
 from hdrc3_platform_server.codes import FclCode, PpclCode
 from hdrc3_platform_server.commands import FCL, PPCL, FclSpec, PpclSpec
 from hdrc3_platform_server.completion import CompletionEvent
@@ -75,16 +77,6 @@ RUN_QOS = QoSProfile(
 """``/world_sim/run`` is latched: a server that starts later learns the world's run id at once."""
 TICK_PERIOD_S = 0.02
 """Wall-clock period of the DRC loop when no PFC data drives it (replies, timeouts)."""
-
-
-def _seconds(stamp: Any) -> float:
-    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
-
-
-def _set_stamp(stamp: Any, seconds: float) -> None:
-    ns = max(0, round(seconds * 1e9))
-    stamp.sec = ns // 1_000_000_000
-    stamp.nanosec = ns % 1_000_000_000
 
 
 def _id_start() -> int:
@@ -132,18 +124,25 @@ class PlatformServerNode(Node):
         self.create_subscription(CameraState, "ppc/camera_state", self._on_camera, STATE_QOS)
         self.create_subscription(PowerStatus, "sensors/power", self._on_power, STATE_QOS)
         self._run_id: str | None = None
+        self.answers: AnswerMemory[Any] = AnswerMemory()
         self.create_subscription(SimRun, "/world_sim/run", self._on_world_run, RUN_QOS)
         for spec in FCL.values():
             name = f"fcl/{spec.command.value}"
-            self._service(spec.service_type(), name, self._fcl_handler(spec))
+            self._service(spec.service_type(), name, self._fcl_handler(spec), FclCode.NOT_ACCEPTED)
         for pspec in PPCL.values():
             name = f"ppcl/{pspec.command.value}"
-            self._service(pspec.service_type(), name, self._ppcl_handler(pspec))
-        self._service(PpclControl, "ppcl/control", self._on_control)
-        self._service(PpclPtuActivityInfo, "ppcl/ptu_activity_info", self._on_activity)
-        self._service(PpclGetCameraInfo, "ppcl/get_camera_info", self._on_camera_info)
-        self._service(PpclPtuLimits, "ppcl/ptu_limits", self._on_limits)
-        self._service(PpclHook, "ppcl/hook", self._on_hook)
+            self._service(
+                pspec.service_type(), name, self._ppcl_handler(pspec), PpclCode.NOT_ACCEPTED
+            )
+        ppcl_others: tuple[tuple[Any, str, Callable[[Any, Any], Any]], ...] = (
+            (PpclControl, "ppcl/control", self._on_control),
+            (PpclPtuActivityInfo, "ppcl/ptu_activity_info", self._on_activity),
+            (PpclGetCameraInfo, "ppcl/get_camera_info", self._on_camera_info),
+            (PpclPtuLimits, "ppcl/ptu_limits", self._on_limits),
+            (PpclHook, "ppcl/hook", self._on_hook),
+        )
+        for srv_type, name, handler in ppcl_others:
+            self._service(srv_type, name, handler, PpclCode.NOT_ACCEPTED)
         self.create_timer(TICK_PERIOD_S, self._tick, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._heli = HelicopterState()
         self._heli.header.frame_id = "wgs84"
@@ -152,9 +151,36 @@ class PlatformServerNode(Node):
             f"{self.frame.altitude:.1f} m"
         )
 
-    def _service(self, srv_type: Any, name: str, handler: Callable[[Any, Any], Any]) -> None:
+    def _service(
+        self, srv_type: Any, name: str, handler: Callable[[Any, Any], Any], refused: int
+    ) -> None:
+        """Serve ``name``; ``refused`` is the family's NOT_ACCEPTED code (for a bad request key)."""
         # deep request/answer queues: a burst of calls is queued and answered, never dropped
-        self.create_service(srv_type, name, handler, qos_profile=SERVICE_QOS)
+        serve = self._keyed(name, handler, refused) if keyed(srv_type.Request) else handler
+        self.create_service(srv_type, name, serve, qos_profile=SERVICE_QOS)
+
+    def _keyed(
+        self, name: str, handler: Callable[[Any, Any], Any], refused: int
+    ) -> Callable[[Any, Any], Any]:
+        """``handler`` behind the answer memory: a known ``request_key`` gets its first answer."""
+
+        def serve(request: Any, response: Any) -> Any:
+            key = str(request.request_key)
+            problem = key_problem(key)
+            if problem is not None:
+                response.result.code = refused
+                response.result.reason = problem
+                return response
+            if not key:
+                return handler(request, response)
+            known = self.answers.recall(name, key)
+            if known is not None:
+                return known
+            answer = handler(request, response)
+            self.answers.remember(name, key, answer)
+            return answer
+
+        return serve
 
     def _frame(self) -> WorldFrame:
         lat = float(self.get_parameter("origin_latitude").value)
@@ -175,7 +201,7 @@ class PlatformServerNode(Node):
     # --- inputs ---------------------------------------------------------------------------
     def _on_pfc(self, msg: Any) -> None:
         p, v = msg.position_enu, msg.velocity_enu
-        pfc_time = _seconds(msg.pfc_time)
+        pfc_time = stamp_s(msg.pfc_time)
         now = self.get_clock().now().nanoseconds * 1e-9
         sample = PfcSample(
             pfc_time=pfc_time,
@@ -207,7 +233,7 @@ class PlatformServerNode(Node):
                 float(msg.pan),
                 float(msg.tilt),
                 float(msg.zoom),
-                _seconds(msg.ipc_time),
+                stamp_s(msg.ipc_time),
                 self._now(),
             )
         )
@@ -215,7 +241,7 @@ class PlatformServerNode(Node):
     def _on_carrying(self, msg: Any) -> None:
         self.core.on_hook(
             HookSample(
-                _seconds(msg.header.stamp),
+                stamp_s(msg.header.stamp),
                 bool(msg.carrying),
                 str(msg.object_id),
                 bool(msg.magnet),
@@ -227,7 +253,7 @@ class PlatformServerNode(Node):
 
     def _send_hook(self, setpoint: HookSetpoint) -> None:
         msg = HookCommand(cable_length=setpoint.cable_length, magnet=setpoint.magnet)
-        _set_stamp(msg.header.stamp, self._now())
+        set_stamp_s(msg.header.stamp, self._now())
         self.hook_pub.publish(msg)
 
     def _on_hook(self, request: Any, response: Any) -> Any:
@@ -258,7 +284,7 @@ class PlatformServerNode(Node):
     # --- outputs --------------------------------------------------------------------------
     def _publish_event(self, event: CompletionEvent) -> None:
         msg = PlatformEvent()
-        _set_stamp(msg.header.stamp, event.time)
+        set_stamp_s(msg.header.stamp, event.time)
         msg.command_id = event.command_id
         msg.command = event.command
         msg.kind = int(event.kind)
@@ -267,18 +293,18 @@ class PlatformServerNode(Node):
 
     def _publish_di(self, data: HelicopterStateData) -> None:
         m = self._heli
-        _set_stamp(m.header.stamp, data.pfc_time)
+        set_stamp_s(m.header.stamp, data.pfc_time)
         for name, value in data.as_dict().items():
             if name == "pfc_time":
-                _set_stamp(m.pfc_time, value)
+                set_stamp_s(m.pfc_time, value)
             else:
                 setattr(m, name, value)
         self.heli_pub.publish(m)
         for cam in self.core.camera_states():
             c = CameraState()
-            _set_stamp(c.header.stamp, data.pfc_time)
+            set_stamp_s(c.header.stamp, data.pfc_time)
             c.id, c.pan, c.tilt, c.zoom = cam.id, cam.pan, cam.tilt, cam.zoom
-            _set_stamp(c.ipc_time, cam.ipc_time)
+            set_stamp_s(c.ipc_time, cam.ipc_time)
             self.camera_pub.publish(c)
 
     # --- services -------------------------------------------------------------------------

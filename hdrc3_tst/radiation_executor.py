@@ -6,9 +6,10 @@ the aircraft is (the chapter's ``monitor-single`` hovers it meanwhile). It repor
 dose rate at the aircraft with its counting uncertainty (``1 / sqrt(counts)``), the mean
 distance to the target from the aircraft's own position estimate, and what that makes the
 target's dose rate at 1 m if the target is the only source: inverse square and the air's
-attenuation of Cs-137's 662 keV gamma rays (:data:`AIR_ATTENUATION`), background not
-subtracted. Four aircraft around one target (``monitor-pattern``) so give four estimates of it.
-No sample in the whole interval fails the node.
+attenuation of Cs-137's 662 keV gamma rays (``sim.world.AIR_ATTENUATION``, the physical
+constant world files default to), background not subtracted. Four aircraft around one target
+(``monitor-pattern``) so give four estimates of it. No sample in the whole interval fails the
+node.
 """
 
 from __future__ import annotations
@@ -21,9 +22,7 @@ from types import MappingProxyType
 from hdrc3_tst.executor import SUCCEEDED, ActionContext, ActionExecutor, failed
 from hdrc3_tst.executor_steps import Steps
 from hdrc3_tst.platform_port import DoseSample
-
-AIR_ATTENUATION = 0.0093
-"""1/m the executor assumes for the gamma rays in air (Cs-137, 662 keV)."""
+from sim.world import AIR_ATTENUATION
 
 
 @dataclass(frozen=True)

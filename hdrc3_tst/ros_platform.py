@@ -6,19 +6,29 @@ the platform events of its command id (a completion may overtake the answer: eve
 id until the answer names it). PPCL commands first take control of their payload resource as
 ``tst_manager``. Stopping an FCL command is ``fcl_cancel`` (the DRC brakes and hovers);
 stopping a PTU mode is ``ppcl_ptu_abort``.
+
+Every request carries a fresh ``request_key`` and is sent again every ``RESEND_S`` of wall time
+until answered (DDS can lose the first answers to a new client; the server answers a known key
+with its first answer, see ``hdrc3_platform_server.answer_memory``). A command still unanswered
+after :data:`ANSWER_TIMEOUT_S` fails with that reason.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 from geometry_msgs.msg import PointStamped
 from rclpy.client import Client
+from rclpy.clock import Clock
+from rclpy.clock_type import ClockType
 from rclpy.node import Node
 
 from hdrc3_base.ros_runtime import SERVICE_QOS
+from hdrc3_base.stamps import stamp_s
 from hdrc3_interfaces.msg import (
     FclReturn,
     HelicopterState,
@@ -27,6 +37,7 @@ from hdrc3_interfaces.msg import (
     RadiationDose,
 )
 from hdrc3_interfaces.srv import PpclControl, PpclHook
+from hdrc3_platform_server.answer_memory import RESEND_S, new_request_key
 from hdrc3_platform_server.client import event_from_msg
 from hdrc3_platform_server.codes import EventKind, FclCommand, PpclCommand, Resource
 from hdrc3_platform_server.commands import FCL, PPCL
@@ -46,6 +57,8 @@ from hdrc3_tst.platform_port import (
 OWNER = "tst_manager"
 EARLY_IDS = 256
 """Command ids whose events are kept until an answer names them (the newest ones)."""
+ANSWER_TIMEOUT_S = 30.0
+"""Wall time after which an unanswered request ends its command FAILED."""
 _FCL_CODES = {FclReturn.FCL_BUSY: "BUSY", FclReturn.FCL_NOT_ACCEPTED: "NOT_ACCEPTED"}
 _PPCL_CODES = {
     PpclReturn.PPCL_CONTROL_DENIED: "CONTROL_DENIED",
@@ -54,9 +67,18 @@ _PPCL_CODES = {
 }
 
 
-def _stamp_s(header: Any) -> float:
-    """Seconds of sim time of a message header's stamp."""
-    return float(header.stamp.sec) + 1e-9 * float(header.stamp.nanosec)
+@dataclass
+class _Call:
+    """One keyed request on its way: sent again until answered or given up."""
+
+    client: Client
+    request: Any
+    on_answer: Callable[[Any], None]
+    on_silence: Callable[[str], None]
+    """Called with the reason when no answer came within :data:`ANSWER_TIMEOUT_S`."""
+    first_sent: float
+    sent: float
+    future: Any  # rclpy's Future is untyped
 
 
 class RosPlatform:
@@ -80,6 +102,8 @@ class RosPlatform:
         self._stop_on_accept: dict[int, str] = {}
         self._owned: set[Resource] = set()
         self._state: PlatformState | None = None
+        self._calls: list[_Call] = []
+        node.create_timer(RESEND_S / 4, self._resend, clock=Clock(clock_type=ClockType.STEADY_TIME))
         node.create_subscription(
             PlatformEvent, f"/{agent}/platform_events", self._on_event, EVENT_QOS
         )
@@ -150,14 +174,14 @@ class RosPlatform:
         if not (math.isfinite(msg.dose_rate) and math.isfinite(msg.integration_time)):
             return
         self._dose = DoseSample(
-            msg.dose_rate, int(msg.counts), msg.integration_time, _stamp_s(msg.header)
+            msg.dose_rate, int(msg.counts), msg.integration_time, stamp_s(msg.header.stamp)
         )
 
     def _on_seen(self, msg: Any) -> None:
         p = msg.point
         if not all(math.isfinite(v) for v in (p.x, p.y, p.z)):
             return
-        self._seen[str(msg.header.frame_id)] = Sighting((p.x, p.y, p.z), _stamp_s(msg.header))
+        self._seen[str(msg.header.frame_id)] = Sighting((p.x, p.y, p.z), stamp_s(msg.header.stamp))
 
     # --- calls ----------------------------------------------------------------------------
     def _client(self, srv_type: Any, name: str) -> Client:
@@ -180,15 +204,56 @@ class RosPlatform:
         if not client.service_is_ready():
             handle.end(CommandState.FAILED, f"no service /{self._agent}/{name}")
             return
-        future: Any = client.call_async(request)  # rclpy's Future is untyped
-        future.add_done_callback(lambda f: self._answered(handle, f.result()))
+        self._send(
+            client, request, lambda answer: self._answered(handle, answer), self._silent(handle)
+        )
+
+    def _silent(self, handle: Command) -> Callable[[str], None]:
+        def give_up(reason: str) -> None:
+            handle.end(CommandState.FAILED, reason)
+            self._on_change()
+
+        return give_up
 
     def _fire(self, command: FclCommand | PpclCommand) -> None:
-        """Send a command nobody waits for (cancel, ptu_abort)."""
+        """Send a command nobody waits for (cancel, ptu_abort); it is still sent until answered."""
         srv_type, name = self._service_name(command)
         client = self._client(srv_type, name)
         if client.service_is_ready():
-            client.call_async(srv_type.Request())
+            self._send(client, srv_type.Request(), lambda _: None, lambda _: None)
+
+    def _send(
+        self,
+        client: Client,
+        request: Any,
+        on_answer: Callable[[Any], None],
+        on_silence: Callable[[str], None],
+    ) -> None:
+        """Send ``request`` with a fresh key; ``_resend`` sends it again until it is answered."""
+        request.request_key = new_request_key()
+        now = time.monotonic()
+        call = _Call(client, request, on_answer, on_silence, now, now, client.call_async(request))
+        self._calls.append(call)
+        self._watch(call)
+
+    def _watch(self, call: _Call) -> None:
+        def answered(future: Any) -> None:
+            if call.future is future and call in self._calls:
+                self._calls.remove(call)
+                call.on_answer(future.result())
+
+        call.future.add_done_callback(answered)
+
+    def _resend(self) -> None:
+        now = time.monotonic()
+        for call in [c for c in self._calls if now - c.sent >= RESEND_S]:
+            call.client.remove_pending_request(call.future)
+            if now - call.first_sent >= ANSWER_TIMEOUT_S:
+                self._calls.remove(call)
+                call.on_silence(f"no answer from {call.client.srv_name} in {ANSWER_TIMEOUT_S:g} s")
+                continue
+            call.sent, call.future = now, call.client.call_async(call.request)
+            self._watch(call)
 
     def _take_control(self, resource: Resource, handle: Command, request: Any) -> None:
         client = self._client(PpclControl, "ppcl/control")
@@ -197,8 +262,8 @@ class RosPlatform:
             return
         ask = PpclControl.Request(resource=int(resource), request=True, owner=OWNER)
 
-        def granted(future: Any) -> None:
-            result = future.result().result
+        def granted(answer: Any) -> None:
+            result = answer.result
             if result.code != PpclReturn.PPCL_OK:
                 handle.end(CommandState.FAILED, f"control of {resource.name}: {result.reason}")
                 self._on_change()
@@ -206,8 +271,7 @@ class RosPlatform:
             self._owned.add(resource)
             self._call(handle, request)
 
-        future: Any = client.call_async(ask)  # rclpy's Future is untyped
-        future.add_done_callback(granted)
+        self._send(client, ask, granted, self._silent(handle))
 
     def _answered(self, handle: Command, response: Any) -> None:
         result = response.result

@@ -16,6 +16,7 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from sensor_msgs.msg import Imu, NavSatFix, NavSatStatus
 
+from hdrc3_base.stamps import set_stamp_ns
 from hdrc3_interfaces.msg import (
     Attitude,
     Barometer,
@@ -37,15 +38,9 @@ from sim.sensors.suite import SensorReadings
 from sim.truth_state import TruthState as Truth
 
 
-def set_time(time_msg: Any, ns: int) -> None:
-    """Write integer nanoseconds into a builtin_interfaces/Time."""
-    time_msg.sec = ns // 1_000_000_000
-    time_msg.nanosec = ns % 1_000_000_000
-
-
 def stamp_header(header: Any, ns: int) -> None:
     """Stamp a std_msgs/Header with integer nanoseconds of sim time."""
-    set_time(header.stamp, ns)
+    set_stamp_ns(header.stamp, ns)
 
 
 def _ns(seconds: float) -> int:

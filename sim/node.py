@@ -28,6 +28,7 @@ from std_msgs.msg import Header
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
 from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
+from hdrc3_base.stamps import set_stamp_ns
 from hdrc3_interfaces.msg import (
     CameraCommand,
     HookCommand,
@@ -53,7 +54,6 @@ from hdrc3_interfaces.srv import (
 )
 from sim.agent_topics import (
     AgentTopics,
-    set_time,
     stamp_header,
 )
 from sim.checkpoint import Checkpoints, RunEvent, RunKind, RunState, new_run_id
@@ -369,8 +369,8 @@ class WorldSimNode(SteppedNode):
         msg.kind = int(event.kind)
         msg.run_id = event.run.run_id
         msg.process_id = self.process_id
-        set_time(msg.stamp, event.stamp_ns)
-        set_time(msg.checkpoint_stamp, event.checkpoint_ns)
+        set_stamp_ns(msg.stamp, event.stamp_ns)
+        set_stamp_ns(msg.checkpoint_stamp, event.checkpoint_ns)
         msg.reason = event.reason
         self._run_pub.publish(msg)
         if event.kind is not RunKind.STARTED:
@@ -478,7 +478,7 @@ class WorldSimNode(SteppedNode):
                 topics.publish_control(readings[name])
             if topics.status.get_subscription_count():
                 self._publish_status(topics, name, ns)
-        set_time(self._clock_msg.clock, ns)
+        set_stamp_ns(self._clock_msg.clock, ns)
         self._clock_pub.publish(self._clock_msg)
         for name, topics in self.topics.items():
             if not repeat:

@@ -15,6 +15,7 @@ import time
 from typing import Any
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_base.stamps import stamp_s
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -34,10 +35,6 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.set_defaults(handler=run)
 
 
-def _seconds(stamp: Any) -> float:
-    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
-
-
 def to_record(msg: Any, camera: bool) -> dict[str, Any]:
     """The §6.2.4 fields of a HelicopterState / CameraState message."""
     from hdrc3_platform_server.data_interface import CAMERA_FIELDS, HELICOPTER_FIELDS
@@ -47,7 +44,7 @@ def to_record(msg: Any, camera: bool) -> dict[str, Any]:
     for name in fields:
         value = getattr(msg, name)
         if name in ("pfc_time", "ipc_time"):
-            value = _seconds(value)
+            value = stamp_s(value)
         elif isinstance(value, str):
             pass
         elif isinstance(value, bool | int):

@@ -43,6 +43,7 @@ from hdrc3.live.geometry import (
 from hdrc3.live.scene import ZONE, outline, prism, world_scene
 from hdrc3.live.wire import encode_json
 from hdrc3_base.errors import Hdrc3Error
+from hdrc3_base.stamps import stamp_s
 from hdrc3_hcsm.trace import TraceRecord
 from hdrc3_navigation.messages import segment_from_msg
 from sim.world import World
@@ -293,10 +294,6 @@ class GisConverter(_NoStart):
         return [Output("gis", SceneUpdate(deletions=[clear], entities=every).encode())]
 
 
-def _seconds(stamp: Any) -> float:
-    return float(stamp.sec) + float(stamp.nanosec) * 1e-9
-
-
 class TstConverter(_NoStart):
     """``tst_status`` -> the latest state of every TST node of every agent, as one JSON table."""
 
@@ -316,7 +313,7 @@ class TstConverter(_NoStart):
             "start": float(msg.start),
             "end": float(msg.end),
             "reason": str(msg.reason),
-            "time": _seconds(msg.header.stamp),
+            "time": stamp_s(msg.header.stamp),
         }
         self._nodes[key] = row
         table = {"changed": row, "nodes": [self._nodes[k] for k in sorted(self._nodes)]}
@@ -373,7 +370,7 @@ class EventConverter(_NoStart):
         line = Log(
             timestamp=timestamp(now_ns),
             level=level,
-            message=f"[t={_seconds(msg.header.stamp):.2f}] {text}",
+            message=f"[t={stamp_s(msg.header.stamp):.2f}] {text}",
             name=name,
         )
         return [Output(agent, line.encode())]

@@ -37,8 +37,8 @@ from std_msgs.msg import Header
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import run_events_node
+from hdrc3_base.stamps import set_stamp_ns
 from hdrc3_interfaces.msg import CameraState, SimRun, WorldObjects
-from sim.agent_topics import set_time
 from sim.node import LATCHED_QOS, RENDER_PROGRESS_QOS, RENDER_PROGRESS_TOPIC
 from sim.render.camera_feed import (
     CameraFeed,
@@ -199,7 +199,7 @@ class WorldRenderNode(Node):
             info.height, info.width = k.height, k.width
             info.k, info.p = projection_rows(k)
             topics.has_image = True
-        set_time(image.header.stamp, request.stamp_ns)
+        set_stamp_ns(image.header.stamp, request.stamp_ns)
         info.header.stamp = image.header.stamp
         topics.info_pub.publish(info)
         topics.image_pub.publish(image)

@@ -4,8 +4,12 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from typing import Any
 
 from rclpy.executors import SingleThreadedExecutor
+
+from hdrc3_base.ros_runtime import first_answer
+from hdrc3_platform_server.answer_memory import keyed, new_request_key
 
 
 def spin_until(executor: SingleThreadedExecutor, done: Callable[[], bool], timeout: float) -> bool:
@@ -16,3 +20,16 @@ def spin_until(executor: SingleThreadedExecutor, done: Callable[[], bool], timeo
             return False
         executor.spin_once(timeout_sec=0.05)
     return True
+
+
+def answer(executor: SingleThreadedExecutor, client: Any, request: Any, timeout: float) -> Any:
+    """The first answer to a repeatable request (a query or a keyed command), or None.
+
+    Sent again every two seconds: DDS can drop the first answers to a new client
+    (``hdrc3_base.ros_runtime.first_answer``). A command gets a fresh ``request_key`` first.
+    """
+    if keyed(request) and not request.request_key:
+        request.request_key = new_request_key()
+    return first_answer(
+        client, request, timeout, lambda done, wait: spin_until(executor, done, wait)
+    )

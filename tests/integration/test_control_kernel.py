@@ -330,9 +330,9 @@ def test_a_reannounced_tick_is_answered_again(
     from rosgraph_msgs.msg import Clock
 
     from hdrc3_base.ros_runtime import RosProcess
+    from hdrc3_base.stamps import set_stamp_ns
     from hdrc3_control.control_kernel_node import CLOCK_QOS, COMMAND_QOS, SENSOR_QOS
     from hdrc3_interfaces.msg import YacsCommand, YacsStatus
-    from sim.agent_topics import set_time
 
     launch = hdrc3_cli("launch", "--agents", AGENT, "--nodes", "control_kernel")
     launch.wait_for_line("READY", timeout=90)
@@ -354,10 +354,10 @@ def test_a_reannounced_tick_is_answered_again(
 
         def announce(ns: int) -> None:
             s = YacsStatus()
-            set_time(s.header.stamp, ns)
+            set_stamp_ns(s.header.stamp, ns)
             status.publish(s)
             c = Clock()
-            set_time(c.clock, ns)
+            set_stamp_ns(c.clock, ns)
             clock.publish(c)
 
         tick = 20_000_000

@@ -20,6 +20,8 @@ from typing import Any
 
 import pytest
 
+from hdrc3_base.stamps import stamp_s
+
 pytestmark = pytest.mark.ros
 
 AGENT = "uav0"
@@ -30,10 +32,6 @@ ALTITUDE = 12.0
 OUTAGE_HOLD_S = 3.0
 """Sim time hovered on dead reckoning; the PFC declares navigation lost (and lands) after 10 s
 without GPS (StateEstimator max_dead_reckoning)."""
-
-
-def stamp_s(stamp: Any) -> float:
-    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
 
 
 class Chain:

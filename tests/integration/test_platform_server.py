@@ -18,6 +18,7 @@ from typing import Any
 import pytest
 
 from hdrc3.cli.main import main as hdrc3_main
+from tests.integration.ros_wait import answer
 
 pytestmark = pytest.mark.ros
 
@@ -109,9 +110,9 @@ class Client:
         request = srv.Request()
         for key, value in fields.items():
             setattr(request, key, value)
-        future = client.call_async(request)
-        assert self.spin_until(future.done, 10.0)
-        return future.result()
+        response = answer(self.executor, client, request, 10.0)
+        assert response is not None, f"no answer from {name}"
+        return response
 
     def final(
         self, command_id: int | None = None, timeout: float = 30.0, *, command: str = ""
@@ -215,6 +216,60 @@ def test_services_survive_random_requests(client: Client) -> None:
     from hdrc3_interfaces.srv import FclCancel
 
     assert client.call(FclCancel, "fcl/cancel").result.code == 0
+
+
+def test_a_command_sent_again_with_its_key_runs_once(client: Client) -> None:
+    from hdrc3_interfaces.srv import FclTakeoff, FclYaw
+
+    first = client.call(FclTakeoff, "fcl/takeoff", request_key="take-off-1").result
+    again = client.call(FclTakeoff, "fcl/takeoff", request_key="take-off-1").result
+    other = client.call(FclTakeoff, "fcl/takeoff", request_key="take-off-2").result
+    too_long = client.call(FclYaw, "fcl/yaw", heading=0.0, request_key="k" * 65).result
+    assert first.code == 0 and first.command_id > 0
+    assert (again.code, again.command_id) == (0, first.command_id)  # the first answer, not BUSY
+    assert other.code == 1  # a new key is a new command
+    assert too_long.code == 2 and "request_key: 65 characters" in too_long.reason
+    final = client.final(first.command_id)
+    assert final is not None and final.kind == 0
+
+
+def test_the_tst_port_sends_again_when_an_answer_is_lost(client: Client) -> None:
+    """The first answer to the TST's platform port is dropped; the resend gets it, run once."""
+    from rclpy.task import Future
+
+    from hdrc3_interfaces.srv import FclTakeoff
+    from hdrc3_platform_server.codes import FclCommand
+    from hdrc3_platform_server.geo_frame import frame_from_world
+    from hdrc3_tst.platform_port import CommandState
+    from hdrc3_tst.ros_platform import RosPlatform
+
+    probe = client.node.create_client(FclTakeoff, f"/{AGENT}/fcl/takeoff")
+    assert client.spin_until(probe.service_is_ready, 30.0)
+    lost: list[Any] = []
+    create_client = client.node.create_client
+
+    def losing_client(*args: Any, **kwargs: Any) -> Any:
+        made = create_client(*args, **kwargs)
+        call_async = made.call_async
+
+        def first_answer_lost(request: Any) -> Any:
+            sent = call_async(request)
+            if lost:
+                return sent
+            lost.append(sent)  # served, but its answer never reaches the port
+            return Future()
+
+        made.call_async = first_answer_lost
+        return made
+
+    client.node.create_client = losing_client
+    port = RosPlatform(client.node, AGENT, frame_from_world("revinge"), lambda: None)
+    handle = port.send(FclCommand.TAKEOFF)
+    assert client.spin_until(lambda: handle.state is not CommandState.SENT, 20.0), handle
+    assert lost and lost[0].done()
+    assert handle.command_id == lost[0].result().result.command_id > 0, handle
+    assert client.spin_until(lambda: handle.state.ended, 30.0), handle
+    assert handle.state is CommandState.FINISHED, handle
 
 
 def test_cli_fcl_ppcl_state(stack: None, capsys: pytest.CaptureFixture[str]) -> None:

@@ -1,16 +1,16 @@
 """The package layers: a package imports only packages of lower layers, never the CLI package.
 
-Read from the source with ``ast`` (every import statement, also those inside functions), so a
-lazy import cannot hide an upward dependency.
+Read from the source with ``ast`` (``hdrc3.ros_workspace.module_imports``: every import
+statement, also those inside functions), so a lazy import cannot hide an upward dependency.
 """
 
 from __future__ import annotations
 
-import ast
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+
+from hdrc3.ros_workspace import module_imports
 
 ROOT = Path(__file__).resolve().parents[2]
 LAYERS: dict[str, int] = {
@@ -46,15 +46,6 @@ SIM_HARNESSES = frozenset({"hdrc3_control.kernel_harness"})
 """Stack modules that couple a kernel with the simulator in one process (tests and benches)."""
 
 
-def imports(path: Path) -> Iterator[tuple[int, str]]:
-    """(line, absolute module) of every import in one file."""
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
-        if isinstance(node, ast.Import):
-            yield from ((node.lineno, alias.name) for alias in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-            yield node.lineno, node.module
-
-
 def module_name(path: Path) -> str:
     """``hdrc3_control/kernel_harness.py`` -> ``hdrc3_control.kernel_harness``."""
     parts = path.relative_to(ROOT).with_suffix("").parts
@@ -66,7 +57,7 @@ def violations(package: str) -> list[str]:
     found = []
     for path in sorted((ROOT / package).rglob("*.py")):
         importer = module_name(path)
-        for line, module in imports(path):
+        for line, module in module_imports(path):
             target = module.split(".")[0]
             if target == package or target not in LAYERS:
                 continue

@@ -12,12 +12,12 @@ from hdrc3_tst.executor import ActionContext, Progress, Stepper
 from hdrc3_tst.fake_platform import FakePlatform
 from hdrc3_tst.platform_port import DoseSample, PlatformState
 from hdrc3_tst.radiation_executor import (
-    AIR_ATTENUATION,
     RADIATION_EXECUTORS,
     DoseEstimate,
     estimate,
 )
 from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
+from sim.world import AIR_ATTENUATION
 
 FRAME = frame_from_world("revinge")
 POINTS = {"Reactor": ((190.0, 50.0, 0.0),)}
