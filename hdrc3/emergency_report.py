@@ -240,7 +240,7 @@ def _node_status(ev: Evaluation, running: dict[tuple[str, str], float], msg: Any
         return
     key = (msg.mission, msg.node_id)
     t = stamp_ms(msg.header.stamp) / 1e3
-    if msg.state == "running":
+    if msg.state == "running" and math.isfinite(msg.start):  # not while it waits to begin
         running.setdefault(key, t)
     elif msg.state in ("succeeded", "failed", "aborted") and key in running:
         label = f"{msg.mission}/{msg.node_id} {msg.kind}"

@@ -99,6 +99,7 @@ class FaultTrigger:
                 i not in self._armed
                 and msg.node_id == fault.node_id
                 and msg.state == "running"
+                and math.isfinite(msg.start)  # begun, not waiting to begin
                 and math.isfinite(self._now)
             ):
                 self._armed[i] = self._now + fault.delay_s

@@ -172,6 +172,7 @@ class ExecutionEngine:
         self._advancing: set[str] = set()
         self._stopping: set[str] = set()
         """Nodes whose subtree is being aborted: their children's endings do not advance them."""
+        self._event_index: dict[str, tuple[str, str]] = {}
 
     # --- queries ------------------------------------------------------------------------
     def holds(self, node_id: str) -> bool:
@@ -356,11 +357,14 @@ class ExecutionEngine:
         return True
 
     def _begin(self, node: Node, rec: NodeRecord) -> bool:
-        """Start the node once its earliest start has come; False while it waits."""
+        """Start the node when its earliest start has come and nothing due before it pends."""
         ts = node.params["TS"]
         window = self.tst.network.window(ts)
         if self.now < window.earliest:
             return False
+        pending = self._pending_before(node)
+        if pending:
+            return self._wait(rec, window.latest, pending)
         start = self._observed(ts)
         if ts not in self.tst.network.values:
             fixed = self.tst.network.fix(ts, start, f"{node.node_id} started at {start:.3f} s")
@@ -369,7 +373,7 @@ class ExecutionEngine:
                     rec, NodeState.FAILED, _conflict(f"started at {start:.1f} s", fixed.conflict)
                 )
                 return False
-        rec.start = start
+        rec.start, rec.reason = start, ""
         if node.kind is NodeKind.ACTION:
             reason = self._start_action(node, rec, self.now)
             if reason:
@@ -377,6 +381,68 @@ class ExecutionEngine:
                 return False
         self.ctx.sink.status(rec)
         return True
+
+    def _pending_before(self, node: Node) -> list[str]:
+        """The starts and ends the constraints put before the node's start, not yet happened.
+
+        Events not yet observed lie in the future, so a node whose start is tied to them waits
+        (a dispatcher's rule for Simple Temporal Networks): a sibling ordered before it by a
+        ``where`` clause, a node on another agent that must start first. A start due at the
+        same time (``s3 = u3``) is not waited for when that node waits to begin too: both
+        start now, each at its own tick, and the second is recorded at the first one's time
+        (:meth:`_observed`). The ancestors have started: the parent started this node (when
+        it lives on another agent, this replica may not have heard of their starts yet).
+        """
+        events = self._events()
+        ancestors = set()
+        parent = node.parent
+        while parent is not None and parent.node_id in self.tst.tree.nodes:
+            ancestors.add(parent.node_id)
+            parent = self.tst.tree.nodes[parent.node_id].parent
+        pending = []
+        for var, distance in self.tst.network.stn.no_later_than(node.params["TS"]).items():
+            event = events.get(var)
+            if event is None:
+                continue
+            node_id, param = event
+            if param == "TS" and node_id in ancestors:
+                continue
+            other = self.records[node_id]
+            if param == "TS":
+                if math.isfinite(other.start):
+                    continue
+                ready = other.state is NodeState.RUNNING  # started by its parent, waiting
+                if ready and distance == (0, 0):
+                    continue
+            elif other.state.finished:
+                continue
+            pending.append(f"{other.agent}/{node_id}.{param}")
+        return sorted(pending)
+
+    def _events(self) -> dict[str, tuple[str, str]]:
+        """Each start and end variable of the tree: its node and parameter (TS or TE)."""
+        nodes = self.tst.tree.nodes
+        if len(self._event_index) != 2 * len(nodes):
+            self._event_index = {
+                n.params[p]: (n.node_id, p) for n in nodes.values() for p in ("TS", "TE")
+            }
+        return self._event_index
+
+    def _wait(self, rec: NodeRecord, latest: float, pending: list[str]) -> bool:
+        """Wait for ``pending`` (said in the node's status once); fail it past its latest start."""
+        if self.now > latest + TICK_TOLERANCE_S:
+            self._finish(
+                rec,
+                NodeState.FAILED,
+                f"not started by its latest start {latest:.1f} s: waiting for "
+                + ", ".join(pending),
+            )
+            return False
+        reason = "waiting for " + ", ".join(pending)
+        if rec.reason != reason:
+            rec.reason = reason
+            self.ctx.sink.status(rec)
+        return False
 
     # --- elementary actions -------------------------------------------------------------
     def _start_action(self, node: Node, rec: NodeRecord, started: float) -> str:

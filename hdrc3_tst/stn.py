@@ -21,6 +21,7 @@ predecessor walk that names a cycle then never ended).
 
 from __future__ import annotations
 
+import heapq
 import math
 from collections import deque
 from dataclasses import dataclass, field
@@ -322,6 +323,51 @@ class SimpleTemporalNetwork:
         return tuple(sorted(cycle, key=lambda e: e.label))
 
     # --- queries ------------------------------------------------------------------------
+    def no_later_than(self, source: str) -> dict[str, Weight]:
+        """The variables the constraints force no later than ``source``, with the distance.
+
+        ``{v: d}`` for every ``v`` (not the origin, not ``source``) whose shortest distance
+        ``source -> v`` is ``d <= 0``: ``v - source <= d``, so ``v`` happens at least ``-d``
+        before ``source`` (at the same time when ``d`` is ``(0, 0)``; ``d`` is in whole
+        nanoseconds with its strictness). A dispatcher must not start ``source`` before these.
+
+        Dijkstra on Johnson-reweighted edges: the latest times (distances from the origin) are
+        a feasible potential, so ``w + latest(u) - latest(v) >= 0``. A vertex farther than
+        ``latest(source)`` in reduced distance cannot lead to ``d <= 0`` (latest times are
+        not negative) and is not expanded.
+        """
+        if any(d[0] == math.inf for d in self._from.values()):
+            self.propagate()  # variables added since the last propagation have no latest time
+        potential = {v: d[0] for v, d in self._from.items()}
+        limit = potential[source]
+        reduced: dict[str, float] = {source: 0}
+        strict: dict[str, int] = {source: 0}
+        heap: list[tuple[float, int, str]] = [(0, 0, source)]
+        done: set[str] = set()
+        while heap:
+            dist, _, node = heapq.heappop(heap)
+            if node in done:
+                continue
+            done.add(node)
+            if dist > limit:
+                continue
+            for edge in self._out[node].values():
+                nxt = edge.target
+                cand = dist + edge.weight[0] + potential[node] - potential[nxt]
+                cand_strict = min(strict[node], edge.weight[1])
+                old = reduced.get(nxt)
+                if old is None or cand < old or (cand == old and cand_strict < strict[nxt]):
+                    reduced[nxt], strict[nxt] = cand, cand_strict
+                    heapq.heappush(heap, (cand, cand_strict, nxt))
+        found = {}
+        for v, dist in reduced.items():
+            if v in (source, ORIGIN):
+                continue
+            d: Weight = (dist - potential[source] + potential[v], strict[v])
+            if d <= _ZERO:
+                found[v] = d
+        return found
+
     def window(self, name: str) -> Window:
         """Earliest and latest time of ``name`` after the last propagation."""
         lo, hi = self._to[name], self._from[name]

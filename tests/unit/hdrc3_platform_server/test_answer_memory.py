@@ -19,15 +19,16 @@ from hdrc3_platform_server.answer_memory import (
         ("", None),  # no key: the request is not remembered
         ("k" * MAX_KEY_LENGTH, None),
         ("k" * (MAX_KEY_LENGTH + 1), f"request_key: 65 characters, at most {MAX_KEY_LENGTH}"),
-        (new_request_key(), None),
+        ("0123456789abcdef0123456789abcdef", None),  # as new_request_key() makes them
     ],
 )
 def test_key_problem(key: str, problem: str | None) -> None:
     assert key_problem(key) == problem
 
 
-def test_new_keys_differ() -> None:
-    assert len({new_request_key() for _ in range(100)}) == 100
+def test_new_keys_differ_and_are_accepted() -> None:
+    keys = {new_request_key() for _ in range(100)}
+    assert len(keys) == 100 and all(key_problem(k) is None and len(k) == 32 for k in keys)
 
 
 @pytest.mark.parametrize(

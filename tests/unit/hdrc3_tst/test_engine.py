@@ -431,3 +431,96 @@ def test_foreach_answers_and_refusals(
     rig.run(3)
     assert rig.state("m") is state
     assert rig.reason("m").startswith(reason)
+
+
+def test_a_sibling_ordered_after_another_waits_for_its_end() -> None:
+    """``where T3 >= T2`` in a concurrent node: b starts when a has ended, not at once."""
+    rig = Rig(
+        mission(
+            "m(P, TS, TE) = with T1, T2, T3, T4 concurrent\n"
+            "  a(T1, T2) = fly-to(T1, T2, 5, Sq);\n"
+            "  b(T3, T4) = wait(T3, T4, 2)\n"
+            "where P = uav0 and T3 >= T2\n"
+        )
+    )
+    rig.platform.sample = PlatformState(0, 0, 30, on_ground=False, autonomous=True)
+    rig.start("m")
+    rig.run(5)  # the fly-to has not ended
+    b = rig.engine.records["b"]
+    assert b.state is NodeState.RUNNING and math.isnan(b.start)
+    assert b.reason == "waiting for uav0/a.TE"
+    assert ("b", NodeState.RUNNING, "waiting for uav0/a.TE") in rig.sink.statuses  # said once
+    rig.run(1, flown(rig.platform))
+    rig.run(4)
+    assert rig.state("m") is NodeState.SUCCEEDED, rig.reason("m")
+    assert b.start >= rig.engine.records["a"].end and b.reason == ""
+
+
+SYNCHRONISED = (
+    "m(P, TS, TE) = with P1, A1, A2, P2, B1, B2, S3, U3 concurrent\n"
+    "  a(P1, A1, A2) = with S1, S2, S4 sequence\n"
+    "    a1(S1, S2) = fly-to(S1, S2, 5, Sq);\n"
+    "    a2(S3, S4) = wait(S3, S4, 3)\n"
+    "  where P1 = uav0;\n"
+    "  b(P2, B1, B2) = with U1, U2, U4 sequence\n"
+    "    b1(U1, U2) = wait(U1, U2, 2);\n"
+    "    b2(U3, U4) = wait(U3, U4, 3)\n"
+    "  where P2 = uav1\n"
+    "where P = uav0 and S3 = U3{deadline}\n"
+)
+"""Section 9.4's monitor-pattern in small: uav0 flies, uav1 waits 2 s; then both start together."""
+
+
+def _relay(source: Rig, target: Rig, seen: int) -> int:
+    """Hand ``source``'s new statuses to ``target``'s replica (the status topic); how many seen."""
+    for node_id, state, reason in source.sink.statuses[seen:]:
+        rec = source.engine.records[node_id]
+        target.engine.on_remote_status(node_id, state, rec.start, rec.end, reason)
+    return len(source.sink.statuses)
+
+
+def _fly_both(owner: Rig, other: Rig, seconds: int, land_at: float) -> None:
+    """Tick both managers a second at a time, relaying statuses; the fly-to ends at ``land_at``."""
+    seen = [0, 0]
+    for _ in range(seconds):
+        for rig in (owner, other):
+            rig.t += 1.0
+            rig.engine.tick(rig.t)
+        if owner.t - 1000.0 >= land_at:
+            for command in owner.platform.running():
+                flown(owner.platform)(command)
+        seen[0] = _relay(owner, other, seen[0])
+        seen[1] = _relay(other, owner, seen[1])
+
+
+def test_starts_tied_across_agents_wait_for_each_other() -> None:
+    text = SYNCHRONISED.format(deadline="")
+    owner, other = Rig(mission(text)), Rig(mission(text), agent="uav1")
+    owner.platform.sample = PlatformState(0, 0, 30, on_ground=False, autonomous=True)
+    owner.start("m")
+    assert owner.sink.remote_starts == [NodeRef("uav1", "b")]
+    assert other.engine.execute("b", owner.t, other.t) == ""
+    _fly_both(owner, other, 8, land_at=math.inf)
+    b2 = other.engine.records["b2"]
+    assert other.state("b1") is NodeState.SUCCEEDED and math.isnan(b2.start)
+    assert b2.reason == "waiting for uav0/a1.TE, uav0/a2.TS"
+    _fly_both(owner, other, 20, land_at=10.0)
+    a2 = owner.engine.records["a2"]
+    assert (a2.state, b2.state) == (NodeState.SUCCEEDED, NodeState.SUCCEEDED)
+    # the fly-to ended at 10 s and was seen at the 11 s tick; uav1 saw a2 start a tick later
+    # and recorded b2's start at a2's
+    assert a2.start == b2.start == 11.0
+    assert owner.state("m") is NodeState.SUCCEEDED, owner.reason("m")
+
+
+def test_a_start_waited_for_past_its_latest_time_fails() -> None:
+    text = SYNCHRONISED.format(deadline=" and U3 <= 6")
+    owner, other = Rig(mission(text)), Rig(mission(text), agent="uav1")
+    owner.platform.sample = PlatformState(0, 0, 30, on_ground=False, autonomous=True)
+    owner.start("m")
+    assert other.engine.execute("b", owner.t, other.t) == ""
+    _fly_both(owner, other, 10, land_at=math.inf)
+    assert other.state("b2") is NodeState.FAILED
+    assert other.reason("b2") == (
+        "not started by its latest start 6.0 s: waiting for uav0/a1.TE, uav0/a2.TS"
+    )

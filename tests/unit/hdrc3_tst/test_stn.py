@@ -4,7 +4,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hdrc3_tst.stn import HORIZON, Inconsistent, SimpleTemporalNetwork, Window
+from hdrc3_tst.stn import HORIZON, ORIGIN, Inconsistent, SimpleTemporalNetwork, Window
 
 
 def network(*constraints: tuple[str, str, float, bool]) -> SimpleTemporalNetwork:
@@ -147,3 +147,42 @@ def test_cycles_of_equalities_stay_consistent_at_any_start(start: float) -> None
     stn.fix("n_s", start, "the node started")
     assert stn.window("n_e").earliest == pytest.approx(start + 60.0)
     assert stn.window("n_e").latest == pytest.approx(start + 60.0)
+
+
+@pytest.mark.parametrize(
+    ("constraints", "source", "expected"),
+    [
+        # b - a <= 0 and a - b <= 0: equal, each no later than the other
+        ([("b", "a", 0.0, False), ("a", "b", 0.0, False)], "a", {"b": (0, 0)}),
+        # a >= b + 5 (b - a <= -5): b at least 5 s before a; nothing before b
+        ([("b", "a", -5.0, False)], "a", {"b": (-5_000_000_000, 0)}),
+        ([("b", "a", -5.0, False)], "b", {}),
+        # strictly before: b - a < 0
+        ([("b", "a", 0.0, True)], "a", {"b": (0, -1)}),
+        # through a chain: c <= b <= a
+        ([("b", "a", 0.0, False), ("c", "b", -1.0, False)], "a", {"b": (0, 0), "c": (-1e9, 0)}),
+        # a - b <= 10 only bounds a from above: b need not come first
+        ([("a", "b", 10.0, False)], "a", {}),
+    ],
+)
+def test_no_later_than_names_what_must_come_first(
+    constraints: list[tuple[str, str, float, bool]],
+    source: str,
+    expected: dict[str, tuple[float, int]],
+) -> None:
+    stn = SimpleTemporalNetwork()
+    for name in "abc":
+        stn.add_variable(name)
+    for later, earlier, bound, strict in constraints:
+        stn.add(later, earlier, bound, strict, f"{later}-{earlier}")
+    assert stn.no_later_than(source) == expected
+
+
+def test_a_window_that_ends_before_the_source_begins_orders_them() -> None:
+    stn = SimpleTemporalNetwork()
+    for name in "ab":
+        stn.add_variable(name)
+    stn.add("b", ORIGIN, 10.0, False, "b <= 10")  # b - Z <= 10
+    stn.add(ORIGIN, "a", -20.0, False, "a >= 20")  # Z - a <= -20
+    assert stn.no_later_than("a") == {"b": (-10_000_000_000, 0)}
+    assert stn.no_later_than("b") == {}
