@@ -519,7 +519,8 @@ class ExecutionEngine:
     def _child(self, ref: NodeRef) -> NodeRecord:
         return self.records[ref.node_id]
 
-    def _start_child(self, parent: NodeRecord, child_id: str) -> None:
+    def _start_child(self, parent: NodeRecord, child_id: str, advance: bool = True) -> None:
+        """Start a child here (advanced at once unless ``advance`` is False) or on its agent."""
         rec = self.records[child_id]
         parent.started_children.add(child_id)
         if self.holds(child_id):
@@ -527,7 +528,8 @@ class ExecutionEngine:
                 rec.state = NodeState.RUNNING
                 rec.start = math.nan
                 self._running.append(child_id)
-                self._advance(child_id)
+                if advance:
+                    self._advance(child_id)
             return
         if not rec.remote_requested:
             rec.remote_requested = True
@@ -552,9 +554,14 @@ class ExecutionEngine:
 
     def _advance_concurrent(self, node: Node, rec: NodeRecord) -> None:
         children = [c.node_id for c in node.children]
-        for child_id in children:
-            if child_id not in rec.started_children:
-                self._start_child(rec, child_id)
+        # all are started before any begins: children whose starts are tied to each other
+        # (monitor-single's hover, measurement and look-at at one T_S) begin in the same tick
+        new = [c for c in children if c not in rec.started_children]
+        for child_id in new:
+            self._start_child(rec, child_id, advance=False)
+        for child_id in new:
+            if self.holds(child_id) and self.records[child_id].state is NodeState.RUNNING:
+                self._advance(child_id)
         failed = [
             c for c in children if self.records[c].state in (NodeState.FAILED, NodeState.ABORTED)
         ]

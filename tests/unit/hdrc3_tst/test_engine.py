@@ -524,3 +524,21 @@ def test_a_start_waited_for_past_its_latest_time_fails() -> None:
     assert other.reason("b2") == (
         "not started by its latest start 6.0 s: waiting for uav0/a1.TE, uav0/a2.TS"
     )
+
+
+def test_concurrent_children_with_one_start_begin_together_without_waiting() -> None:
+    """monitor-single's hover, measurement and look-at share a T_S: none waits for another."""
+    rig = Rig(
+        mission(
+            "m(P, TS, TE) = with T1, T2, T3, T4, T5, T6 concurrent\n"
+            "  a(T1, T2) = wait(T1, T2, 3);\n"
+            "  b(T3, T4) = wait(T3, T4, 3);\n"
+            "  c(T5, T6) = wait(T5, T6, 3)\n"
+            "where P = uav0 and T1 = T3 and T3 = T5\n"
+        )
+    )
+    rig.start("m")
+    assert [rig.engine.records[n].start for n in "abc"] == [0.0, 0.0, 0.0]
+    assert not [s for s in rig.sink.statuses if s[2].startswith("waiting")]
+    rig.run(4)
+    assert rig.state("m") is NodeState.SUCCEEDED
