@@ -391,7 +391,8 @@ class ExecutionEngine:
         same time (``s3 = u3``) is not waited for when that node waits to begin too: both
         start now, each at its own tick, and the second is recorded at the first one's time
         (:meth:`_observed`). The ancestors have started: the parent started this node (when
-        it lives on another agent, this replica may not have heard of their starts yet).
+        it lives on another agent, this replica may not have heard of their starts yet). The
+        start of a node whose parent has not begun is the parent's to wait for.
         """
         events = self._events()
         ancestors = set()
@@ -409,7 +410,7 @@ class ExecutionEngine:
                 continue
             other = self.records[node_id]
             if param == "TS":
-                if math.isfinite(other.start):
+                if math.isfinite(other.start) or self._waits_for_parent(node_id):
                     continue
                 ready = other.state is NodeState.RUNNING  # started by its parent, waiting
                 if ready and distance == (0, 0):
@@ -418,6 +419,15 @@ class ExecutionEngine:
                 continue
             pending.append(f"{other.agent}/{node_id}.{param}")
         return sorted(pending)
+
+    def _waits_for_parent(self, node_id: str) -> bool:
+        """The node's parent has not begun: the parent's own start is the one to wait for.
+
+        Its descendants (a monitor-single's hover and look-at, tied to its start) come along.
+        """
+        parent = self.tst.tree.nodes[node_id].parent
+        record = None if parent is None else self.records.get(parent.node_id)
+        return record is not None and math.isnan(record.start)
 
     def _events(self) -> dict[str, tuple[str, str]]:
         """Each start and end variable of the tree: its node and parameter (TS or TE)."""

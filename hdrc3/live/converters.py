@@ -294,6 +294,10 @@ class GisConverter(_NoStart):
         return [Output("gis", SceneUpdate(deletions=[clear], entities=every).encode())]
 
 
+def _time_or_none(seconds: float) -> float | None:
+    return float(seconds) if math.isfinite(seconds) else None
+
+
 class TstConverter(_NoStart):
     """``tst_status`` -> the latest state of every TST node of every agent, as one JSON table."""
 
@@ -310,8 +314,9 @@ class TstConverter(_NoStart):
             "parent": str(msg.parent),
             "kind": str(msg.kind),
             "state": str(msg.state),
-            "start": float(msg.start),
-            "end": float(msg.end),
+            # NaN until known: JSON has no NaN (a browser's JSON.parse refuses it), so null
+            "start": _time_or_none(msg.start),
+            "end": _time_or_none(msg.end),
             "reason": str(msg.reason),
             "time": stamp_s(msg.header.stamp),
         }

@@ -1,8 +1,9 @@
 """Starts tied across agents wait for each other, through `hdrc3 tst run` and two tst_managers.
 
-Section 9.4's monitor-pattern in small: uav0 waits 8 s and uav1 2 s, then each runs a node whose
-start the mission ties to the other's (``S3 = U3``). uav1's node waits for uav0's (it says so in
-its status), and both start at the same recorded time.
+Section 9.4's monitor-pattern in small: uav0 waits 8 s and uav1 2 s, then each runs a concurrent
+node whose start the mission ties to the other's (``S3 = U3``) and whose children start with it
+(as monitor-single's hover, measurement and look-at do). uav1's node waits for uav0's (it says so
+in its status), and all six start at the same recorded time.
 """
 
 from __future__ import annotations
@@ -23,11 +24,17 @@ agents uav0, uav1
 m(P, TS, TE) = with P1, A1, A2, P2, B1, B2, S3, U3 concurrent
   a(P1, A1, A2) = with S1, S2, S4 sequence
     a1(S1, S2) = wait(S1, S2, 8);
-    a2(S3, S4) = wait(S3, S4, 3)
+    a2(S3, S4) = with T1, T2, T3, T4 concurrent
+      a3(T1, T2) = wait(T1, T2, 3);
+      a4(T3, T4) = wait(T3, T4, 3)
+    where T1 = S3 and T3 = S3
   where P1 = uav0;
   b(P2, B1, B2) = with U1, U2, U4 sequence
     b1(U1, U2) = wait(U1, U2, 2);
-    b2(U3, U4) = wait(U3, U4, 3)
+    b2(U3, U4) = with V1, V2, V3, V4 concurrent
+      b3(V1, V2) = wait(V1, V2, 3);
+      b4(V3, V4) = wait(V3, V4, 3)
+    where V1 = U3 and V3 = U3
   where P2 = uav1
 where P = uav0 and S3 = U3
 """
@@ -51,12 +58,13 @@ def test_a_start_tied_to_another_agents_waits_for_it(
         code = run.finish(timeout=WAIT_S)
         text = "\n".join(run.lines)
         assert code == 0, text
-        assert "uav1/b2 wait running: waiting for uav0/a1.TE, uav0/a2.TS" in text
+        assert "uav1/b2 concurrent running: waiting for uav0/a1.TE, uav0/a2.TS" in text
         assert "mission together succeeded" in text
     finally:
         launch.interrupt(timeout=30)
     with (tmp_path / "out" / "timeline.csv").open(encoding="utf-8") as rows:
         table = {row["node"]: row for row in csv.DictReader(rows)}
     times = {n: (float(table[n]["start_s"]), float(table[n]["end_s"])) for n in table}
-    assert times["a2"][0] == times["b2"][0]  # S3 = U3, as recorded by each agent's manager
+    # S3 = U3, as recorded by each agent's manager, and the children with their parents
+    assert len({times[n][0] for n in ("a2", "a3", "a4", "b2", "b3", "b4")}) == 1, times
     assert times["b2"][0] >= times["a1"][1] >= 8.0 > times["b1"][1]

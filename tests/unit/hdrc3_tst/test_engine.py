@@ -460,15 +460,22 @@ SYNCHRONISED = (
     "m(P, TS, TE) = with P1, A1, A2, P2, B1, B2, S3, U3 concurrent\n"
     "  a(P1, A1, A2) = with S1, S2, S4 sequence\n"
     "    a1(S1, S2) = fly-to(S1, S2, 5, Sq);\n"
-    "    a2(S3, S4) = wait(S3, S4, 3)\n"
+    "    a2(S3, S4) = with T1, T2, T3, T4 concurrent\n"
+    "      a3(T1, T2) = wait(T1, T2, 3);\n"
+    "      a4(T3, T4) = wait(T3, T4, 3)\n"
+    "    where T1 = S3 and T3 = S3\n"
     "  where P1 = uav0;\n"
     "  b(P2, B1, B2) = with U1, U2, U4 sequence\n"
     "    b1(U1, U2) = wait(U1, U2, 2);\n"
-    "    b2(U3, U4) = wait(U3, U4, 3)\n"
+    "    b2(U3, U4) = with V1, V2, V3, V4 concurrent\n"
+    "      b3(V1, V2) = wait(V1, V2, 3);\n"
+    "      b4(V3, V4) = wait(V3, V4, 3)\n"
+    "    where V1 = U3 and V3 = U3\n"
     "  where P2 = uav1\n"
     "where P = uav0 and S3 = U3{deadline}\n"
 )
-"""Section 9.4's monitor-pattern in small: uav0 flies, uav1 waits 2 s; then both start together."""
+"""Section 9.4's monitor-pattern in small: uav0 flies, uav1 waits 2 s; then both start together
+a concurrent node whose children start with it (monitor-single's hover, measurement, look-at)."""
 
 
 def _relay(source: Rig, target: Rig, seen: int) -> int:
@@ -510,6 +517,9 @@ def test_starts_tied_across_agents_wait_for_each_other() -> None:
     # the fly-to ended at 10 s and was seen at the 11 s tick; uav1 saw a2 start a tick later
     # and recorded b2's start at a2's
     assert a2.start == b2.start == 11.0
+    children = [owner.engine.records[n] for n in ("a3", "a4")]
+    children += [other.engine.records[n] for n in ("b3", "b4")]
+    assert {c.start for c in children} == {11.0}  # each began with its parent
     assert owner.state("m") is NodeState.SUCCEEDED, owner.reason("m")
 
 

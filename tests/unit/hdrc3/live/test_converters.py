@@ -179,6 +179,18 @@ def test_tst_table_keeps_the_latest_state_of_every_node():
     ]
 
 
+def test_tst_times_not_yet_known_are_null_not_nan():
+    msg = tst_status("n1", "running")
+    msg.start, msg.end = math.nan, math.nan  # waiting to begin
+
+    def refuse(constant: str) -> None:
+        raise AssertionError(f"{constant} is not JSON")
+
+    (out,) = TstConverter(WORLD).convert("tst_status", "uav0", msg, 0)
+    row = json.loads(out.data, parse_constant=refuse)["changed"]
+    assert (row["start"], row["end"]) == (None, None)
+
+
 def test_hcsm_active_states_from_a_trace_record():
     record = TraceRecord(
         "PFC", 3, 1, 12.5, "TakeOff-EV", "DRC",
