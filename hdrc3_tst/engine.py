@@ -390,7 +390,9 @@ class ExecutionEngine:
         ``where`` clause, a node on another agent that must start first. A start due at the
         same time (``s3 = u3``) is not waited for when that node waits to begin too: both
         start now, each at its own tick, and the second is recorded at the first one's time
-        (:meth:`_observed`). The ancestors have started: the parent started this node (when
+        (:meth:`_observed`), nor is one that what happened already pins to a time (a child of
+        another agent's node that has begun, tied to its start). The ancestors have started:
+        the parent started this node (when
         it lives on another agent, this replica may not have heard of their starts yet). The
         start of a node whose parent has not begun is the parent's to wait for.
         """
@@ -413,12 +415,20 @@ class ExecutionEngine:
                 if math.isfinite(other.start) or self._waits_for_parent(node_id):
                     continue
                 ready = other.state is NodeState.RUNNING  # started by its parent, waiting
-                if ready and distance == (0, 0):
+                if distance == (0, 0) and (ready or self._pinned(var)):
                     continue
             elif other.state.finished:
                 continue
             pending.append(f"{other.agent}/{node_id}.{param}")
         return sorted(pending)
+
+    def _pinned(self, var: str) -> bool:
+        """Whether what happened fixes the variable's time (a child tied to its parent's start).
+
+        Such a start happens then, whether or not this replica has heard of it yet.
+        """
+        window = self.tst.network.window(var)
+        return window.earliest == window.latest
 
     def _waits_for_parent(self, node_id: str) -> bool:
         """The node's parent has not begun: the parent's own start is the one to wait for.

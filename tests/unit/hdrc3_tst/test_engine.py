@@ -552,3 +552,23 @@ def test_concurrent_children_with_one_start_begin_together_without_waiting() -> 
     assert not [s for s in rig.sink.statuses if s[2].startswith("waiting")]
     rig.run(4)
     assert rig.state("m") is NodeState.SUCCEEDED
+
+
+def test_a_start_pinned_by_what_happened_is_not_waited_for() -> None:
+    """uav1 hears that a2 began but not yet of a3/a4, tied to a2's start: b2 begins anyway."""
+    text = SYNCHRONISED.format(deadline="")
+    owner, other = Rig(mission(text)), Rig(mission(text), agent="uav1")
+    owner.platform.sample = PlatformState(0, 0, 30, on_ground=False, autonomous=True)
+    owner.start("m")
+    assert other.engine.execute("b", owner.t, other.t) == ""
+    _fly_both(owner, other, 8, land_at=math.inf)
+    for command in owner.platform.running():
+        flown(owner.platform)(command)
+    owner.t = other.t = 1010.0
+    owner.engine.tick(owner.t)
+    a2 = owner.engine.records["a2"]
+    assert a2.start == 10.0 and owner.engine.records["a3"].start == 10.0
+    other.engine.on_remote_status("a1", NodeState.SUCCEEDED, 0.0, 10.0, "")
+    other.engine.on_remote_status("a2", NodeState.RUNNING, a2.start, math.nan, "")
+    other.engine.tick(other.t)
+    assert other.engine.records["b2"].start == 10.0, other.reason("b2")
