@@ -387,11 +387,11 @@ class ExecutionEngine:
 
         Events not yet observed lie in the future, so a node whose start is tied to them waits
         (a dispatcher's rule for Simple Temporal Networks): a sibling ordered before it by a
-        ``where`` clause, a node on another agent that must start first. A start due at the
-        same time (``s3 = u3``) is not waited for when that node waits to begin too: both
-        start now, each at its own tick, and the second is recorded at the first one's time
-        (:meth:`_observed`), nor is one that what happened already pins to a time (a child of
-        another agent's node that has begun, tied to its start). The ancestors have started:
+        ``where`` clause, a node on another agent that must start first. Of two starts due at
+        the same time (``s3 = u3``) whose nodes both wait to begin, the leader (:meth:`_leads`)
+        begins and the other follows at the leader's recorded time (:meth:`_observed`). A start
+        that what happened already pins to a time (a child of another agent's node that has
+        begun, tied to its start) is not waited for. The ancestors have started:
         the parent started this node (when
         it lives on another agent, this replica may not have heard of their starts yet). The
         start of a node whose parent has not begun is the parent's to wait for.
@@ -415,12 +415,29 @@ class ExecutionEngine:
                 if math.isfinite(other.start) or self._waits_for_parent(node_id):
                     continue
                 ready = other.state is NodeState.RUNNING  # started by its parent, waiting
-                if distance == (0, 0) and (ready or self._pinned(var)):
+                if distance == (0, 0) and (
+                    self._pinned(var) or (ready and self._leads(node, var))
+                ):
                     continue
             elif other.state.finished:
                 continue
             pending.append(f"{other.agent}/{node_id}.{param}")
         return sorted(pending)
+
+    def _leads(self, node: Node, var: str) -> bool:
+        """The node starts first of two ready nodes whose starts are equal (``var`` the other's).
+
+        One of them must begin and the other follow, or each would fix its own tick's time
+        (20 ms apart in one run). The leader is the lower (agent, node id); the follower waits
+        until it hears of the leader's start, which pins its own to that time. A start that
+        only must not come after ``var`` (not equal to it) follows.
+        """
+        event = self._events()[var]
+        ours = (self.records[node.node_id].agent, node.node_id)
+        if ours >= (self.records[event[0]].agent, event[0]):
+            return False
+        back = self.tst.network.stn.no_later_than(var).get(node.params["TS"])
+        return back == (0, 0)
 
     def _pinned(self, var: str) -> bool:
         """Whether what happened fixes the variable's time (a child tied to its parent's start).

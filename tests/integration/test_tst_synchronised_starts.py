@@ -2,8 +2,11 @@
 
 Section 9.4's monitor-pattern in small: uav0 waits 8 s and uav1 2 s, then each runs a concurrent
 node whose start the mission ties to the other's (``S3 = U3``) and whose children start with it
-(as monitor-single's hover, measurement and look-at do). uav1's node waits for uav0's (it says so
-in its status), and all six start at the same recorded time.
+(as monitor-single's hover, measurement and look-at do). uav1's node waits for uav0's, and all
+six start at the same recorded time. Which of the two says "waiting for" in its status depends
+on the managers' ticks and on when each replica hears of the other's times (the durations are
+fixed, so a replica that knows when a1 began sees b2's window open at 8 s); the recorded times
+do not. The same with four aircraft flying: ``test_radiation_monitoring.py`` (``make flights``).
 """
 
 from __future__ import annotations
@@ -58,7 +61,6 @@ def test_a_start_tied_to_another_agents_waits_for_it(
         code = run.finish(timeout=WAIT_S)
         text = "\n".join(run.lines)
         assert code == 0, text
-        assert "uav1/b2 concurrent running: waiting for uav0/a1.TE, uav0/a2.TS" in text
         assert "mission together succeeded" in text
     finally:
         launch.interrupt(timeout=30)
@@ -66,5 +68,6 @@ def test_a_start_tied_to_another_agents_waits_for_it(
         table = {row["node"]: row for row in csv.DictReader(rows)}
     times = {n: (float(table[n]["start_s"]), float(table[n]["end_s"])) for n in table}
     # S3 = U3, as recorded by each agent's manager, and the children with their parents
-    assert len({times[n][0] for n in ("a2", "a3", "a4", "b2", "b3", "b4")}) == 1, times
+    starts = [times[n][0] for n in ("a2", "a3", "a4", "b2", "b3", "b4")]
+    assert max(starts) - min(starts) < 1e-6, times  # (one is now - epoch, one a fixed time)
     assert times["b2"][0] >= times["a1"][1] >= 8.0 > times["b1"][1]
