@@ -415,9 +415,7 @@ class ExecutionEngine:
                 if math.isfinite(other.start) or self._waits_for_parent(node_id):
                     continue
                 ready = other.state is NodeState.RUNNING  # started by its parent, waiting
-                if distance == (0, 0) and (
-                    self._pinned(var) or (ready and self._leads(node, var))
-                ):
+                if distance == (0, 0) and (self._pinned(var) or (ready and self._leads(node, var))):
                     continue
             elif other.state.finished:
                 continue
