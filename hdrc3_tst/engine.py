@@ -172,7 +172,6 @@ class ExecutionEngine:
         self._advancing: set[str] = set()
         self._stopping: set[str] = set()
         """Nodes whose subtree is being aborted: their children's endings do not advance them."""
-        self._event_index: dict[str, tuple[str, str]] = {}
 
     # --- queries ------------------------------------------------------------------------
     def holds(self, node_id: str) -> bool:
@@ -391,10 +390,10 @@ class ExecutionEngine:
         the same time (``s3 = u3``) whose nodes both wait to begin, the leader (:meth:`_leads`)
         begins and the other follows at the leader's recorded time (:meth:`_observed`). A start
         that what happened already pins to a time (a child of another agent's node that has
-        begun, tied to its start) is not waited for. The ancestors have started:
-        the parent started this node (when
-        it lives on another agent, this replica may not have heard of their starts yet). The
-        start of a node whose parent has not begun is the parent's to wait for.
+        begun, tied to its start) is not waited for. The ancestors have started: the parent
+        started this node (when it lives on another agent, this replica may not have heard of
+        their starts yet). The start of a node whose parent has not begun is the parent's to
+        wait for.
         """
         events = self._events()
         ancestors = set()
@@ -415,14 +414,16 @@ class ExecutionEngine:
                 if math.isfinite(other.start) or self._waits_for_parent(node_id):
                     continue
                 ready = other.state is NodeState.RUNNING  # started by its parent, waiting
-                if distance == (0, 0) and (self._pinned(var) or (ready and self._leads(node, var))):
+                if distance == (0, 0) and (
+                    self._pinned(var) or (ready and self._leads(node, node_id, var))
+                ):
                     continue
             elif other.state.finished:
                 continue
             pending.append(f"{other.agent}/{node_id}.{param}")
         return sorted(pending)
 
-    def _leads(self, node: Node, var: str) -> bool:
+    def _leads(self, node: Node, other_id: str, var: str) -> bool:
         """The node starts first of two ready nodes whose starts are equal (``var`` the other's).
 
         One of them must begin and the other follow, or each would fix its own tick's time
@@ -430,9 +431,8 @@ class ExecutionEngine:
         until it hears of the leader's start, which pins its own to that time. A start that
         only must not come after ``var`` (not equal to it) follows.
         """
-        event = self._events()[var]
         ours = (self.records[node.node_id].agent, node.node_id)
-        if ours >= (self.records[event[0]].agent, event[0]):
+        if ours >= (self.records[other_id].agent, other_id):
             return False
         back = self.tst.network.stn.no_later_than(var).get(node.params["TS"])
         return back == (0, 0)
@@ -455,13 +455,9 @@ class ExecutionEngine:
         return record is not None and math.isnan(record.start)
 
     def _events(self) -> dict[str, tuple[str, str]]:
-        """Each start and end variable of the tree: its node and parameter (TS or TE)."""
-        nodes = self.tst.tree.nodes
-        if len(self._event_index) != 2 * len(nodes):
-            self._event_index = {
-                n.params[p]: (n.node_id, p) for n in nodes.values() for p in ("TS", "TE")
-            }
-        return self._event_index
+        """Each start and end variable of the tree (as it is now): its node and TS or TE."""
+        nodes = self.tst.tree.nodes.values()
+        return {n.params[p]: (n.node_id, p) for n in nodes for p in ("TS", "TE")}
 
     def _wait(self, rec: NodeRecord, latest: float, pending: list[str]) -> bool:
         """Wait for ``pending`` (said in the node's status once); fail it past its latest start."""
