@@ -22,10 +22,10 @@ from typing import TypeVar
 
 from hdrc3.emergency_mission import EmergencyMission
 from hdrc3_base.errors import ConfigError
+from hdrc3_deliberative.mission_syntax import AreaDecl, Name, Number, PointDecl, WorldDecl
 from hdrc3_deliberative.talf_diagnostics import TalfDiagnostic, TalfStatus
-from hdrc3_deliberative.talf_formulas import Name, Number
 from hdrc3_deliberative.talf_load import load_file
-from hdrc3_deliberative.talf_syntax import ActionTerm, AreaDecl, PointDecl, TalfFile, WorldDecl
+from hdrc3_deliberative.talf_syntax import ActionTerm, TalfFile
 from hdrc3_tst.actions import ACTIONS
 
 _D = TypeVar("_D", AreaDecl, PointDecl)

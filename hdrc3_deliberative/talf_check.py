@@ -16,29 +16,32 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from hdrc3_deliberative.mission_syntax import (
+    AgentsDecl,
+    Cmp,
+    Comparison,
+    ConsRef,
+    Membership,
+    Name,
+    Number,
+    SourcePos,
+    WorldDecl,
+)
 from hdrc3_deliberative.talf_diagnostics import TalfDiagnostic
 from hdrc3_deliberative.talf_formulas import (
     And,
-    Compare,
-    ConsRef,
     Exists,
     Forall,
     Formula,
     Iff,
     Implies,
-    Member,
-    Name,
     Not,
-    Number,
-    Op,
     Or,
-    Pos,
     conjuncts,
     formula_names,
 )
 from hdrc3_deliberative.talf_syntax import (
     ActionTerm,
-    AgentsDecl,
     CAct,
     CompositeSpec,
     Foreach,
@@ -46,7 +49,6 @@ from hdrc3_deliberative.talf_syntax import (
     OpenDecl,
     TalfFile,
     While,
-    WorldDecl,
 )
 
 
@@ -108,13 +110,13 @@ class _Checker:
         self.globals = set(self.tree.open_names())
         self.cons = self.tree.constraints()
 
-    def error(self, code: str, message: str, pos: Pos) -> None:
+    def error(self, code: str, message: str, pos: SourcePos) -> None:
         self.diags.append(TalfDiagnostic(code, message, pos))
 
     def bound(self, name: str, scope: frozenset[str]) -> bool:
         return name in scope or name in self.globals or name in self.agents or name in self.places
 
-    def need(self, name: str, scope: frozenset[str], pos: Pos, what: str) -> None:
+    def need(self, name: str, scope: frozenset[str], pos: SourcePos, what: str) -> None:
         if not self.bound(name, scope):
             self.unbound.append(name)
             self.error(
@@ -129,7 +131,7 @@ class _Checker:
         self,
         formula: Formula,
         scope: frozenset[str],
-        pos: Pos,
+        pos: SourcePos,
         what: str,
         seen: tuple[str, ...] = (),
     ) -> None:
@@ -316,10 +318,10 @@ def _agent_domains(root: CAct, agents: frozenset[str]) -> dict[str, frozenset[st
     for cact in root.walk():
         for part in conjuncts(cact.where):
             var, values = None, frozenset[str]()
-            if isinstance(part, Member):
+            if isinstance(part, Membership):
                 var = part.var.id
                 values = frozenset(v.id for v in part.values if isinstance(v, Name))
-            elif isinstance(part, Compare) and part.op is Op.EQ:
+            elif isinstance(part, Comparison) and part.op is Cmp.EQ:
                 names = [t.name.id for e in (part.left, part.right) for t in e.terms if t.name]
                 if len(names) == 2 and (names[1] in agents) != (names[0] in agents):
                     var, value = (names[0], names[1]) if names[1] in agents else names[::-1]

@@ -11,7 +11,7 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass
 
-from hdrc3_deliberative.talf_formulas import Pos
+from hdrc3_deliberative.mission_syntax import SourcePos
 
 
 class TalfStatus(enum.Enum):
@@ -30,7 +30,7 @@ class TalfDiagnostic:
 
     code: str
     message: str
-    pos: Pos
+    pos: SourcePos
 
     def __str__(self) -> str:
         return f"{self.pos}: error {self.code}: {self.message}"

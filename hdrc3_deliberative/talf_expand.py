@@ -15,23 +15,25 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_deliberative.mission_syntax import (
+    Arg,
+    Comparison,
+    LinExpr,
+    Membership,
+    Name,
+    Number,
+    Term,
+)
 from hdrc3_deliberative.talf_formulas import (
     And,
-    Arg,
     Atom,
-    Compare,
     Exists,
     Forall,
     Formula,
     Iff,
     Implies,
-    LinExpr,
-    Member,
-    Name,
     Not,
-    Number,
     Or,
-    Term,
     formula_names,
 )
 from hdrc3_deliberative.talf_syntax import (
@@ -85,13 +87,15 @@ def _expr(expr: LinExpr, sub: Subst) -> LinExpr:
 
 def subst_formula(formula: Formula, sub: Subst) -> Formula:
     """Replace free names (quantified names are left alone)."""
-    if isinstance(formula, Compare):
-        return Compare(_expr(formula.left, sub), formula.op, _expr(formula.right, sub), formula.pos)
-    if isinstance(formula, Member):
+    if isinstance(formula, Comparison):
+        return Comparison(
+            _expr(formula.left, sub), formula.op, _expr(formula.right, sub), formula.pos
+        )
+    if isinstance(formula, Membership):
         var = _arg(formula.var, sub)
         if isinstance(var, Number):
             raise ExpansionError(f"{formula.var.id} in {{...}} is given a number")
-        return Member(var, tuple(_arg(v, sub) for v in formula.values), formula.pos)
+        return Membership(var, tuple(_arg(v, sub) for v in formula.values), formula.pos)
     if isinstance(formula, Atom):
         time = None if formula.time is None else _name(formula.time, sub, "timepoint")
         return Atom(formula.name, tuple(_arg(a, sub) for a in formula.args), time, formula.pos)

@@ -12,93 +12,20 @@ and need ``Occurs`` and fixpoints.
 
 from __future__ import annotations
 
-import enum
 from dataclasses import dataclass, field
 
-
-@dataclass(frozen=True)
-class Pos:
-    """Where a construct starts (1-based line and column; 0 when not from a file)."""
-
-    file: str = "<string>"
-    line: int = 0
-    column: int = 0
-
-    def __str__(self) -> str:
-        return f"{self.file}:{self.line}:{self.column}"
-
-
-NOWHERE = Pos()
-
-
-@dataclass(frozen=True)
-class Name:
-    """A variable or a declared value (agent, area, point, path)."""
-
-    id: str
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class Number:
-    """A numeric literal."""
-
-    value: float
-
-
-Arg = Name | Number
-
-
-@dataclass(frozen=True)
-class Term:
-    """``coef * name``, or the constant ``coef`` when ``name`` is None."""
-
-    coef: float
-    name: Name | None = None
-
-
-@dataclass(frozen=True)
-class LinExpr:
-    """A linear expression: the sum of its terms."""
-
-    terms: tuple[Term, ...]
-
-
-class Op(enum.Enum):
-    """Comparison operators."""
-
-    LE = "<="
-    LT = "<"
-    GE = ">="
-    GT = ">"
-    EQ = "="
-    NE = "!="
-
-
-@dataclass(frozen=True)
-class Compare:
-    """``left OP right`` (a chain ``a = b = c`` is the conjunction of its links)."""
-
-    left: LinExpr
-    op: Op
-    right: LinExpr
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class Member:
-    """``VAR in {v1, v2, ...}``: a finite domain."""
-
-    var: Name
-    values: tuple[Arg, ...]
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class ConsRef:
-    """A bare name: the named constraint set ``constraint NAME = ...``."""
-
-    name: Name
+from hdrc3_deliberative.mission_syntax import (
+    NOWHERE,
+    Arg,
+    Cmp,
+    Comparison,
+    ConsRef,
+    LinExpr,
+    Membership,
+    Name,
+    SourcePos,
+    Term,
+)
 
 
 @dataclass(frozen=True)
@@ -108,7 +35,7 @@ class Atom:
     name: str
     args: tuple[Arg, ...]
     time: str | None = None
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -201,8 +128,8 @@ class Lfp:
 
 
 Formula = (
-    Compare
-    | Member
+    Comparison
+    | Membership
     | ConsRef
     | Atom
     | TrueF
@@ -242,7 +169,7 @@ def time_le(a: str, b: str) -> Formula:
     """``a <= b`` over two timepoint variables (``true`` when they are the same)."""
     if a == b:
         return TrueF()
-    return Compare(LinExpr((Term(1.0, Name(a)),)), Op.LE, LinExpr((Term(1.0, Name(b)),)))
+    return Comparison(LinExpr((Term(1.0, Name(a)),)), Cmp.LE, LinExpr((Term(1.0, Name(b)),)))
 
 
 def negate(formula: Formula) -> Formula:
@@ -321,9 +248,9 @@ def formula_text(formula: Formula, hoist: bool = True) -> str:
 
 
 def _text(formula: Formula, timed: bool) -> str:
-    if isinstance(formula, Compare):
+    if isinstance(formula, Comparison):
         return f"{expr_text(formula.left)} {formula.op.value} {expr_text(formula.right)}"
-    if isinstance(formula, Member):
+    if isinstance(formula, Membership):
         return f"{formula.var.id} in {{{args_text(formula.values)}}}"
     if isinstance(formula, ConsRef):
         return formula.name.id
@@ -356,9 +283,9 @@ def formula_names(formula: Formula) -> tuple[Name, ...]:
 
     Names bound by quantifiers inside the formula are left out.
     """
-    if isinstance(formula, Compare):
+    if isinstance(formula, Comparison):
         return tuple(t.name for e in (formula.left, formula.right) for t in e.terms if t.name)
-    if isinstance(formula, Member):
+    if isinstance(formula, Membership):
         return (formula.var, *(v for v in formula.values if isinstance(v, Name)))
     if isinstance(formula, Atom):
         names = tuple(a for a in formula.args if isinstance(a, Name))

@@ -17,33 +17,38 @@ from typing import Any
 import lark
 from lark import Token, Transformer
 
+from hdrc3_deliberative.mission_syntax import (
+    AgentsDecl,
+    AreaDecl,
+    Cmp,
+    Comparison,
+    ConsRef,
+    LinExpr,
+    Membership,
+    Name,
+    Number,
+    PathDecl,
+    PointDecl,
+    SourcePos,
+    Term,
+    WorldDecl,
+)
 from hdrc3_deliberative.talf_diagnostics import TalfDiagnostic, TalfStatus
 from hdrc3_deliberative.talf_formulas import (
     And,
     Atom,
-    Compare,
-    ConsRef,
     Exists,
     Forall,
     Formula,
     Iff,
     Implies,
-    LinExpr,
-    Member,
-    Name,
     Not,
-    Number,
-    Op,
     Or,
-    Pos,
-    Term,
     TrueF,
     conj,
 )
 from hdrc3_deliberative.talf_syntax import (
     ActionTerm,
-    AgentsDecl,
-    AreaDecl,
     CAct,
     CompositeSpec,
     Concurrent,
@@ -53,12 +58,9 @@ from hdrc3_deliberative.talf_syntax import (
     Interval,
     Mission,
     OpenDecl,
-    PathDecl,
-    PointDecl,
     Sequence,
     TalfFile,
     While,
-    WorldDecl,
 )
 
 
@@ -104,8 +106,10 @@ class _Builder(Transformer[Token, Any]):
         super().__init__()
         self._file = file
 
-    def _pos(self, token: Token) -> Pos:
-        return Pos(self._file, getattr(token, "line", 0) or 0, getattr(token, "column", 0) or 0)
+    def _pos(self, token: Token) -> SourcePos:
+        return SourcePos(
+            self._file, getattr(token, "line", 0) or 0, getattr(token, "column", 0) or 0
+        )
 
     def _name(self, token: Token) -> Name:
         return Name(str(token), self._pos(token))
@@ -135,7 +139,7 @@ class _Builder(Transformer[Token, Any]):
     def xyz(self, children: list[Number]) -> tuple[float, float, float]:
         return (children[0].value, children[1].value, children[2].value)
 
-    def interval(self, children: list[Token]) -> tuple[Interval, Pos]:
+    def interval(self, children: list[Token]) -> tuple[Interval, SourcePos]:
         return Interval(str(children[0]), str(children[1])), self._pos(children[0])
 
     def timepoint(self, children: list[Token]) -> str:
@@ -174,14 +178,14 @@ class _Builder(Transformer[Token, Any]):
 
     def f_chain(self, children: list[Any]) -> Formula:
         links = [
-            Compare(left, Op(str(op)), right, self._pos(op))
+            Comparison(left, Cmp(str(op)), right, self._pos(op))
             for left, op, right in zip(children[0::2], children[1::2], children[2::2], strict=False)
         ]
         return conj(*links)
 
-    def f_member(self, children: list[Any]) -> Member:
+    def f_member(self, children: list[Any]) -> Membership:
         var = self._name(children[0])
-        return Member(var, children[1], var.pos)
+        return Membership(var, children[1], var.pos)
 
     def f_ref(self, children: list[Token]) -> ConsRef:
         return ConsRef(self._name(children[0]))
@@ -311,7 +315,7 @@ def _syntax_diagnostic(
     message = f"unexpected {found}"
     if expected:
         message += "; expected one of: " + ", ".join(expected[:16])
-    return TalfDiagnostic("T001", message, Pos(file, line, column))
+    return TalfDiagnostic("T001", message, SourcePos(file, line, column))
 
 
 def parse_text(text: str, file: str = "<string>") -> ParseResult:
@@ -321,7 +325,7 @@ def parse_text(text: str, file: str = "<string>") -> ParseResult:
     except lark.exceptions.UnexpectedInput as exc:
         return ParseResult(TalfStatus.SYNTAX_ERROR, None, (_syntax_diagnostic(exc, file, text),))
     except lark.exceptions.VisitError as exc:  # only numbers too large for a float
-        diag = TalfDiagnostic("T002", f"bad value: {exc.orig_exc}", Pos(file, 0, 0))
+        diag = TalfDiagnostic("T002", f"bad value: {exc.orig_exc}", SourcePos(file, 0, 0))
         return ParseResult(TalfStatus.SYNTAX_ERROR, None, (diag,))
     return ParseResult(TalfStatus.OK, tree)
 
@@ -332,6 +336,6 @@ def parse_file(path: str | Path) -> ParseResult:
     try:
         text = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError, ValueError) as exc:
-        diag = TalfDiagnostic("T000", f"cannot read file: {exc}", Pos(file, 0, 0))
+        diag = TalfDiagnostic("T000", f"cannot read file: {exc}", SourcePos(file, 0, 0))
         return ParseResult(TalfStatus.UNREADABLE, None, (diag,))
     return parse_text(text, file)

@@ -7,11 +7,10 @@ A where clause binds to the innermost C-ACT that can take it, so a C-ACT ending 
 
 from __future__ import annotations
 
+from hdrc3_deliberative.mission_syntax import AgentsDecl, AreaDecl, PathDecl, PointDecl, WorldDecl
 from hdrc3_deliberative.talf_formulas import args_text, formula_text, number_text
 from hdrc3_deliberative.talf_syntax import (
     ActionTerm,
-    AgentsDecl,
-    AreaDecl,
     CAct,
     CompositeSpec,
     Concurrent,
@@ -22,12 +21,9 @@ from hdrc3_deliberative.talf_syntax import (
     Item,
     Mission,
     OpenDecl,
-    PathDecl,
-    PointDecl,
     Sequence,
     TalfFile,
     While,
-    WorldDecl,
 )
 
 INDENT = "  "

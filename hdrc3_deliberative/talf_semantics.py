@@ -30,17 +30,16 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from hdrc3_deliberative.mission_syntax import ConsRef, Name
 from hdrc3_deliberative.talf_formulas import (
     And,
     Atom,
-    ConsRef,
     Exists,
     Forall,
     Formula,
     Iff,
     Implies,
     Lfp,
-    Name,
     Not,
     Occurs,
     Or,

@@ -17,7 +17,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from hdrc3_deliberative.talf_formulas import NOWHERE, Arg, Formula, Pos
+from hdrc3_deliberative.mission_syntax import (
+    NOWHERE,
+    AgentsDecl,
+    AreaDecl,
+    Arg,
+    Declaration,
+    PathDecl,
+    PointDecl,
+    SourcePos,
+)
+from hdrc3_deliberative.talf_formulas import Formula
 
 
 @dataclass(frozen=True)
@@ -39,7 +49,7 @@ class ActionTerm:
     name: str
     args: tuple[Arg, ...]
     interval: Interval | None = None
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -95,7 +105,7 @@ class CAct:
     where: Formula | None = None
     agent: str | None = None
     label: str | None = field(default=None, compare=False)
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
     def children(self) -> tuple[CAct, ...]:
         """The composite sub-actions written inside this one, in order."""
@@ -121,7 +131,7 @@ class CompositeSpec:
     name: str
     params: tuple[str, ...]
     body: CAct
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -130,55 +140,10 @@ class Mission:
 
     name: str
     body: CAct
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 # --- header declarations (the same lines as a .tst file's) ------------------------------------
-
-
-@dataclass(frozen=True)
-class WorldDecl:
-    """``world NAME``."""
-
-    name: str
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class AgentsDecl:
-    """``agents a, b``."""
-
-    names: tuple[str, ...]
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class AreaDecl:
-    """``area NAME = polygon((e, n), ...)``."""
-
-    name: str
-    vertices: tuple[tuple[float, float], ...]
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class PointDecl:
-    """``point NAME = (e, n, u)`` or ``point NAME = PLACE at U``."""
-
-    name: str
-    xyz: tuple[float, float, float] | None = None
-    place: str | None = None
-    altitude: float = 0.0
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class PathDecl:
-    """``path NAME = (P1, P2, ...)``."""
-
-    name: str
-    points: tuple[str, ...]
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -186,7 +151,7 @@ class OpenDecl:
     """``open X, Y``: mission parameters left open (a TST's free numeric argument names)."""
 
     names: tuple[str, ...]
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -195,10 +160,9 @@ class ConstraintDef:
 
     name: str
     formula: Formula
-    pos: Pos = field(default=NOWHERE, compare=False, repr=False)
+    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
 
 
-Declaration = WorldDecl | AgentsDecl | AreaDecl | PointDecl | PathDecl
 Item = Declaration | OpenDecl | ConstraintDef | CompositeSpec | Mission
 
 

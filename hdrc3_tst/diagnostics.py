@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from hdrc3_tst.syntax import SourcePos
+from hdrc3_deliberative.mission_syntax import SourcePos
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from ortools.sat.python import cp_model
 
-from hdrc3_tst.syntax import Cmp
+from hdrc3_deliberative.mission_syntax import Cmp
 
 SCALE = 1000
 LIMIT = 10**6

@@ -11,8 +11,9 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 
+from hdrc3_deliberative.mission_syntax import SourcePos
 from hdrc3_tst.errors import TstError
-from hdrc3_tst.syntax import Condition, SourcePos
+from hdrc3_tst.syntax import Condition
 
 UNASSIGNED = ""
 """Agent of a reference whose node's ``P`` is still open."""

@@ -12,10 +12,10 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 
+from hdrc3_deliberative.mission_syntax import Cmp
 from hdrc3_tst.actions import ParamType
 from hdrc3_tst.finite import FiniteModel, LinearConstraint, SolveStatus, SymbolConstraint
 from hdrc3_tst.stn import Inconsistent, SimpleTemporalNetwork, Window
-from hdrc3_tst.syntax import Cmp
 
 
 class FixStatus(enum.Enum):

@@ -17,35 +17,37 @@ from typing import Any
 import lark
 from lark import Token, Transformer
 
-from hdrc3_tst.diagnostics import Diagnostic
-from hdrc3_tst.syntax import (
-    ActionTask,
+from hdrc3_deliberative.mission_syntax import (
     AgentsDecl,
     AreaDecl,
-    CallTask,
     Cmp,
     Comparison,
-    ConcurrentTask,
-    Condition,
-    ConsDef,
     ConsRef,
-    Constraint,
-    Expr,
-    ForeachTask,
-    GoalTask,
-    IfTask,
+    LinExpr,
     Membership,
     Name,
     Number,
     PathDecl,
     PointDecl,
-    SequenceTask,
     SourcePos,
     Term,
+    WorldDecl,
+)
+from hdrc3_tst.diagnostics import Diagnostic
+from hdrc3_tst.syntax import (
+    ActionTask,
+    CallTask,
+    ConcurrentTask,
+    Condition,
+    ConsDef,
+    Constraint,
+    ForeachTask,
+    GoalTask,
+    IfTask,
+    SequenceTask,
     TstDef,
     TstFile,
     WhileTask,
-    WorldDecl,
 )
 
 
@@ -129,11 +131,11 @@ class _Builder(Transformer[Token, Any]):
     def neg_term(self, children: list[Term]) -> Term:
         return Term(-children[0].coef, children[0].name)
 
-    def expr(self, children: list[Any]) -> Expr:
+    def expr(self, children: list[Any]) -> LinExpr:
         terms = [children[0]]
         for op, term in zip(children[1::2], children[2::2], strict=True):
             terms.append(term if str(op) == "+" else Term(-term.coef, term.name))
-        return Expr(tuple(terms))
+        return LinExpr(tuple(terms))
 
     def comparison(self, children: list[Any]) -> Comparison:
         # At the operator: expressions may start with a constant, which keeps no position.

@@ -6,34 +6,36 @@ One node per line, children indented; a composite child always ends with its whe
 
 from __future__ import annotations
 
-from hdrc3_tst.errors import TstError
-from hdrc3_tst.syntax import (
-    ActionTask,
+from hdrc3_deliberative.mission_syntax import (
     AgentsDecl,
     AreaDecl,
-    CallTask,
     Comparison,
-    ConcurrentTask,
-    Condition,
-    ConsDef,
     ConsRef,
-    Constraint,
-    Expr,
-    ForeachTask,
-    GoalTask,
-    IfTask,
-    Item,
+    LinExpr,
     Membership,
     Name,
     Number,
     PathDecl,
     PointDecl,
-    SequenceTask,
     Term,
+    WorldDecl,
+)
+from hdrc3_tst.errors import TstError
+from hdrc3_tst.syntax import (
+    ActionTask,
+    CallTask,
+    ConcurrentTask,
+    Condition,
+    ConsDef,
+    Constraint,
+    ForeachTask,
+    GoalTask,
+    IfTask,
+    Item,
+    SequenceTask,
     TstDef,
     TstFile,
     WhileTask,
-    WorldDecl,
 )
 
 INDENT = "  "
@@ -69,7 +71,7 @@ def _term(term: Term, first: bool) -> str:
     return f"{sign} {body}"
 
 
-def expr_text(expr: Expr) -> str:
+def expr_text(expr: LinExpr) -> str:
     """A linear expression."""
     return " ".join(_term(t, i == 0) for i, t in enumerate(expr.terms))
 

@@ -18,9 +18,10 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 
+from hdrc3_deliberative.mission_syntax import Name
 from hdrc3_tst.actions import ParamType
 from hdrc3_tst.platform_port import PlatformState
-from hdrc3_tst.syntax import Condition, Name
+from hdrc3_tst.syntax import Condition
 
 LOW_BATTERY = 0.3
 """State of charge below which ``low-battery(P)`` holds."""

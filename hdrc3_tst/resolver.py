@@ -19,6 +19,20 @@ from dataclasses import dataclass, field
 
 import shapely
 
+from hdrc3_deliberative.mission_syntax import (
+    AgentsDecl,
+    AreaDecl,
+    Cmp,
+    Comparison,
+    ConsRef,
+    Membership,
+    Name,
+    Number,
+    PathDecl,
+    PointDecl,
+    SourcePos,
+    WorldDecl,
+)
 from hdrc3_tst.actions import ACTIONS, ActionSpec, ParamSpec, ParamType
 from hdrc3_tst.diagnostics import Diagnostic
 from hdrc3_tst.finite import LinearConstraint, SolveStatus, SymbolConstraint
@@ -28,29 +42,17 @@ from hdrc3_tst.network import ConstraintNetwork, FixResult, FixStatus
 from hdrc3_tst.stn import Inconsistent
 from hdrc3_tst.syntax import (
     ActionTask,
-    AgentsDecl,
-    AreaDecl,
     CallTask,
-    Cmp,
-    Comparison,
     ConcurrentTask,
     ConsDef,
-    ConsRef,
     Constraint,
     ForeachTask,
     GoalTask,
     IfTask,
-    Membership,
-    Name,
-    Number,
-    PathDecl,
-    PointDecl,
     SequenceTask,
-    SourcePos,
     TstDef,
     TstFile,
     WhileTask,
-    WorldDecl,
 )
 
 

@@ -5,98 +5,21 @@ Positions never take part in equality, so a printed and re-parsed tree equals th
 
 from __future__ import annotations
 
-import enum
 from dataclasses import dataclass, field
 
-
-@dataclass(frozen=True)
-class SourcePos:
-    """Where a construct starts (1-based line and column; 0 when not from a file)."""
-
-    file: str = "<string>"
-    line: int = 0
-    column: int = 0
-
-    def __str__(self) -> str:
-        return f"{self.file}:{self.line}:{self.column}"
-
-
-NOWHERE = SourcePos()
-
-
-# --- arguments and constraints ------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class Name:
-    """A variable or a declared value (area, point, agent), told apart by the resolver."""
-
-    id: str
-    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class Number:
-    """A numeric literal (SI units of the parameter it is given to)."""
-
-    value: float
-    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
-
-
-Arg = Name | Number
-
-
-@dataclass(frozen=True)
-class Term:
-    """``coef * name``, or the constant ``coef`` when ``name`` is None."""
-
-    coef: float
-    name: Name | None = None
-
-
-@dataclass(frozen=True)
-class Expr:
-    """A linear expression: the sum of its terms."""
-
-    terms: tuple[Term, ...]
-
-
-class Cmp(enum.Enum):
-    """Comparison operators of constraints."""
-
-    LE = "<="
-    LT = "<"
-    GE = ">="
-    GT = ">"
-    EQ = "="
-    NE = "!="
-
-
-@dataclass(frozen=True)
-class Comparison:
-    """``left OP right`` over linear expressions."""
-
-    left: Expr
-    op: Cmp
-    right: Expr
-    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class Membership:
-    """``VAR in {v1, v2, ...}``: a finite domain."""
-
-    var: Name
-    values: tuple[Arg, ...]
-    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class ConsRef:
-    """A reference to a named constraint set (``where cons_tau0``, Example 6.2)."""
-
-    name: Name
-
+from hdrc3_deliberative.mission_syntax import (
+    NOWHERE,
+    AgentsDecl,
+    AreaDecl,
+    Arg,
+    Comparison,
+    ConsRef,
+    Membership,
+    PathDecl,
+    PointDecl,
+    SourcePos,
+    WorldDecl,
+)
 
 Constraint = Comparison | Membership | ConsRef
 
@@ -210,52 +133,7 @@ class TstDef:
         return ()
 
 
-# --- declarations ---------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class WorldDecl:
-    """``world NAME``: places are resolved against this world (``sim/worlds``)."""
-
-    name: str
-    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class AgentsDecl:
-    """``agents a, b``: the agents nodes may be assigned to."""
-
-    names: tuple[str, ...]
-    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class AreaDecl:
-    """``area NAME = polygon((e, n), ...)`` in the world's local ENU metres."""
-
-    name: str
-    vertices: tuple[tuple[float, float], ...]
-    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class PointDecl:
-    """``point NAME = (e, n, u)`` or ``point NAME = PLACE at U`` (a place of the world)."""
-
-    name: str
-    xyz: tuple[float, float, float] | None = None
-    place: str | None = None
-    altitude: float = 0.0
-    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
-
-
-@dataclass(frozen=True)
-class PathDecl:
-    """``path NAME = (P1, P2, ...)``: a polyline through declared points."""
-
-    name: str
-    points: tuple[str, ...]
-    pos: SourcePos = field(default=NOWHERE, compare=False, repr=False)
+# --- declarations (the header lines are mission_syntax's) ------------------------------
 
 
 @dataclass(frozen=True)

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from hdrc3_deliberative import mission_syntax as ms
 from hdrc3_deliberative import talf_formulas as tf
 from hdrc3_deliberative import talf_syntax as ts
 from hdrc3_deliberative.talf_check import free_names
@@ -43,39 +44,9 @@ class TranslationError(TstError):
 # --- TALF -> TST ---------------------------------------------------------------------------
 
 
-def _spos(pos: tf.Pos) -> tst.SourcePos:
-    return tst.SourcePos(pos.file, pos.line, pos.column)
-
-
-def _tpos(pos: tst.SourcePos) -> tf.Pos:
-    return tf.Pos(pos.file, pos.line, pos.column)
-
-
-def _arg_to(arg: tf.Arg) -> tst.Arg:
-    if isinstance(arg, tf.Number):
-        return tst.Number(arg.value)
-    return tst.Name(arg.id, _spos(arg.pos))
-
-
-def _expr_to(expr: tf.LinExpr) -> tst.Expr:
-    return tst.Expr(
-        tuple(
-            tst.Term(t.coef, None if t.name is None else tst.Name(t.name.id, _spos(t.name.pos)))
-            for t in expr.terms
-        )
-    )
-
-
 def _constraint_to(part: tf.Formula, where: str) -> tst.Constraint:
-    if isinstance(part, tf.Compare):
-        return tst.Comparison(
-            _expr_to(part.left), tst.Cmp(part.op.value), _expr_to(part.right), _spos(part.pos)
-        )
-    if isinstance(part, tf.Member):
-        values = tuple(_arg_to(v) for v in part.values)
-        return tst.Membership(tst.Name(part.var.id, _spos(part.var.pos)), values, _spos(part.pos))
-    if isinstance(part, tf.ConsRef):
-        return tst.ConsRef(tst.Name(part.name.id, _spos(part.name.pos)))
+    if isinstance(part, ms.Comparison | ms.Membership | ms.ConsRef):
+        return part  # the languages share them (mission_syntax)
     raise TranslationError(
         f"where clause part '{tf.formula_text(part)}'",
         "a TST constraint is a comparison of linear expressions, a membership or a constraint "
@@ -97,8 +68,8 @@ def _condition_to(formula: tf.Formula, where: str) -> tst.Condition:
             "a TST condition is one query [T] not? name(args)",
             where,
         )
-    args = tuple(_arg_to(a) for a in atom.args)
-    return tst.Condition(atom.name, args, negated, atom.time, _spos(atom.pos))
+    args = atom.args
+    return tst.Condition(atom.name, args, negated, atom.time, atom.pos)
 
 
 @dataclass
@@ -128,9 +99,9 @@ class _ToTst:
                     f"composite action term {task.name}", "not expanded (unknown type)", where
                 )
             interval = task.interval or cact.interval
-            times = (tst.Name(interval.start), tst.Name(interval.end))
-            args = (*times, *(_arg_to(a) for a in task.args))
-            new = tst.ActionTask(task.name, args, _spos(task.pos))
+            times = (ms.Name(interval.start), ms.Name(interval.end))
+            args = (*times, *task.args)
+            new = tst.ActionTask(task.name, args, task.pos)
         elif isinstance(task, ts.Sequence):
             new = tst.SequenceTask(tuple(self.node(c) for c in task.children))
         elif isinstance(task, ts.Concurrent):
@@ -151,21 +122,8 @@ class _ToTst:
             cact.with_vars,
             new,
             _constraints_to(cact.where, where),
-            _spos(cact.pos),
+            cact.pos,
         )
-
-
-def _decl_to(item: ts.Declaration) -> tst.Item:
-    pos = _spos(item.pos)
-    if isinstance(item, ts.WorldDecl):
-        return tst.WorldDecl(item.name, pos)
-    if isinstance(item, ts.AgentsDecl):
-        return tst.AgentsDecl(item.names, pos)
-    if isinstance(item, ts.AreaDecl):
-        return tst.AreaDecl(item.name, item.vertices, pos)
-    if isinstance(item, ts.PointDecl):
-        return tst.PointDecl(item.name, item.xyz, item.place, item.altitude, pos)
-    return tst.PathDecl(item.name, item.points, pos)
 
 
 def pick_mission(tree: ts.TalfFile, name: str | None) -> ts.Mission:
@@ -192,40 +150,19 @@ def to_tst(tree: ts.TalfFile, mission: str | None = None) -> tst.TstFile:
             items.append(builder.node(chosen.body, chosen.name))
         elif isinstance(item, ts.ConstraintDef):
             cons = _constraints_to(item.formula, str(item.pos))
-            items.append(tst.ConsDef(item.name, cons, _spos(item.pos)))
+            items.append(tst.ConsDef(item.name, cons, item.pos))
         elif isinstance(
-            item, ts.WorldDecl | ts.AgentsDecl | ts.AreaDecl | ts.PointDecl | ts.PathDecl
+            item, ms.WorldDecl | ms.AgentsDecl | ms.AreaDecl | ms.PointDecl | ms.PathDecl
         ):
-            items.append(_decl_to(item))
+            items.append(item)  # the languages share the header lines (mission_syntax)
     return tst.TstFile(tuple(items))
 
 
 # --- TST -> TALF ---------------------------------------------------------------------------
 
 
-def _arg_from(arg: tst.Arg) -> tf.Arg:
-    if isinstance(arg, tst.Number):
-        return tf.Number(arg.value)
-    return tf.Name(arg.id, _tpos(arg.pos))
-
-
-def _expr_from(expr: tst.Expr) -> tf.LinExpr:
-    return tf.LinExpr(
-        tuple(
-            tf.Term(t.coef, None if t.name is None else tf.Name(t.name.id, _tpos(t.name.pos)))
-            for t in expr.terms
-        )
-    )
-
-
 def _constraint_from(cons: tst.Constraint) -> tf.Formula:
-    if isinstance(cons, tst.Comparison):
-        op = tf.Op(cons.op.value)
-        return tf.Compare(_expr_from(cons.left), op, _expr_from(cons.right), _tpos(cons.pos))
-    if isinstance(cons, tst.Membership):
-        var = tf.Name(cons.var.id, _tpos(cons.var.pos))
-        return tf.Member(var, tuple(_arg_from(v) for v in cons.values), _tpos(cons.pos))
-    return tf.ConsRef(tf.Name(cons.name.id, _tpos(cons.name.pos)))
+    return cons  # the languages share them (mission_syntax)
 
 
 def _where_from(cons: tuple[tst.Constraint, ...]) -> tf.Formula | None:
@@ -233,7 +170,7 @@ def _where_from(cons: tuple[tst.Constraint, ...]) -> tf.Formula | None:
 
 
 def _cond_from(cond: tst.Condition) -> tf.Formula:
-    atom = tf.Atom(cond.name, tuple(_arg_from(a) for a in cond.args), cond.time, _tpos(cond.pos))
+    atom = tf.Atom(cond.name, cond.args, cond.time, cond.pos)
     return tf.Not(atom) if cond.negated else atom
 
 
@@ -250,14 +187,14 @@ class _FromTst:
         new: ts.Task
         if isinstance(task, tst.ActionTask):
             times = task.args[:2]
-            if len(times) < 2 or not all(isinstance(a, tst.Name) for a in times):
+            if len(times) < 2 or not all(isinstance(a, ms.Name) for a in times):
                 raise TranslationError(
                     f"action node {node.name}", "its first two arguments must name times", where
                 )
             own = ts.Interval(times[0].id, times[1].id)  # type: ignore[union-attr]
-            args = tuple(_arg_from(a) for a in task.args[2:])
+            args = task.args[2:]
             term_interval = None if own == interval else own
-            new = ts.ActionTerm(task.name, args, term_interval, _tpos(task.pos))
+            new = ts.ActionTerm(task.name, args, term_interval, task.pos)
         elif isinstance(task, tst.GoalTask):
             raise TranslationError(
                 f"goal node {node.name}",
@@ -292,7 +229,7 @@ class _FromTst:
             _where_from(node.where),
             agent,
             None if root else node.name,
-            _tpos(node.pos),
+            node.pos,
         )
 
 
@@ -301,23 +238,14 @@ def from_tst(tree: tst.TstFile) -> ts.TalfFile:
     builder = _FromTst()
     items: list[ts.Item] = []
     for item in tree.items:
-        pos = _tpos(item.pos)
+        pos = item.pos
         if isinstance(item, tst.TstDef):
             items.append(ts.Mission(item.name, builder.cact(item, root=True), pos))
         elif isinstance(item, tst.ConsDef):
             formula = tf.conj(*(_constraint_from(c) for c in item.constraints))
             items.append(ts.ConstraintDef(item.name, formula, pos))
-        elif isinstance(item, tst.WorldDecl):
-            items.append(ts.WorldDecl(item.name, pos))
-        elif isinstance(item, tst.AgentsDecl):
-            items.append(ts.AgentsDecl(item.names, pos))
-        elif isinstance(item, tst.AreaDecl):
-            items.append(ts.AreaDecl(item.name, item.vertices, pos))
-        elif isinstance(item, tst.PointDecl):
-            items.append(ts.PointDecl(item.name, item.xyz, item.place, item.altitude, pos))
         else:
-            assert isinstance(item, tst.PathDecl)
-            items.append(ts.PathDecl(item.name, item.points, pos))
+            items.append(item)  # the languages share the header lines (mission_syntax)
     talf = ts.TalfFile(tuple(items))
     free = free_names(talf, ACTIONS)
     if not free:

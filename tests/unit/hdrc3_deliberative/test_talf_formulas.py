@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import pytest
 
+from hdrc3_deliberative.mission_syntax import Name
 from hdrc3_deliberative.talf_formulas import (
     And,
     Atom,
     Exists,
     Formula,
     Lfp,
-    Name,
     Not,
     Occurs,
     Or,

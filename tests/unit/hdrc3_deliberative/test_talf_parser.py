@@ -6,21 +6,18 @@ from pathlib import Path
 
 import pytest
 
-from hdrc3_deliberative.talf_diagnostics import TalfStatus
-from hdrc3_deliberative.talf_formulas import (
-    And,
-    Atom,
-    Compare,
+from hdrc3_deliberative.mission_syntax import (
+    Cmp,
+    Comparison,
     ConsRef,
-    Exists,
     LinExpr,
-    Member,
+    Membership,
     Name,
-    Not,
     Number,
-    Op,
     Term,
 )
+from hdrc3_deliberative.talf_diagnostics import TalfStatus
+from hdrc3_deliberative.talf_formulas import And, Atom, Exists, Not
 from hdrc3_deliberative.talf_parser import parse_file, parse_text
 from hdrc3_deliberative.talf_syntax import (
     ActionTerm,
@@ -110,9 +107,9 @@ T = Interval("t", "t2")
                     Exists(("x",), Atom("owns", (Name("x"),), "c")),
                     CAct(T, ActionTerm("hover", (Number(1.0),))),
                 ),
-                where=Compare(
+                where=Comparison(
                     LinExpr((Term(1.0, Name("t2")), Term(-1.0, Name("t")))),
-                    Op.LE,
+                    Cmp.LE,
                     LinExpr((Term(9.0),)),
                 ),
             ),
@@ -135,9 +132,9 @@ T = Interval("t", "t2")
                 ActionTerm("land", ()),
                 where=And(
                     (
-                        Compare(_var("a"), Op.EQ, _var("b")),
-                        Compare(_var("b"), Op.EQ, _var("c", 2.0)),
-                        Member(Name("P"), (Name("uav0"), Number(1.0))),
+                        Comparison(_var("a"), Cmp.EQ, _var("b")),
+                        Comparison(_var("b"), Cmp.EQ, _var("c", 2.0)),
+                        Membership(Name("P"), (Name("uav0"), Number(1.0))),
                         ConsRef(Name("cons1")),
                     )
                 ),
@@ -153,7 +150,7 @@ T = Interval("t", "t2")
                     (
                         Atom("a", (Name("x"),), "t"),
                         Atom("b", (Name("x"),), "t"),
-                        Compare(_var("t"), Op.EQ, _var("t2")),
+                        Comparison(_var("t"), Cmp.EQ, _var("t2")),
                     )
                 ),
             ),

@@ -2,8 +2,8 @@ from __future__ import annotations
 
 import pytest
 
+from hdrc3_deliberative.mission_syntax import Cmp
 from hdrc3_tst.finite import FiniteModel, LinearConstraint, SolveStatus, SymbolConstraint
-from hdrc3_tst.syntax import Cmp
 
 
 def model(linear: list[LinearConstraint], symbolic: list[SymbolConstraint] = ()) -> FiniteModel:  # type: ignore[assignment]

@@ -6,21 +6,24 @@ from pathlib import Path
 import lark
 import pytest
 
-from hdrc3_tst.parser import ParseStatus, parse_file, parse_text
-from hdrc3_tst.syntax import (
-    ActionTask,
+from hdrc3_deliberative.mission_syntax import (
     Cmp,
     Comparison,
-    ConcurrentTask,
-    ConsDef,
     ConsRef,
-    ForeachTask,
-    IfTask,
+    LinExpr,
     Membership,
     Name,
     Number,
-    SequenceTask,
     Term,
+)
+from hdrc3_tst.parser import ParseStatus, parse_file, parse_text
+from hdrc3_tst.syntax import (
+    ActionTask,
+    ConcurrentTask,
+    ConsDef,
+    ForeachTask,
+    IfTask,
+    SequenceTask,
     TstDef,
     WhileTask,
 )
@@ -88,9 +91,7 @@ def test_every_construct() -> None:
 
 
 def Expr_(*terms: Term):
-    from hdrc3_tst.syntax import Expr
-
-    return Expr(terms)
+    return LinExpr(terms)
 
 
 @pytest.mark.parametrize(

@@ -6,36 +6,38 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from hdrc3_deliberative.mission_syntax import (
+    AgentsDecl,
+    AreaDecl,
+    Cmp,
+    Comparison,
+    ConsRef,
+    LinExpr,
+    Membership,
+    Name,
+    Number,
+    PathDecl,
+    PointDecl,
+    Term,
+    WorldDecl,
+)
 from hdrc3_tst.actions import ACTIONS
 from hdrc3_tst.errors import TstError
 from hdrc3_tst.parser import ParseStatus, parse_file, parse_text
 from hdrc3_tst.printer import file_text, number_text, tst_text
 from hdrc3_tst.syntax import (
     ActionTask,
-    AgentsDecl,
-    AreaDecl,
     CallTask,
-    Cmp,
-    Comparison,
     ConcurrentTask,
     Condition,
     ConsDef,
-    ConsRef,
-    Expr,
     ForeachTask,
     GoalTask,
     IfTask,
-    Membership,
-    Name,
-    Number,
-    PathDecl,
-    PointDecl,
     SequenceTask,
-    Term,
     TstDef,
     TstFile,
     WhileTask,
-    WorldDecl,
 )
 
 EXAMPLES = sorted((Path(__file__).resolve().parents[3] / "examples" / "tst").glob("*.tst"))
@@ -54,7 +56,7 @@ names = st.builds(
 numbers = st.floats(allow_nan=False, allow_infinity=False)
 args = st.lists(st.one_of(names.map(Name), numbers.map(Number)), max_size=3).map(tuple)
 terms = st.builds(Term, numbers, st.one_of(st.none(), names.map(Name)))
-exprs = st.lists(terms, min_size=1, max_size=3).map(lambda t: Expr(tuple(t)))
+exprs = st.lists(terms, min_size=1, max_size=3).map(lambda t: LinExpr(tuple(t)))
 constraints = st.one_of(
     st.builds(Comparison, exprs, st.sampled_from(Cmp), exprs),
     st.builds(

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import pytest
 
+from hdrc3_deliberative.mission_syntax import Name
 from hdrc3_tst.platform_port import PlatformState
 from hdrc3_tst.queries import Answer, ask
-from hdrc3_tst.syntax import Condition, Name
+from hdrc3_tst.syntax import Condition
 
 FLYING = PlatformState(0.0, 0.0, 30.0, on_ground=False, autonomous=True, battery=0.2)
 VALUES = {"P": "uav0", "Q": "uav1"}
