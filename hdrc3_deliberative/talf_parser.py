@@ -17,6 +17,7 @@ from typing import Any
 import lark
 from lark import Token, Transformer
 
+from hdrc3_base.syntax_errors import describe
 from hdrc3_deliberative.mission_syntax import (
     AgentsDecl,
     AreaDecl,
@@ -285,37 +286,11 @@ class _Builder(Transformer[Token, Any]):
         return TalfFile(tuple(children))
 
 
-def _display(terminal: str) -> str:
-    """A literal terminal as its text (``';'``), a pattern terminal by its name."""
-    try:
-        pattern = lark_parser().get_terminal(terminal).pattern
-    except KeyError:
-        return terminal
-    if isinstance(pattern, lark.lexer.PatternStr):
-        return repr(pattern.value)
-    return terminal
-
-
 def _syntax_diagnostic(
     exc: lark.exceptions.UnexpectedInput, file: str, text: str
 ) -> TalfDiagnostic:
-    line = int(getattr(exc, "line", 0) or 0)
-    column = int(getattr(exc, "column", 0) or 0)
-    names = getattr(exc, "expected", None) or getattr(exc, "allowed", None) or ()
-    expected = sorted({_display(name) for name in names})
-    if isinstance(exc, lark.exceptions.UnexpectedCharacters):
-        at = exc.pos_in_stream or 0
-        found = repr(text[at]) if at < len(text) else "end of file"
-    elif isinstance(exc, lark.exceptions.UnexpectedToken) and exc.token.type != "$END":
-        found = repr(str(exc.token))
-    else:
-        found = "end of file"
-        line = text.count("\n") + 1
-        column = len(text) - text.rfind("\n")
-    message = f"unexpected {found}"
-    if expected:
-        message += "; expected one of: " + ", ".join(expected[:16])
-    return TalfDiagnostic("T001", message, SourcePos(file, line, column))
+    problem = describe(exc, lark_parser(), text)
+    return TalfDiagnostic("T001", problem.message, SourcePos(file, problem.line, problem.column))
 
 
 def parse_text(text: str, file: str = "<string>") -> ParseResult:

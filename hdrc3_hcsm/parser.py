@@ -17,6 +17,7 @@ import lark
 from lark import Token, Transformer, v_args
 from lark.tree import Meta
 
+from hdrc3_base.syntax_errors import describe
 from hdrc3_hcsm.diagnostics import Diagnostic, Severity
 from hdrc3_hcsm.model import (
     Action,
@@ -245,34 +246,11 @@ class _Builder(Transformer[Token, Model]):
         )
 
 
-def _display(terminal: str) -> str:
-    """Show a literal terminal as its text (``';'``), a pattern terminal by its name."""
-    try:
-        pattern = _lark_parser().get_terminal(terminal).pattern
-    except KeyError:
-        return terminal
-    if isinstance(pattern, lark.lexer.PatternStr):
-        return repr(pattern.value)
-    return terminal
-
-
-def _syntax_diagnostic(exc: lark.exceptions.LarkError, file: str, text: str) -> Diagnostic:
-    line = int(getattr(exc, "line", 0) or 0)
-    column = int(getattr(exc, "column", 0) or 0)
-    names = getattr(exc, "expected", None) or getattr(exc, "allowed", None) or ()
-    expected = sorted({_display(name) for name in names})
-    if isinstance(exc, lark.exceptions.UnexpectedCharacters):
-        pos: int = getattr(exc, "pos_in_stream", None) or 0
-        found = repr(text[pos]) if pos < len(text) else "end of file"
-    elif isinstance(exc, lark.exceptions.UnexpectedToken):
-        token: Token = getattr(exc, "token")  # noqa: B009 (the attribute is untyped in some lark releases)
-        found = "end of file" if token.type == "$END" else repr(str(token))
-    else:
-        found = "input"
-    message = f"unexpected {found}"
-    if expected:
-        message += "; expected one of: " + ", ".join(expected[:12])
-    return Diagnostic(Severity.ERROR, "E001", message, SourcePos(file, line, column))
+def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: str) -> Diagnostic:
+    problem = describe(exc, _lark_parser(), text, most=12)
+    return Diagnostic(
+        Severity.ERROR, "E001", problem.message, SourcePos(file, problem.line, problem.column)
+    )
 
 
 def parse_text(text: str, file: str = "<string>") -> ParseResult:

@@ -17,6 +17,7 @@ from typing import Any
 import lark
 from lark import Token, Transformer
 
+from hdrc3_base.syntax_errors import describe
 from hdrc3_deliberative.mission_syntax import (
     AgentsDecl,
     AreaDecl,
@@ -234,39 +235,12 @@ class _Builder(Transformer[Token, Any]):
         return TstFile(tuple(children))
 
 
-def _display(terminal: str) -> str:
-    """Show a literal terminal as its text (``';'``), a pattern terminal by its name."""
-    try:
-        pattern = lark_parser().get_terminal(terminal).pattern
-    except KeyError:
-        return terminal
-    if isinstance(pattern, lark.lexer.PatternStr):
-        return repr(pattern.value)
-    return terminal
-
-
 def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: str) -> Diagnostic:
-    line = int(getattr(exc, "line", 0) or 0)
-    column = int(getattr(exc, "column", 0) or 0)
-    names = getattr(exc, "expected", None) or getattr(exc, "allowed", None) or ()
-    expected = sorted({_display(name) for name in names})
-    if isinstance(exc, lark.exceptions.UnexpectedCharacters):
-        pos = exc.pos_in_stream or 0
-        found = repr(text[pos]) if pos < len(text) else "end of file"
-    elif isinstance(exc, lark.exceptions.UnexpectedToken):
-        token: Token = exc.token
-        found = "end of file" if token.type == "$END" else repr(str(token))
-        if token.type == "$END":
-            line = text.count("\n") + 1
-            column = len(text) - text.rfind("\n")
-    else:
-        found = "end of file"
-    message = f"unexpected {found}"
-    if expected:
-        message += "; expected one of: " + ", ".join(expected[:16])
-    if "'where'" in expected and found in ("';'", "end of file"):
+    problem = describe(exc, lark_parser(), text)
+    message = problem.message
+    if "'where'" in problem.expected and problem.found in ("';'", "end of file"):
         message += " (a composite child ends with a where clause, `where true` if none)"
-    return Diagnostic("E001", message, SourcePos(file, line, column))
+    return Diagnostic("E001", message, SourcePos(file, problem.line, problem.column))
 
 
 def parse_text(text: str, file: str = "<string>") -> ParseResult:

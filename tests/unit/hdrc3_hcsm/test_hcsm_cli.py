@@ -32,8 +32,9 @@ def test_check_syntax_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     bad = tmp_path / "syntax.hcsm"
     bad.write_text("model M on PFC\n")
     assert main(["hcsm", "check", str(bad)]) == 1
+    # the end of the file is after its last character (as in the TST and TALF languages)
     assert (
-        f"{bad}:1:12: error E001: unexpected end of file; expected one of: ';'"
+        f"{bad}:2:1: error E001: unexpected end of file; expected one of: ';'"
         in capsys.readouterr().out
     )
 
