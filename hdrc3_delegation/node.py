@@ -32,6 +32,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
+from hdrc3_base.answer_memory import RESEND_S, keyed, new_request_key
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_env import DISCOVERY_RANGE_VAR, DISCOVERY_RANGES, MAX_DOMAIN_ID
 from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
@@ -127,14 +128,21 @@ class Caller:
         if client is None:
             client = self.node.create_client(srv_type, name, qos_profile=SERVICE_QOS)
             self._clients[name] = client
+        deadline = time.monotonic() + timeout
         if not client.wait_for_service(timeout_sec=timeout):
             return None
-        done = threading.Event()
-        future = client.call_async(request)
-        future.add_done_callback(lambda _: done.set())
-        if not done.wait(timeout):
-            return None
-        return future.result()
+        if keyed(request):  # a command: sent again with its key until answered, run once
+            request.request_key = request.request_key or new_request_key()
+        while (left := deadline - time.monotonic()) > 0.0:
+            # every request here may be sent again (queries, keyed commands): a first answer
+            # DDS drops (see hdrc3_base.answer_memory) costs one resend
+            done = threading.Event()
+            future = client.call_async(request)
+            future.add_done_callback(lambda _, answered=done: answered.set())
+            if done.wait(min(RESEND_S, left)):
+                return future.result()
+            client.remove_pending_request(future)
+        return None
 
 
 class RosMotion:

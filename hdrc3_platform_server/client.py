@@ -15,11 +15,11 @@ from typing import Any
 from rclpy.node import Node
 
 from hdrc3_base.agents import parse_agents
+from hdrc3_base.answer_memory import RESEND_S, keyed, new_request_key
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
 from hdrc3_base.stamps import stamp_s
 from hdrc3_interfaces.msg import PlatformEvent
-from hdrc3_platform_server.answer_memory import RESEND_S, keyed, new_request_key
 from hdrc3_platform_server.codes import EventKind
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
 from hdrc3_platform_server.node import EVENT_QOS

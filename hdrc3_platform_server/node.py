@@ -25,6 +25,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
+from hdrc3_base.answer_memory import AnswerMemory, keyed, remembering
 from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
 from hdrc3_base.stamps import set_stamp_s, stamp_s
 from hdrc3_hcsm.ros_transport import RosTransport
@@ -45,7 +46,6 @@ from hdrc3_interfaces.srv import (
     PpclPtuActivityInfo,
     PpclPtuLimits,
 )
-from hdrc3_platform_server.answer_memory import AnswerMemory, key_problem, keyed
 from hdrc3_platform_server.codes import FclCode, PpclCode
 from hdrc3_platform_server.commands import FCL, PPCL, FclSpec, PpclSpec
 from hdrc3_platform_server.completion import CompletionEvent
@@ -77,6 +77,16 @@ RUN_QOS = QoSProfile(
 """``/world_sim/run`` is latched: a server that starts later learns the world's run id at once."""
 TICK_PERIOD_S = 0.02
 """Wall-clock period of the DRC loop when no PFC data drives it (replies, timeouts)."""
+
+
+def _refusal(code: int) -> Callable[[Any, str], None]:
+    """Writes ``code`` (the family's NOT_ACCEPTED) and a reason into an FCL/PPCL response."""
+
+    def refuse(response: Any, reason: str) -> None:
+        response.result.code = code
+        response.result.reason = reason
+
+    return refuse
 
 
 def _id_start() -> int:
@@ -156,31 +166,10 @@ class PlatformServerNode(Node):
     ) -> None:
         """Serve ``name``; ``refused`` is the family's NOT_ACCEPTED code (for a bad request key)."""
         # deep request/answer queues: a burst of calls is queued and answered, never dropped
-        serve = self._keyed(name, handler, refused) if keyed(srv_type.Request) else handler
+        serve = handler
+        if keyed(srv_type.Request):
+            serve = remembering(self.answers, name, handler, _refusal(refused))
         self.create_service(srv_type, name, serve, qos_profile=SERVICE_QOS)
-
-    def _keyed(
-        self, name: str, handler: Callable[[Any, Any], Any], refused: int
-    ) -> Callable[[Any, Any], Any]:
-        """``handler`` behind the answer memory: a known ``request_key`` gets its first answer."""
-
-        def serve(request: Any, response: Any) -> Any:
-            key = str(request.request_key)
-            problem = key_problem(key)
-            if problem is not None:
-                response.result.code = refused
-                response.result.reason = problem
-                return response
-            if not key:
-                return handler(request, response)
-            known = self.answers.recall(name, key)
-            if known is not None:
-                return known
-            answer = handler(request, response)
-            self.answers.remember(name, key, answer)
-            return answer
-
-        return serve
 
     def _frame(self) -> WorldFrame:
         lat = float(self.get_parameter("origin_latitude").value)

@@ -16,6 +16,7 @@ from typing import Any
 
 from rclpy.node import Node
 
+from hdrc3_base.answer_memory import RESEND_S, keyed, new_request_key
 from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
 from hdrc3_interfaces.msg import TstNodeStatus, TstReturn
 from hdrc3_interfaces.srv import TstAbort, TstCreate, TstExecute, TstPause, TstSet
@@ -103,10 +104,12 @@ class TstClient:
                     TstReturn.TST_UNKNOWN_AGENT,
                     f"no TST manager answers for agent {agent!r} (/{agent}/tst_manager/{name})",
                 )
-            future: Any = client.call_async(request)  # rclpy's Future is untyped
-            if not self.process.spin_until(lambda: bool(future.done()), CALL_TIMEOUT_S):
+            if keyed(request):  # a command: sent again with its key until answered, run once
+                request.request_key = request.request_key or new_request_key()
+            answer = self.process.first_answer(client, request, CALL_TIMEOUT_S, RESEND_S)
+            if answer is None:
                 return Reply(agent, UNANSWERED, f"{agent}: no answer in {CALL_TIMEOUT_S:g} s")
-            result = future.result().result
+            result = answer.result
             return Reply(agent, int(result.code), str(result.reason), tuple(result.conflict))
         finally:
             self.node.destroy_client(client)

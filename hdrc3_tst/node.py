@@ -31,6 +31,13 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Header
 
+from hdrc3_base.answer_memory import (
+    RESEND_S,
+    AnswerMemory,
+    keyed,
+    new_request_key,
+    remembering,
+)
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
 from hdrc3_control.path_segment import PathSegment
@@ -68,8 +75,9 @@ from sim.world import ObjectKind
 from sim.world_loader import load_world
 
 TICK_PERIOD_S = 0.05
-PEER_WAIT_S = 10.0
-"""Wall seconds a call to another agent's manager waits for its service before giving up."""
+PEER_WAIT_S = 30.0
+"""Wall seconds a call to another agent's manager may take, finding its service and resending
+until answered, before the peer counts as unreachable."""
 PLAN_TIMEOUT_S = 60.0
 MAX_TEXT = 1_000_000
 """Characters of TST text a create request may carry."""
@@ -223,6 +231,7 @@ class TstManagerNode(Node):
         self._followed: set[str] = set()
         self._peers: dict[tuple[str, str], Any] = {}
         self._waiting: list[_PeerCall] = []
+        self.answers: AnswerMemory[Any] = AnswerMemory()
         for srv_type, name, handler in (
             (TstCreate, "create", self._on_create),
             (TstExecute, "execute", self._on_execute),
@@ -231,9 +240,10 @@ class TstManagerNode(Node):
             (TstSet, "set", self._on_set),
             (TstQuery, "query", self._on_query),
         ):
-            self.create_service(
-                srv_type, f"~/{name}", self._guarded(handler), qos_profile=SERVICE_QOS
-            )
+            serve = self._guarded(handler)
+            if keyed(srv_type.Request):  # the commands: a resend with its key runs once
+                serve = remembering(self.answers, name, serve, _refuse)
+            self.create_service(srv_type, f"~/{name}", serve, qos_profile=SERVICE_QOS)
         self.create_timer(TICK_PERIOD_S, self._tick, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(f"tst manager of {self.agent} up (world {self.frame.latitude:.5f})")
 
@@ -563,36 +573,56 @@ class TstManagerNode(Node):
         self._send(_PeerCall(client, request, lambda _f: None, unreachable))
 
     def _send(self, call: _PeerCall) -> None:
-        """Call now when the peer's service is matched, else retry on the tick until it is."""
-        if call.client.service_is_ready():
-            future: Any = call.client.call_async(call.request)  # rclpy's Future is untyped
-            future.add_done_callback(call.done)
-            return
-        if call.deadline == 0.0:
-            call.deadline = time.monotonic() + PEER_WAIT_S
-            self._waiting.append(call)
-        elif time.monotonic() > call.deadline:
-            call.unreachable()
+        """Send the call once the peer's service is matched (``_retry_peers`` sees to it)."""
+        call.deadline = time.monotonic() + PEER_WAIT_S
+        call.request.request_key = new_request_key()
+        self._waiting.append(call)
+        self._retry_peers()
 
     def _retry_peers(self) -> None:
-        waiting, self._waiting = self._waiting, []
-        for call in waiting:
-            if call.client.service_is_ready() or time.monotonic() > call.deadline:
-                self._send(call)
-            else:
-                self._waiting.append(call)
+        """Send the waiting calls whose service is matched; again after ``RESEND_S`` unanswered.
+
+        DDS can drop a first answer; the key makes the peer run a call once. Past
+        ``PEER_WAIT_S`` without an answer the peer is unreachable.
+        """
+        now = time.monotonic()
+        for call in list(self._waiting):
+            if call.future is not None and now - call.sent < RESEND_S:
+                continue  # in flight
+            if call.future is not None:
+                call.client.remove_pending_request(call.future)
+                call.future = None
+            if now > call.deadline:
+                self._waiting.remove(call)
+                call.unreachable()
+            elif call.client.service_is_ready():
+                call.sent, call.future = now, call.client.call_async(call.request)
+                call.future.add_done_callback(lambda f, c=call: self._answered(c, f))
+
+    def _answered(self, call: _PeerCall, future: Any) -> None:
+        if call.future is future and call in self._waiting:
+            self._waiting.remove(call)
+            call.done(future)
 
 
 @dataclass
 class _PeerCall:
-    """A call to another agent's TST manager, waiting for its service to be matched."""
+    """A call to another agent's TST manager, sent until answered or given up."""
 
     client: Any
     request: Any
     done: Callable[[Any], None]
     unreachable: Callable[[], None]
     deadline: float = 0.0
-    """Wall-clock (monotonic) end of the wait; 0 until the first attempt failed."""
+    """Wall-clock (monotonic) end of all attempts."""
+    sent: float = 0.0
+    """Wall-clock (monotonic) time of the latest attempt."""
+    future: Any = None
+    """The latest attempt's answer to come (rclpy's Future is untyped); None between attempts."""
+
+
+def _refuse(response: Any, reason: str) -> None:
+    _answer(response, TstReturn.TST_INVALID, reason)
 
 
 def _answer(response: Any, code: int, reason: str, conflict: list[str] | None = None) -> Any:

@@ -9,7 +9,7 @@ stopping a PTU mode is ``ppcl_ptu_abort``.
 
 Every request carries a fresh ``request_key`` and is sent again every ``RESEND_S`` of wall time
 until answered (DDS can lose the first answers to a new client; the server answers a known key
-with its first answer, see ``hdrc3_platform_server.answer_memory``). A command still unanswered
+with its first answer, see ``hdrc3_base.answer_memory``). A command still unanswered
 after :data:`ANSWER_TIMEOUT_S` fails with that reason.
 """
 
@@ -27,6 +27,7 @@ from rclpy.clock import Clock
 from rclpy.clock_type import ClockType
 from rclpy.node import Node
 
+from hdrc3_base.answer_memory import RESEND_S, new_request_key
 from hdrc3_base.ros_runtime import SERVICE_QOS
 from hdrc3_base.stamps import stamp_s
 from hdrc3_interfaces.msg import (
@@ -37,7 +38,6 @@ from hdrc3_interfaces.msg import (
     RadiationDose,
 )
 from hdrc3_interfaces.srv import PpclControl, PpclHook
-from hdrc3_platform_server.answer_memory import RESEND_S, new_request_key
 from hdrc3_platform_server.client import event_from_msg
 from hdrc3_platform_server.codes import EventKind, FclCommand, PpclCommand, Resource
 from hdrc3_platform_server.commands import FCL, PPCL

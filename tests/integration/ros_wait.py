@@ -8,8 +8,8 @@ from typing import Any
 
 from rclpy.executors import SingleThreadedExecutor
 
+from hdrc3_base.answer_memory import keyed, new_request_key
 from hdrc3_base.ros_runtime import first_answer
-from hdrc3_platform_server.answer_memory import keyed, new_request_key
 
 
 def spin_until(executor: SingleThreadedExecutor, done: Callable[[], bool], timeout: float) -> bool:

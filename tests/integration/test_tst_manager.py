@@ -7,6 +7,8 @@ from typing import Any
 
 import pytest
 
+from tests.integration.ros_wait import answer
+
 pytestmark = pytest.mark.ros
 
 WAIT_S = 30.0
@@ -40,11 +42,10 @@ class Rig:
         srv_type = getattr(srv, f"Tst{name.capitalize()}")
         client = self.node.create_client(srv_type, f"/uav0/tst_manager/{name}")
         assert client.wait_for_service(timeout_sec=WAIT_S), name
-        future = client.call_async(srv_type.Request(**fields))
-        self.executor.spin_until_future_complete(future, timeout_sec=WAIT_S)
-        assert future.done(), f"no answer from {name}"
+        response = answer(self.executor, client, srv_type.Request(**fields), WAIT_S)
+        assert response is not None, f"no answer from {name}"
         self.node.destroy_client(client)
-        return future.result()
+        return response
 
 
 @pytest.fixture
@@ -113,6 +114,19 @@ def test_a_mission_is_held_queried_set_and_refused_twice(rig: Rig) -> None:
         result = rig.call(name, mission="m1", **fields).result
         assert result.code == getattr(codes(), code), (name, fields, result.reason)
         assert reason in result.reason
+
+
+def test_a_command_sent_again_with_its_key_is_answered_as_the_first_time(rig: Rig) -> None:
+    fields = {"mission": "m1", "text": MISSION, "file": "m.tst"}
+    first = rig.call("create", request_key="create-1", **fields)
+    again = rig.call("create", request_key="create-1", **fields)
+    other = rig.call("create", request_key="create-2", **fields)
+    too_long = rig.call("execute", mission="m1", node_id="m", epoch=0.0, request_key="k" * 65)
+    assert first.result.code == again.result.code == codes().TST_OK, again.result.reason
+    assert list(again.nodes) == ["m", "a"]  # the first answer, not "already exists"
+    assert other.result.code == codes().TST_BUSY  # a new key is a new request
+    assert too_long.result.code == codes().TST_INVALID
+    assert "request_key: 65 characters" in too_long.result.reason
 
 
 @pytest.mark.parametrize("name", ["execute", "abort", "set", "query"])

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from hdrc3_base.errors import ConfigError
-from hdrc3_platform_server.answer_memory import (
+from hdrc3_base.answer_memory import (
     MAX_KEY_LENGTH,
     AnswerMemory,
     key_problem,
     new_request_key,
 )
+from hdrc3_base.errors import ConfigError
 
 
 @pytest.mark.parametrize(

@@ -9,14 +9,15 @@ therefore carry an optional ``request_key`` (an idempotency key, as in HTTP's
 the command only once.
 
 The memory is bounded (the oldest keys are forgotten first) and lives as long as the server
-process: a key sent again after a server restart runs the command again, which the restart
-policy allows (every command of the old incarnation ended FAILED, see the package README).
+process: a key sent again after a server restart runs the command again (the Platform Server
+ends every command of its old incarnation FAILED, see its README).
 """
 
 from __future__ import annotations
 
 import uuid
 from collections import OrderedDict
+from collections.abc import Callable
 from typing import Any, Generic, TypeVar
 
 from hdrc3_base.errors import ConfigError
@@ -70,3 +71,37 @@ class AnswerMemory(Generic[Answer]):
         self._answers.move_to_end((service, key))
         while len(self._answers) > self._capacity:
             self._answers.popitem(last=False)
+
+
+Handler = Callable[[Any, Any], Any]
+"""An rclpy service callback: ``(request, response) -> response``."""
+
+
+def remembering(
+    memory: AnswerMemory[Any], service: str, handler: Handler, refuse: Callable[[Any, str], None]
+) -> Handler:
+    """``handler`` behind ``memory``: a known ``request_key`` gets its first answer again.
+
+    Args:
+        memory: The server's answers by key.
+        service: The service's name (keys are per service).
+        handler: The service callback; it runs once per key.
+        refuse: Writes a refusal with a reason into a response (a key that is too long).
+    """
+
+    def serve(request: Any, response: Any) -> Any:
+        key = str(request.request_key)
+        problem = key_problem(key)
+        if problem is not None:
+            refuse(response, problem)
+            return response
+        if not key:
+            return handler(request, response)
+        known = memory.recall(service, key)
+        if known is not None:
+            return known
+        answer = handler(request, response)
+        memory.remember(service, key, answer)
+        return answer
+
+    return serve
