@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import pytest
 
 from hdrc3_base.answer_memory import (
@@ -9,6 +11,7 @@ from hdrc3_base.answer_memory import (
     AnswerMemory,
     key_problem,
     new_request_key,
+    remembering,
 )
 from hdrc3_base.errors import ConfigError
 
@@ -61,3 +64,42 @@ def test_the_oldest_keys_are_forgotten_first() -> None:
 def test_capacity_must_be_positive() -> None:
     with pytest.raises(ConfigError, match="capacity"):
         AnswerMemory(capacity=0)
+
+
+@dataclass
+class _Request:
+    request_key: str = ""
+
+
+@dataclass
+class _Response:
+    reason: str = ""
+    run: int = 0
+
+
+@pytest.mark.parametrize(
+    ("keys", "runs", "reasons"),
+    [
+        (["", ""], [1, 2], ["", ""]),  # no key: every request runs
+        (["a", "a", "a"], [1, 1, 1], ["", "", ""]),  # one key: runs once, first answer thrice
+        (["a", "b"], [1, 2], ["", ""]),
+        (["k" * 65], [0], ["request_key: 65 characters, at most 64"]),
+    ],
+)
+def test_remembering_runs_a_keyed_request_once(
+    keys: list[str], runs: list[int], reasons: list[str]
+) -> None:
+    calls: list[int] = []
+
+    def handler(request: _Request, response: _Response) -> _Response:
+        calls.append(1)
+        response.run = len(calls)
+        return response
+
+    def refuse(response: _Response, reason: str) -> None:
+        response.reason = reason
+
+    serve = remembering(AnswerMemory(), "fcl/takeoff", handler, refuse)
+    answers = [serve(_Request(key), _Response()) for key in keys]
+    assert [a.run for a in answers] == runs
+    assert [a.reason for a in answers] == reasons
