@@ -284,6 +284,7 @@ def test_console_script_runs_in_a_namespace(ros_context: object, tmp_path: Any) 
     from rclpy.node import Node
 
     from hdrc3_interfaces.srv import ListStreams
+    from tests.integration.ros_wait import answer
 
     spec = tmp_path / "streams.spec"
     spec.write_text(SPEC)
@@ -300,13 +301,11 @@ def test_console_script_runs_in_a_namespace(ros_context: object, tmp_path: Any) 
                 break
             executor.spin_once(timeout_sec=SPIN_TIMEOUT)
         assert client.service_is_ready(), "hdrc3-dyknow did not come up"
-        future = client.call_async(ListStreams.Request())
-        for _ in range(MAX_SPINS):
-            if future.done():
-                break
-            executor.spin_once(timeout_sec=SPIN_TIMEOUT)
-        assert future.done(), "list_streams did not answer"
-        labels = [info.label for info in future.result().streams]
+        # a query: sent again until answered (DDS can drop the first answers to a new client;
+        # one run in a fresh clone lost this one)
+        response = answer(executor, client, ListStreams.Request(), 30.0)
+        assert response is not None, "list_streams did not answer"
+        labels = [info.label for info in response.streams]
         assert labels == ["a/pos", "b/alt", "b/pos", "c/pos", "p/ba", "p/ca"]
     finally:
         proc.send_signal(signal.SIGINT)
