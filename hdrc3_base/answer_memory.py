@@ -42,6 +42,14 @@ def new_request_key() -> str:
     return uuid.uuid4().hex
 
 
+def ensure_key(request: Any) -> bool:
+    """Give a command request without a key a fresh one; whether the request is keyed."""
+    if not keyed(request):
+        return False
+    request.request_key = request.request_key or new_request_key()
+    return True
+
+
 def key_problem(key: str) -> str | None:
     """Why ``key`` cannot be a request key, or None when it can (the empty key means "none")."""
     if len(key) > MAX_KEY_LENGTH:

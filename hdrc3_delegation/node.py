@@ -32,7 +32,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
-from hdrc3_base.answer_memory import RESEND_S, keyed, new_request_key
+from hdrc3_base.answer_memory import RESEND_S, ensure_key
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_env import DISCOVERY_RANGE_VAR, DISCOVERY_RANGES, MAX_DOMAIN_ID
 from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
@@ -131,8 +131,7 @@ class Caller:
         deadline = time.monotonic() + timeout
         if not client.wait_for_service(timeout_sec=timeout):
             return None
-        if keyed(request):  # a command: sent again with its key until answered, run once
-            request.request_key = request.request_key or new_request_key()
+        ensure_key(request)  # a command: sent again with its key until answered, run once
         while (left := deadline - time.monotonic()) > 0.0:
             # every request here may be sent again (queries, keyed commands): a first answer
             # DDS drops (see hdrc3_base.answer_memory) costs one resend

@@ -15,7 +15,7 @@ from typing import Any
 from rclpy.node import Node
 
 from hdrc3_base.agents import parse_agents
-from hdrc3_base.answer_memory import RESEND_S, keyed, new_request_key
+from hdrc3_base.answer_memory import RESEND_S, ensure_key
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
 from hdrc3_base.stamps import stamp_s
@@ -79,8 +79,7 @@ class PlatformClient:
             )
         # give the events subscription a moment to match before the call can complete
         self.process.spin_until(lambda: self._events_matched(), 1.0)
-        if keyed(request):
-            request.request_key = request.request_key or new_request_key()
+        if ensure_key(request):
             return self.process.first_answer(client, request, timeout, RESEND_S)
         future: Any = client.call_async(request)  # rclpy's Future is untyped
         self.process.spin_until(lambda: bool(future.done()), timeout)

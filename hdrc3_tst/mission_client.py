@@ -16,7 +16,7 @@ from typing import Any
 
 from rclpy.node import Node
 
-from hdrc3_base.answer_memory import RESEND_S, keyed, new_request_key
+from hdrc3_base.answer_memory import RESEND_S, ensure_key
 from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
 from hdrc3_interfaces.msg import TstNodeStatus, TstReturn
 from hdrc3_interfaces.srv import TstAbort, TstCreate, TstExecute, TstPause, TstSet
@@ -104,8 +104,7 @@ class TstClient:
                     TstReturn.TST_UNKNOWN_AGENT,
                     f"no TST manager answers for agent {agent!r} (/{agent}/tst_manager/{name})",
                 )
-            if keyed(request):  # a command: sent again with its key until answered, run once
-                request.request_key = request.request_key or new_request_key()
+            ensure_key(request)  # a command: sent again with its key until answered, run once
             answer = self.process.first_answer(client, request, CALL_TIMEOUT_S, RESEND_S)
             if answer is None:
                 return Reply(agent, UNANSWERED, f"{agent}: no answer in {CALL_TIMEOUT_S:g} s")

@@ -68,8 +68,7 @@ def _condition_to(formula: tf.Formula, where: str) -> tst.Condition:
             "a TST condition is one query [T] not? name(args)",
             where,
         )
-    args = atom.args
-    return tst.Condition(atom.name, args, negated, atom.time, atom.pos)
+    return tst.Condition(atom.name, atom.args, negated, atom.time, atom.pos)
 
 
 @dataclass

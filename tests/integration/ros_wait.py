@@ -8,7 +8,7 @@ from typing import Any
 
 from rclpy.executors import SingleThreadedExecutor
 
-from hdrc3_base.answer_memory import keyed, new_request_key
+from hdrc3_base.answer_memory import ensure_key
 from hdrc3_base.ros_runtime import first_answer
 
 
@@ -28,8 +28,7 @@ def answer(executor: SingleThreadedExecutor, client: Any, request: Any, timeout:
     Sent again every two seconds: DDS can drop the first answers to a new client
     (``hdrc3_base.ros_runtime.first_answer``). A command gets a fresh ``request_key`` first.
     """
-    if keyed(request) and not request.request_key:
-        request.request_key = new_request_key()
+    ensure_key(request)
     return first_answer(
         client, request, timeout, lambda done, wait: spin_until(executor, done, wait)
     )

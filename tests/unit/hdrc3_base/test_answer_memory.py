@@ -9,6 +9,7 @@ import pytest
 from hdrc3_base.answer_memory import (
     MAX_KEY_LENGTH,
     AnswerMemory,
+    ensure_key,
     key_problem,
     new_request_key,
     remembering,
@@ -103,3 +104,31 @@ def test_remembering_runs_a_keyed_request_once(
     answers = [serve(_Request(key), _Response()) for key in keys]
     assert [a.run for a in answers] == runs
     assert [a.reason for a in answers] == reasons
+
+
+@dataclass
+class _Query:
+    """A request type without a key (``get_fields_and_field_types`` as rosidl generates it)."""
+
+    @classmethod
+    def get_fields_and_field_types(cls) -> dict[str, str]:
+        return {}
+
+
+@dataclass
+class _Command:
+    request_key: str = ""
+
+    @classmethod
+    def get_fields_and_field_types(cls) -> dict[str, str]:
+        return {"request_key": "string"}
+
+
+def test_ensure_key_keys_commands_once_and_leaves_queries() -> None:
+    command = _Command()
+    assert ensure_key(command) and key_problem(command.request_key) is None
+    first = command.request_key
+    assert ensure_key(command) and command.request_key == first  # a resend keeps its key
+    given = _Command("mine")
+    assert ensure_key(given) and given.request_key == "mine"
+    assert not ensure_key(_Query())
