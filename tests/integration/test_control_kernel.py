@@ -19,6 +19,7 @@ from hdrc3_control.kernel_harness import event_id, segment_payload
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.trace import TraceRecord
+from tests.integration.ros_wait import answer
 
 pytestmark = pytest.mark.ros
 
@@ -87,10 +88,10 @@ class Drc:
 
     def set_rc(self, **fields: Any) -> None:
         assert self.rc.wait_for_service(timeout_sec=10.0)
-        request = self.rc_type.Request(**fields)
-        future = self.rc.call_async(request)
-        assert self.spin_until(future.done, 10.0)
-        assert future.result().result.code == 0, future.result().result.reason
+        # stick and switch settings are idempotent: sent again until answered
+        response = answer(self.executor, self.rc, self.rc_type.Request(**fields), 10.0)
+        assert response is not None, "rc/set did not answer"
+        assert response.result.code == 0, response.result.reason
 
     def send(self, name: str, values: tuple[float, ...] = (), data: bytes | None = None) -> int:
         cid = next(self._ids)

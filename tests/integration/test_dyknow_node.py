@@ -60,6 +60,14 @@ class Rig:
         assert self.spin_until(future.done), "service call timed out"
         return future.result()
 
+    def query(self, client: Any, request: Any) -> Any:
+        """A query's answer, sent again until answered (DDS can drop a new client's first)."""
+        from tests.integration.ros_wait import answer
+
+        response = answer(self.executor, client, request, MAX_SPINS * SPIN_TIMEOUT)
+        assert response is not None, "query timed out"
+        return response
+
     def publish(self, t_ms: int, norths: dict[str, float]) -> None:
         from rosgraph_msgs.msg import Clock
 
@@ -79,7 +87,7 @@ class Rig:
         """Samples every stream has been offered so far, from the node's ListStreams service."""
         from hdrc3_interfaces.srv import ListStreams
 
-        listing = self.call(self.list_streams, ListStreams.Request())
+        listing = self.query(self.list_streams, ListStreams.Request())
         return {info.label: info.samples_in for info in listing.streams}
 
     def step(self, t_ms: int, norths: dict[str, float], count: int) -> None:
@@ -202,7 +210,7 @@ def test_xydist_violation_is_detected_over_matched_streams(rig: Rig) -> None:
     rig.publish(1200, {"uav2": 100.0})
 
     def b_streams() -> dict[str, Any]:
-        listing = rig.call(rig.list_streams, ListStreams.Request(label_prefix="b/"))
+        listing = rig.query(rig.list_streams, ListStreams.Request(label_prefix="b/"))
         return {info.label: info for info in listing.streams}
 
     assert rig.spin_until(lambda: b_streams()["b/pos"].out_of_order == 1)

@@ -10,6 +10,8 @@ from typing import Any
 
 import pytest
 
+from tests.integration.ros_wait import answer
+
 pytestmark = pytest.mark.ros
 
 WORLD = Path(__file__).parents[1] / "unit" / "hdrc3_navigation" / "small_world.toml"
@@ -24,10 +26,9 @@ def _call(node: Any, executor: Any, srv: Any, service: str, **fields: Any) -> An
     request = srv.Request()
     for key, value in fields.items():
         setattr(request, key, value)
-    future = client.call_async(request)
-    executor.spin_until_future_complete(future, timeout_sec=WAIT_S)
-    assert future.done(), f"no answer from {service} within the bounded wait"
-    return future.result()
+    response = answer(executor, client, request, WAIT_S)  # queries: sent again until answered
+    assert response is not None, f"no answer from {service} within the bounded wait"
+    return response
 
 
 def _plan_fields(start: tuple[float, ...], goal: tuple[float, ...], **extra: Any) -> dict[str, Any]:

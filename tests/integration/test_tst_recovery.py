@@ -16,6 +16,8 @@ from typing import Any
 
 import pytest
 
+from tests.integration.ros_wait import answer, spin_until
+
 pytestmark = pytest.mark.ros
 
 WAIT_S = 60.0
@@ -98,15 +100,13 @@ class Chain:
         srv_type = getattr(srv, f"Tst{name.capitalize()}")
         client = self.node.create_client(srv_type, f"/uav0/tst_manager/{name}")
         assert client.wait_for_service(timeout_sec=WAIT_S), name
-        future = client.call_async(srv_type.Request(**fields))
-        self.executor.spin_until_future_complete(future, timeout_sec=WAIT_S)
-        assert future.done(), f"no answer from {name}"
+        # keyed commands: sent again until answered, run once
+        response = answer(self.executor, client, srv_type.Request(**fields), WAIT_S)
+        assert response is not None, f"no answer from {name}"
         self.node.destroy_client(client)
-        return future.result()
+        return response
 
     def until(self, done: Any, what: str) -> None:
-        from tests.integration.ros_wait import spin_until
-
         assert spin_until(self.executor, done, WAIT_S), f"timed out waiting for {what}"
 
 

@@ -23,7 +23,7 @@ from hdrc3_interfaces.msg import CameraState, SimResult
 from hdrc3_interfaces.srv import SimInjectFault
 from sim.render.imaging import CENTI_KELVIN
 from sim.sensors.camera import COLOR_CAMERA, THERMAL_CAMERA, camera_intrinsics
-from tests.integration.ros_wait import spin_until
+from tests.integration.ros_wait import answer, spin_until
 
 pytestmark = pytest.mark.ros
 
@@ -112,11 +112,10 @@ def test_images_follow_sim_time_camera_state_and_faults(hdrc3_cli, ros_context) 
         """Inject a fault into the colour camera; the sim time from which it surely holds."""
         client = node.create_client(SimInjectFault, "/world_sim/inject_fault")
         assert client.wait_for_service(timeout_sec=20.0)
-        future = client.call_async(
-            SimInjectFault.Request(agent="uav0", sensor="color_camera", mode=mode)
-        )
-        assert spin_until(executor, future.done, 20.0)
-        assert future.result().result.code == SimResult.OK
+        # setting a fault mode is idempotent: sent again until answered
+        request = SimInjectFault.Request(agent="uav0", sensor="color_camera", mode=mode)
+        response = answer(executor, client, request, 20.0)
+        assert response is not None and response.result.code == SimResult.OK
         node.destroy_client(client)
         return max(clock) + 2 * FRAME_NS
 
