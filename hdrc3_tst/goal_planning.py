@@ -72,7 +72,32 @@ class Load:
     location: str
     """The location object it is at."""
     weight: float
-    """kg (a carrier's own load, ``load(c)``)."""
+    """kg: a box's weight; a carrier's ``load(c)``, its own mass and the boxes on it."""
+    on: str = ""
+    """The carrier a box rests on ("" for none; ``location`` is then the carrier's)."""
+    slots: int = 0
+    """A carrier's free places for boxes (``slots(c)``)."""
+
+
+@dataclass(frozen=True)
+class Stocked:
+    """A box or carrier of the world file's inventory, as the depots hold it."""
+
+    tag: str
+    """What the magnet reads; the mission names the object's point like it."""
+    kg: float
+    """Its own mass."""
+    contents: str = ""
+    """A box's contents (``food``, ``medicine``, ``water``); "" for a carrier."""
+    capacity: int = 0
+    """A carrier's places for boxes (0 for a box)."""
+    on: str = ""
+    """The carrier a box rests on ("" for none)."""
+
+    @property
+    def is_carrier(self) -> bool:
+        """True for a carrier (it has places for boxes)."""
+        return self.capacity > 0
 
 
 @dataclass(frozen=True)
@@ -102,15 +127,32 @@ class GoalProblem:
         ]
         lines.append(f"object {agent}: helicopter")
         lines += [f"object {load.name}: {load.type}" for load in self.loads]
-        held = f"holding-box({agent}, {self.holding})" if self.holding else f"free({agent})"
+        carriers = {load.name for load in self.loads if load.type == "carrier"}
+        held = (
+            f"holding-{'carrier' if self.holding in carriers else 'box'}({agent}, {self.holding})"
+            if self.holding
+            else f"free({agent})"
+        )
         lines.append(
             f"init at({agent}, {self.start}), {held}, hovering({agent}), "
             f"lift-capacity({agent}) = {self.lift_capacity:g}, fuel({agent}) = {self.fuel:g}"
         )
         for load in self.loads:
-            size = "load" if load.type == "carrier" else "weight"
-            where = "" if load.name == self.holding else f"at({load.name}, {load.location}), "
-            lines.append(f"init {where}{size}({load.name}) = {load.weight:g}")
+            facts = []
+            if load.name != self.holding:
+                facts.append(
+                    f"on({load.name}, {load.on})"
+                    if load.on
+                    else f"at({load.name}, {load.location})"
+                )
+            if load.name in carriers:
+                facts += [
+                    f"load({load.name}) = {load.weight:g}",
+                    f"slots({load.name}) = {load.slots}",
+                ]
+            else:
+                facts.append(f"weight({load.name}) = {load.weight:g}")
+            lines.append(f"init {', '.join(facts)}")
         lines.append(f"goal {self.goal}")
         return "\n".join(lines) + "\n"
 
@@ -166,31 +208,42 @@ LOAD_REACH = 30.0
 
 
 def stocked_loads(
-    boxes: Sequence[tuple[str, str, float]], points: Mapping[str, tuple[float, ...]]
+    stock: Sequence[Stocked], points: Mapping[str, tuple[float, ...]]
 ) -> tuple[Load, ...]:
-    """The boxes a mission declares as points, each at a location among the other points.
+    """The boxes and carriers a mission declares as points, as the planner's loads.
 
     Args:
-        boxes: The world file's boxes as (tag, contents, kg); one the mission does not declare
-            as a point (``point box1 = box1 at 0``) is left out (no executor could find it).
+        stock: The world file's boxes and carriers; one the mission does not declare as a
+            point (``point box1 = box1 at 0``) is left out (no executor could find it).
         points: The mission's points by name (local ENU m).
 
-    A box is at the nearest non-box point within :data:`LOAD_REACH` m (the mission's point
-    above the depot, say); its type is ``<contents>-box`` when the domain has that type.
+    A loose box or a carrier is at the nearest other point within :data:`LOAD_REACH` m (the
+    mission's point above the depot, say); a box's type is ``<contents>-box`` when the domain
+    has that type. A box resting on a declared carrier is ``on`` it; the carrier's load counts
+    its own mass and every box on it, declared or not (the hook lifts them all).
     """
     types = logistics_domain().types
-    names = {tag for tag, _, _ in boxes}
+    names = {item.tag for item in stock}
     sites = {n: p for n, p in points.items() if n not in names}
+    where: dict[str, str] = {}
+    for item in stock:
+        xy = points.get(item.tag)
+        if xy is None or item.on:
+            continue
+        near = sorted((math.hypot(p[0] - xy[0], p[1] - xy[1]), n) for n, p in sites.items())
+        if near and near[0][0] <= LOAD_REACH:
+            where[item.tag] = near[0][1]
     loads: list[Load] = []
-    for tag, contents, kg in boxes:
-        where = points.get(tag)
-        if where is None:
-            continue
-        near = sorted((math.hypot(p[0] - where[0], p[1] - where[1]), n) for n, p in sites.items())
-        if not near or near[0][0] > LOAD_REACH:
-            continue
-        kind = f"{contents}-box" if f"{contents}-box" in types else "box"
-        loads.append(Load(tag, kind, near[0][1], kg))
+    for item in stock:
+        if item.is_carrier and item.tag in where:
+            aboard = [b for b in stock if b.on == item.tag]
+            kg = item.kg + sum(b.kg for b in aboard)
+            loads.append(
+                Load(item.tag, "carrier", where[item.tag], kg, slots=item.capacity - len(aboard))
+            )
+        elif not item.is_carrier and item.tag in points and (item.on or item.tag) in where:
+            kind = f"{item.contents}-box" if f"{item.contents}-box" in types else "box"
+            loads.append(Load(item.tag, kind, where[item.on or item.tag], item.kg, on=item.on))
     return tuple(loads)
 
 

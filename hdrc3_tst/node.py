@@ -64,7 +64,7 @@ from hdrc3_tst.actions import ParamType
 from hdrc3_tst.check import CheckStatus, load_text
 from hdrc3_tst.distribution import involved_agents, parse_fix, parse_value
 from hdrc3_tst.engine import EngineContext, ExecutionEngine, NodeRecord
-from hdrc3_tst.goal_planning import PlanHandle, stocked_loads
+from hdrc3_tst.goal_planning import PlanHandle, Stocked, stocked_loads
 from hdrc3_tst.model import NodeKind, NodeRef, NodeState
 from hdrc3_tst.network import FixStatus
 from hdrc3_tst.recovery import RecoveryReport, RecoveryStep, Violation
@@ -207,12 +207,14 @@ class TstManagerNode(Node):
             )
         world = str(self.get_parameter("world").value)
         self.frame = frame_from_world(world)
-        self.boxes = tuple(
-            (o.id, o.contents.value, o.mass)
+        self.stock = tuple(
+            Stocked(
+                o.id, o.mass, o.contents.value if o.contents else "", o.capacity or 0, o.on or ""
+            )
             for o in load_world(world).objects
-            if o.kind is ObjectKind.BOX and o.contents is not None and o.mass is not None
+            if o.kind in (ObjectKind.BOX, ObjectKind.CARRIER) and o.mass is not None
         )
-        """The world file's boxes (tag, contents, kg): the loads goal nodes may deliver."""
+        """The world file's boxes and carriers: the loads goal nodes may move."""
         self.platform = RosPlatform(self, self.agent, self.frame, self._tick)
         self.navigation = (
             RosNavigation(self, self.agent, self._tick)
@@ -336,7 +338,7 @@ class TstManagerNode(Node):
             self.frame,
             RMAX_EXECUTORS,
             self.navigation,
-            loads=stocked_loads(self.boxes, points),
+            loads=stocked_loads(self.stock, points),
         )
         engine = ExecutionEngine(mission, tst, context)
         self.engines[mission] = engine

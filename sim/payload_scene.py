@@ -151,7 +151,8 @@ def scene_xml(
     """MJCF of the payload world.
 
     Args:
-        objects: Boxes and carriers with the terrain height under each.
+        objects: Boxes and carriers with the terrain height under each (a box ``on`` a
+            carrier starts on the carrier's base).
         agents: Agent names with their winch anchor position (ENU, m).
         hook: Winch and magnet ratings.
 
@@ -166,8 +167,9 @@ def scene_xml(
         mass = object_mass(obj)
         geoms = _geoms(obj)
         share = mass / len(geoms)
+        rest = ground + (WALL if obj.on else 0.0)  # a loaded box stands on its carrier's base
         body = [
-            f'<body name="{names.body}" pos="{obj.east} {obj.north} {ground + 0.002}" '
+            f'<body name="{names.body}" pos="{obj.east} {obj.north} {rest + 0.002}" '
             f'quat="{_quat_heading(obj.heading)}"><freejoint/>'
         ]
         for name, half, pos in geoms:

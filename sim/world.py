@@ -152,7 +152,7 @@ class DynamicObject:
     Kind-specific properties are ``None`` where they do not apply: ``temperature`` (surface
     temperature seen by the thermal camera, K) for persons, dummies, animals and cars,
     ``contents`` for boxes, ``capacity`` (boxes) for carriers; ``mass`` for boxes, carriers,
-    cars and animals.
+    cars and animals; ``on`` for a box that rests on a carrier at the start.
     """
 
     id: str
@@ -166,6 +166,8 @@ class DynamicObject:
     contents: BoxContents | None = None
     mass: float | None = None
     capacity: int | None = None
+    on: str | None = None
+    """The carrier a box rests on at the start (its position is a place on that carrier)."""
 
 
 @dataclass(frozen=True, slots=True)

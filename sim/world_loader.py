@@ -80,6 +80,7 @@ _ARRAY_KEYS: dict[str, frozenset[str]] = {
             "contents",
             "mass",
             "capacity",
+            "on",
         }
     ),
 }
@@ -510,7 +511,7 @@ class _Reader:
                 )
             size = (float(raw[0]), float(raw[1]), float(raw[2]))
         allowed = _KIND_KEYS[kind]
-        for key in ("temperature_c", "contents", "mass", "capacity"):
+        for key in ("temperature_c", "contents", "mass", "capacity", "on"):
             if key in value and key not in allowed:
                 raise self.fail(
                     "object",
@@ -551,6 +552,7 @@ class _Reader:
                     f"object '{ident}': capacity must be an integer >= 1",
                 )
             capacity = raw_capacity
+        on = self._string(value, "object", entry, "on") if "on" in value else None
         return DynamicObject(
             ident,
             kind,
@@ -562,12 +564,13 @@ class _Reader:
             contents,
             mass,
             capacity,
+            on,
         )
 
 
 _KIND_KEYS: dict[ObjectKind, frozenset[str]] = {
     ObjectKind.PERSON: frozenset({"temperature_c"}),
-    ObjectKind.BOX: frozenset({"contents", "mass"}),
+    ObjectKind.BOX: frozenset({"contents", "mass", "on"}),
     ObjectKind.CARRIER: frozenset({"capacity", "mass"}),
     ObjectKind.CAR: frozenset({"temperature_c", "mass"}),
     ObjectKind.DUMMY: frozenset({"temperature_c"}),

@@ -6,13 +6,14 @@ is the index within that table's entries in file order.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator, Sequence
 from itertools import combinations
 
 from shapely.geometry import LineString, Point, Polygon
 from shapely.validation import explain_validity
 
-from sim.world import Point2, World
+from sim.world import DynamicObject, ObjectKind, Point2, World
 
 Issue = tuple[str, int, str | None, str]
 """(table, entry index, key or None, reason)."""
@@ -28,6 +29,7 @@ def validate_world(world: World) -> list[Issue]:
         return issues  # overlap checks need valid polygons
     issues.extend(_pads_and_depots(world))
     issues.extend(_objects(world))
+    issues.extend(_loaded_carriers(world))
     return issues
 
 
@@ -136,3 +138,39 @@ def _objects(world: World) -> Iterator[Issue]:
                     "position",
                     f"{obj.kind.value} '{obj.id}' is inside building '{name}'",
                 )
+
+
+def _footprint(obj: DynamicObject) -> Polygon:
+    """An object's ground footprint: its length along its heading, its width across."""
+    length, width, _ = obj.size
+    s, c = math.sin(obj.heading), math.cos(obj.heading)
+    corners = [(a * length / 2.0, b * width / 2.0) for a, b in ((1, 1), (1, -1), (-1, -1), (-1, 1))]
+    return Polygon([(obj.east + a * s + b * c, obj.north + a * c - b * s) for a, b in corners])
+
+
+def _loaded_carriers(world: World) -> Iterator[Issue]:
+    """A box ``on`` a carrier names a carrier, lies within it, and fits its capacity."""
+    carriers = {o.id: o for o in world.objects if o.kind is ObjectKind.CARRIER}
+    aboard: dict[str, int] = {}
+    for entry, obj in enumerate(world.objects):
+        if obj.on is None:
+            continue
+        carrier = carriers.get(obj.on)
+        if carrier is None:
+            yield ("object", entry, "on", f"box '{obj.id}': '{obj.on}' is not a carrier")
+            continue
+        if not _footprint(carrier).contains(_footprint(obj)):
+            yield (
+                "object",
+                entry,
+                "position",
+                f"box '{obj.id}' does not lie within carrier '{carrier.id}'",
+            )
+        aboard[carrier.id] = aboard.get(carrier.id, 0) + 1
+        if aboard[carrier.id] > (carrier.capacity or 0):
+            yield (
+                "object",
+                entry,
+                "on",
+                f"carrier '{carrier.id}' holds {carrier.capacity} boxes; '{obj.id}' is one more",
+            )

@@ -12,6 +12,7 @@ from hdrc3_tst.goal_planning import (
     GoalProblem,
     Load,
     StepsStatus,
+    Stocked,
     control_text,
     domain_text,
     goal_problem,
@@ -185,21 +186,92 @@ def test_a_held_box_is_not_at_a_location() -> None:
 
 
 SITES = {"Over": (0.0, 0.0, 20.0), "Far": (500.0, 0.0, 20.0), "b1": (10.0, 5.0, 0.0)}
+LOT = {**SITES, "c1": (-10.0, 0.0, 0.0), "b2": (-10.0, 0.3, 0.0), "b3": (-10.0, -0.3, 0.0)}
+"""A carrier c1 near Over with boxes b2 (declared) and b3 on it, and loose box b1."""
+B1 = Stocked("b1", 5.0, "food")
+C1 = Stocked("c1", 8.0, capacity=4)
+ON_C1 = (C1, Stocked("b2", 5.0, "water", on="c1"), Stocked("b3", 6.0, "food", on="c1"))
 
 
 @pytest.mark.parametrize(
-    ("boxes", "points", "loads"),
+    ("stock", "points", "loads"),
     [
-        ([("b1", "food", 5.0)], SITES, (Load("b1", "food-box", "Over", 5.0),)),
-        ([("b1", "medicine", 4.0)], SITES, (Load("b1", "medicine-box", "Over", 4.0),)),
-        ([("b1", "water", 6.0)], SITES, (Load("b1", "box", "Over", 6.0),)),
-        ([("b2", "food", 5.0)], SITES, ()),  # not declared as a point
-        ([("b1", "food", 5.0)], {**SITES, "b1": (40.0, 0.0, 0.0)}, ()),  # no point near it
+        ([B1], SITES, (Load("b1", "food-box", "Over", 5.0),)),
+        (
+            [replace(B1, contents="medicine", kg=4.0)],
+            SITES,
+            (Load("b1", "medicine-box", "Over", 4.0),),
+        ),
+        ([replace(B1, contents="water")], SITES, (Load("b1", "box", "Over", 5.0),)),
+        ([replace(B1, tag="b9")], SITES, ()),  # not declared as a point
+        ([B1], {**SITES, "b1": (40.0, 0.0, 0.0)}, ()),  # no point near it
+        # a loaded carrier weighs its boxes too, declared or not; b3 is not a point
+        (
+            [B1, *ON_C1],
+            {k: v for k, v in LOT.items() if k != "b3"},
+            (
+                Load("b1", "food-box", "Over", 5.0),
+                Load("c1", "carrier", "Over", 19.0, slots=2),
+                Load("b2", "box", "Over", 5.0, on="c1"),
+            ),
+        ),
+        (ON_C1, {k: v for k, v in LOT.items() if k != "c1"}, ()),  # its carrier is no point
     ],
 )
-def test_stocked_boxes_are_loads_at_the_nearest_point(
-    boxes: list[tuple[str, str, float]],
+def test_stocked_boxes_and_carriers_are_loads_at_the_nearest_point(
+    stock: list[Stocked],
     points: dict[str, tuple[float, ...]],
     loads: tuple[Load, ...],
 ) -> None:
-    assert stocked_loads(boxes, points) == loads
+    assert stocked_loads(stock, points) == loads
+
+
+LOADED = (
+    Load("c1", "carrier", "Lot", 28.0, slots=0),
+    *(Load(f"b{i}", "food-box", "Lot", 5.0, on="c1") for i in range(1, 5)),
+)
+"""A carrier of 8 kg with four boxes of 5 kg on it."""
+CARRIER_GOAL = Node("c", NodeKind.GOAL, {}, action="at", goal_args=("b1", "Field"))
+CARRIER_POINTS = {"Lot": (0.0, 0.0, 20.0), "Field": (200.0, 0.0, 20.0)}
+
+
+def carrier_problem(lift: float) -> GoalProblem:
+    """All four boxes to the field, lifting ``lift`` kg."""
+    problem = goal_problem(CARRIER_GOAL, "uav0", (-100.0, 0.0, 20.0), CARRIER_POINTS, LOADED)
+    goal = " and ".join(f"at(b{i}, Field)" for i in range(1, 5))
+    return replace(problem, lift_capacity=lift, goal=goal)
+
+
+def test_a_loaded_carrier_is_in_the_problem_with_its_boxes_on_it() -> None:
+    text = carrier_problem(30.0).text().splitlines()
+    assert "init at(c1, Lot), load(c1) = 28, slots(c1) = 0" in text
+    assert "init on(b1, c1), weight(b1) = 5" in text
+    held = replace(carrier_problem(30.0), holding="c1").text()
+    assert "holding-carrier(uav0, c1)" in held and "at(c1, Lot)" not in held
+
+
+@pytest.mark.parametrize(
+    ("lift", "by_hook"),
+    [
+        (30.0, 0),  # the whole load lifts: the carrier flies with all four boxes
+        (22.4, 2),  # 0.8 x 28 kg (a failed lift): two boxes fly on the hook, 18 kg on the carrier
+        (6.0, 4),  # the empty carrier does not lift: every box flies on the hook
+        (4.0, None),  # not even a box lifts: no plan
+    ],
+)
+def test_a_carrier_too_heavy_for_the_lift_capacity_flies_with_fewer_boxes(
+    lift: float, by_hook: int | None
+) -> None:
+    problem = carrier_problem(lift)
+    request = PlanRequest(domain_text(), problem.text(), problem.control())
+    result = TaskPlanner().plan(request, timeout=30.0)
+    if by_hook is None:
+        assert result.status is not PlanStatus.SOLVED
+        return
+    assert result.status is PlanStatus.SOLVED, result.reason
+    actions = [o.label.strip("()").split()[0] for o in result.plan]
+    attach = actions.index("attach-carrier") if "attach-carrier" in actions else len(actions)
+    assert actions[:attach].count("take-from-carrier") == by_hook
+    assert actions[:attach].count("drop-box") == by_hook
+    assert "put-on-carrier" not in actions  # nothing taken off goes back on
+    assert actions.count("drop-box") == 4

@@ -165,3 +165,22 @@ def test_recoveries_that_cannot_apply_give_up_with_a_reason(
     assert decision.steps[-1] is RecoveryStep.GIVE_UP
     assert decision.problem is None
     assert reason in decision.reason
+
+
+def test_a_carrier_that_did_not_lift_is_planned_again_with_fewer_boxes() -> None:
+    loads = (
+        Load("c1", "carrier", "Depot", 28.0),
+        *(Load(f"b{i}", "food-box", "Depot", 5.0, on="c1") for i in range(1, 5)),
+    )
+    goal = " and ".join(f"at(b{i}, Field)" for i in range(1, 5))
+    start = replace(goal_problem(GOAL, "uav0", (-100.0, 0.0, 20.0), POINTS, loads), goal=goal)
+    too_heavy = Violation("lifted@d/2", "carrier-too-heavy", False, {"av": "uav0", "carrier": "c1"})
+    decision = Recovery(SPEC).decide(too_heavy, start, (TO_DEPOT,), WHERE)
+    assert decision.changes == ("lift-capacity(uav0) = 22.4",)
+    assert decision.problem is not None
+    status, steps = plan(decision.problem)
+    assert status is PlanStatus.SOLVED
+    actions = [action for action, _ in steps]
+    before = actions[: actions.index("attach-carrier")]
+    assert before.count("take-from-carrier") == 2  # 18 kg left on the carrier
+    assert actions.count("drop-box") == 4

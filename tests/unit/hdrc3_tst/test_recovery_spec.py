@@ -20,7 +20,13 @@ PARSER = RecoverySpecParser()
 
 def test_the_packaged_operators_parse() -> None:
     spec = PARSER.parse_file(DEFAULT_RECOVERY)
-    assert set(spec.operators) == {"lower-lift-capacity", "box-lost", "retry", "step-failed"}
+    assert set(spec.operators) == {
+        "lower-lift-capacity",
+        "carrier-too-heavy",
+        "box-lost",
+        "retry",
+        "step-failed",
+    }
     assert spec.operators["lower-lift-capacity"].effects == (
         Effect(EffectKind.LIFT_CAPACITY, "box", 0.8),
     )

@@ -10,7 +10,7 @@ import pytest
 
 from sim.hook import HookFault, HookParams
 from sim.payload import PayloadPose, PayloadWorld
-from sim.payload_scene import carrier_slots
+from sim.payload_scene import WALL, carrier_slots
 from sim.world import BoxContents, DynamicObject, ObjectKind
 from sim.world_loader import load_world
 
@@ -165,3 +165,27 @@ def test_a_carrier_holds_boxes_put_on_it_when_lifted() -> None:
 
 def _distance(a: PayloadPose, b: PayloadPose) -> float:
     return math.dist((a.east, a.north, a.up), (b.east, b.north, b.up))
+
+
+def test_boxes_loaded_on_a_carrier_at_the_start_rest_on_it_and_rise_with_it() -> None:
+    carrier = next(o for o in WORLD.objects if o.id == "carrier1")
+    ground = WORLD.terrain.height(carrier.east, carrier.north)
+    boxes = [
+        replace(BOX1, id=f"load{i}", east=east, north=north, on="carrier1")
+        for i, (east, north) in enumerate(carrier_slots(carrier, 0.4))
+    ]
+    anchor = (carrier.east, carrier.north, ground + 3.0)
+    world = PayloadWorld(WORLD.terrain, [carrier, *boxes], {"uav0": anchor})
+    _run(world, 2.0, anchor)
+    for box in boxes:  # standing on the carrier's base, where the world file put them
+        pose = world.pose(box.id)
+        assert (pose.east, pose.north) == pytest.approx((box.east, box.north), abs=0.01)
+        assert pose.up == pytest.approx(world.pose("carrier1").up + WALL, abs=0.01)
+    world.command("uav0", 3.0 - carrier.size[2] + 0.05, magnet=True)
+    _run(world, 6.0, anchor)
+    world.command("uav0", 1.0, magnet=True)
+    _run(world, 6.0, anchor)
+    assert world.pose("carrier1").up > ground + 1.0
+    assert all(world.pose(box.id).up > ground + 1.0 for box in boxes)
+    loaded = 8.0 + 4 * 5.0 + HookParams().hook_mass
+    assert world.reading("uav0").tension == pytest.approx(loaded * 9.81, rel=0.08)

@@ -35,6 +35,15 @@ footprint = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]
 height = 8.0
 """
 
+CARRIER = """
+[[object]]
+id = "c1"
+type = "carrier"
+position = [-20.0, 3.0]
+capacity = 4
+mass = 8.0
+"""
+
 # Each bad world marks the offending line with "# <-- error".
 BAD_WORLDS = {
     "syntax": (BASE + "[[building]]\nname = = 'x'  # <-- error\n", "syntax error"),
@@ -120,6 +129,28 @@ BAD_WORLDS = {
         + '[[object]]\nid = "c1"\ntype = "car"\nposition = [-20.0, 3.0]\n'
         + "capacity = 4  # <-- error\n",
         "capacity does not apply to a car",
+    ),
+    "box on what is not a carrier": (
+        BASE
+        + '[[object]]\nid = "b1"\ntype = "box"\nposition = [-20.0, 3.0]\n'
+        + 'contents = "food"\nmass = 5.0\non = "b1"  # <-- error\n',
+        "box 'b1': 'b1' is not a carrier",
+    ),
+    "box beside its carrier": (
+        BASE
+        + CARRIER
+        + '[[object]]\nid = "b1"\ntype = "box"\nposition = [-19.0, 3.0]  # <-- error\n'
+        + 'contents = "food"\nmass = 5.0\non = "c1"\n',
+        "box 'b1' does not lie within carrier 'c1'",
+    ),
+    "carrier over its capacity": (
+        BASE
+        + CARRIER.replace("capacity = 4", "capacity = 1")
+        + '[[object]]\nid = "b1"\ntype = "box"\nposition = [-20.2, 3.3]\n'
+        + 'contents = "food"\nmass = 5.0\non = "c1"\n'
+        + '[[object]]\nid = "b2"\ntype = "box"\nposition = [-19.8, 3.3]\n'
+        + 'contents = "food"\nmass = 5.0\non = "c1"  # <-- error\n',
+        "carrier 'c1' holds 1 boxes; 'b2' is one more",
     ),
     "duplicate names": (
         BASE + BUILDING + '[[place]]\nname = "B1"  # <-- error\nposition = [-50.0, -50.0]\n',
@@ -315,3 +346,14 @@ def test_revinge_has_dummies_and_animals() -> None:
     world = load_world("revinge")
     assert len(world.objects_of(ObjectKind.DUMMY)) >= 2
     assert len(world.objects_of(ObjectKind.ANIMAL)) >= 3
+
+
+def test_a_box_may_rest_on_a_carrier_from_the_start() -> None:
+    text = (
+        BASE
+        + CARRIER
+        + '[[object]]\nid = "b1"\ntype = "box"\nposition = [-20.2, 3.3]\n'
+        + 'contents = "water"\nmass = 5.0\non = "c1"\n'
+    )
+    carrier, box = parse_world(text, "loaded").objects
+    assert (carrier.on, box.on) == (None, "c1")
