@@ -62,9 +62,14 @@ class MonitorRig:
             setattr(msg, name, value)
         self.streams.catalog.on_message(DATA_INTERFACE_TOPIC, msg, time_ms + delay_ms)
 
-    def hook(self, time_ms: int, object_id: str, *, delay_ms: int = 0) -> None:
-        """A carrying sensor reading (``HookState``): the magnet holds ``object_id`` or ""."""
+    def hook(self, time_ms: int, object_id: str, *, delay_ms: int = 0, winch: int = 0) -> None:
+        """A carrying sensor reading (``HookState``).
+
+        The magnet holds ``object_id`` (or ""), the winch is in state ``winch``
+        (``HookState.WINCH_*``).
+        """
         msg = FakeHookState.holding(time_ms, object_id)
+        msg.winch = winch
         self.streams.catalog.on_message(HOOK_TOPIC, msg, time_ms + delay_ms)
 
     def sample(self, label: str, time_ms: int, value: Value) -> None:

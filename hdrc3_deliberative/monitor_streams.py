@@ -23,6 +23,7 @@ from hdrc3_dyknow.sample import Sample
 from hdrc3_dyknow.semantic_matching import SemanticMatcher, StreamSemantics
 from hdrc3_dyknow.semantic_spec import parse_spec
 from hdrc3_dyknow.sources import StreamCatalog
+from hdrc3_platform_server.hook_api import Winch
 
 DATA_INTERFACE_TOPIC = "helicopter_state"
 DATA_INTERFACE_STREAMS: tuple[tuple[str, str, str], ...] = (
@@ -51,12 +52,19 @@ HOOK_TOPIC = "sensors/carrying"
 
 
 def hook_spec(agent: str, loads: Sequence[tuple[str, str]], topic: str = HOOK_TOPIC) -> str:
-    """Stream specification of ``Carrying(agent, load)`` for each (tag, sort) of ``loads``.
+    """Stream specification of the carrying sensor.
 
-    Labels are ``<agent>/hook/<tag>``; a sample is whether the magnet holds that tag. A
-    missing value is the last one (the sensor reports at 10 Hz; late samples are dropped).
+    ``Carrying(agent, load)`` for each (tag, sort) of ``loads``, and ``WinchStalled(agent)``.
+    Labels are ``<agent>/hook/<tag>`` (whether the magnet holds that tag) and
+    ``<agent>/hook/stalled`` (whether the winch is stalled under its load). A missing value is
+    the last one (the sensor reports at 10 Hz; late samples are dropped).
     """
     lines = [f"object {tag} : {sort};" for tag, sort in loads]
+    lines.append(
+        f'stream {agent}/hook/stalled contains WinchStalled({agent}) from topic "{topic}"'
+        f' type HookState field winch == "{Winch.STALLED.value}" with max_delay 1000 ms,'
+        " missing last_value;"
+    )
     for tag, _ in loads:
         lines.append(
             f'stream {agent}/hook/{tag} contains Carrying({agent}, {tag}) from topic "{topic}"'

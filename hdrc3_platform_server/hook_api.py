@@ -93,8 +93,10 @@ class HookLimits:
     """s for the magnet to grip."""
     release_time: float = 2.0
     """s for the magnet to let go."""
-    stall_time: float = 1.0
-    """s of a stalled winch before RAISE fails."""
+    stall_time: float = 3.0
+    """s of a stalled winch before RAISE fails: a load that comes off the ground stalls the
+    drum for a moment; the execution monitor's lift formulas (``default.monitors``) report a
+    stall of 1 s first, so recovery knows the load was too heavy (section 9.3)."""
     min_winch_speed: float = 0.3
     """m/s the deadlines of LOWER and RAISE assume (plus ``margin``)."""
     margin: float = 5.0

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Protocol
 
 from hdrc3_control.path_segment import PathSegment
@@ -172,6 +172,9 @@ class ExecutionEngine:
         self._advancing: set[str] = set()
         self._stopping: set[str] = set()
         """Nodes whose subtree is being aborted: their children's endings do not advance them."""
+        self.lift_capacity: float | None = None
+        """kg this agent's helicopter was found to lift at most (a recovery lowered it); goal
+        nodes planned later start from it (None: the domain's assumption)."""
 
     # --- queries ------------------------------------------------------------------------
     def holds(self, node_id: str) -> bool:
@@ -455,9 +458,23 @@ class ExecutionEngine:
         return record is not None and math.isnan(record.start)
 
     def _events(self) -> dict[str, tuple[str, str]]:
-        """Each start and end variable of the tree (as it is now): its node and TS or TE."""
-        nodes = self.tst.tree.nodes.values()
+        """Each start and end variable of the tree as it is now: its node and TS or TE.
+
+        Not the steps of a plan a recovery abandoned: they stay in ``tree.nodes`` as the
+        record, but their goal no longer lists them, and they will never start or end.
+        """
+        nodes = [n for n in self.tst.tree.nodes.values() if not self._abandoned(n)]
         return {n.params[p]: (n.node_id, p) for n in nodes for p in ("TS", "TE")}
+
+    def _abandoned(self, node: Node) -> bool:
+        """Whether the node, or an ancestor, is no longer among its parent's children."""
+        nodes = self.tst.tree.nodes
+        while node.parent is not None and node.parent.node_id in nodes:
+            parent = nodes[node.parent.node_id]
+            if all(c.node_id != node.node_id for c in parent.children):
+                return True
+            node = parent
+        return False
 
     def _wait(self, rec: NodeRecord, latest: float, pending: list[str]) -> bool:
         """Wait for ``pending`` (said in the node's status once); fail it past its latest start."""
@@ -696,6 +713,8 @@ class ExecutionEngine:
                     n: p.coords[0] for n, p in self.tst.places.items() if p.kind is ParamType.POINT
                 }
                 rec.problem = goal_problem(node, self.ctx.agent, position, points, self.ctx.loads)
+                if self.lift_capacity is not None:
+                    rec.problem = replace(rec.problem, lift_capacity=self.lift_capacity)
                 self.tst.places.setdefault(
                     here(self.ctx.agent), Place(ParamType.POINT, (position,))
                 )
@@ -837,6 +856,8 @@ class ExecutionEngine:
             return last
         for name, xyz in decision.places.items():
             self.tst.places[name] = Place(ParamType.POINT, (xyz,))
+        if decision.problem.lift_capacity != rec.problem.lift_capacity:
+            self.lift_capacity = decision.problem.lift_capacity  # learnt for later goals too
         last = report(RecoveryStep.APPLY_OPERATOR, decision.reason, decision.changes)
         self.tst.tree.collapse(goal_id)
         rec.problem, rec.plan, rec.recovering = decision.problem, None, violation

@@ -204,8 +204,9 @@ def pick_up(ctx: ActionContext, place: str) -> Steps:
     from the alignment, up to ``PICK_ATTEMPTS`` times.
     """
     tag = ctx.name(place)
-    for step in (search(ctx, place, tag), hook(ctx, HookAction.RELEASE)):
-        # magnet off: an electromagnet left energised after losing a load grips nothing new
+    for step in (hook(ctx, HookAction.RELEASE), search(ctx, place, tag)):
+        # magnet off first: an electromagnet left energised after losing a load grips nothing
+        # new, and one still holding a load that did not lift (a recovery) must not fly it
         outcome = yield from step
         if outcome.progress is not Progress.SUCCEEDED:
             return outcome

@@ -45,8 +45,11 @@ class HookParams:
     """m, cable on the drum."""
     stowed_cable: float = 0.12
     """m, cable out when the hook is wound in (the hook hangs just below the fuselage)."""
-    stall_tension: float = 500.0
-    """N: the drum does not wind in above this tension (about 50 kg hanging)."""
+    stall_tension: float = 240.0
+    """N: the drum does not wind in above this tension (about 24 kg hanging with the hook).
+    Below the RMAX's nominal 30 kg payload, the planner's first lift-capacity assumption
+    (``hdrc3_tst.goal_planning.HELICOPTER_LIFT``): a heavier load is found out by a failed lift
+    (section 9.3)."""
     hook_mass: float = 1.5
     """kg, electromagnet and cable end."""
     hook_radius: float = 0.08

@@ -247,6 +247,41 @@ def test_the_default_box_held_formula_reads_the_carrying_sensor(
     assert decided[0].decl is not None and decided[0].decl.recovery == "box-lost"
 
 
+# --- the default spec's carrier_lifted (a load too heavy: recovery carrier-too-heavy) -----------
+@pytest.mark.parametrize(
+    ("name", "stalled", "violated_at"),
+    [
+        ("stalls under its load", lambda t: t >= 2000, 3000),
+        ("a moment at lift-off", lambda t: 2000 <= t < 2300, None),
+        ("lifts", lambda t: False, None),
+    ],
+)
+def test_the_default_carrier_lifted_formula_reads_the_winch(
+    name: str, stalled: Callable[[int], bool], violated_at: int | None
+) -> None:
+    from hdrc3_deliberative.monitor_spec import DEFAULT_SPEC
+    from hdrc3_platform_server.hook_api import Winch
+
+    rig = MonitorRig(DEFAULT_SPEC.read_text(), extra_streams="", loads=(("c3", "Carrier"),))
+    assert rig.start().status is StartStatus.STARTED
+    for now in range(0, 6001, 50):
+        if now == 1000:
+            rig.flag(now, "g/2", "attach-carrier", True, carrier="c3")
+        if now == 5000:
+            rig.flag(now, "g/2", "attach-carrier", False, carrier="c3")
+        if now % 100 == 0:
+            winch = Winch.STALLED if stalled(now) else Winch.RAISING
+            rig.hook(now, "c3" if now >= 1500 else "", winch=int(winch))
+        rig.advance(now)
+    violated = [e for e in rig.events if e.kind is EventKind.VIOLATED]
+    assert [(e.monitor_id, e.time_ms) for e in violated] == (
+        [] if violated_at is None else [("carrier_lifted@g/2", violated_at)]
+    ), name
+    if violated:
+        assert violated[0].arguments == (("carrier", "c3"),)
+        assert violated[0].decl is not None and violated[0].decl.recovery == "carrier-too-heavy"
+
+
 # --- 9.3.2: robust speed limits ------------------------------------------------------------------
 NAIVE = "monitor naive: always forall av in AV: speed(av) <= 10;"
 WEAK = "monitor weak: always forall av in AV: eventually[0,1000] speed(av) <= 10;"

@@ -55,7 +55,13 @@ def test_defaults_without_states_statement() -> None:
 
 def test_the_packaged_default_parses() -> None:
     spec = PARSER.parse_file(DEFAULT_SPEC)
-    assert {decl.name for decl in spec.monitors} == {"speed_limit", "climb_reached", "box_held"}
+    assert {decl.name for decl in spec.monitors} == {
+        "speed_limit",
+        "climb_reached",
+        "carrier_lifted",
+        "box_lifted",
+        "box_held",
+    }
 
 
 @pytest.mark.parametrize(

@@ -37,9 +37,15 @@ MISSED = "FAILED the magnet gripped nothing"
 class Rig:
     """One engine on the fake platform; the planner is TALplanner itself."""
 
-    def __init__(self, recovery: RecoverySpec | None = None, misses: int = 0) -> None:
+    def __init__(
+        self,
+        recovery: RecoverySpec | None = None,
+        misses: int = 0,
+        mission: str = MISSION,
+        loads: tuple[Load, ...] = LOADS,
+    ) -> None:
         """``misses``: how many attaches of the magnet grip nothing, the first ones."""
-        loaded = load_text(MISSION)
+        loaded = load_text(mission)
         assert loaded.status is CheckStatus.OK, loaded.diagnostics
         assert loaded.tst is not None
         bind_open_agents(loaded.tst, "uav0")
@@ -52,7 +58,7 @@ class Rig:
             self.sink,
             FRAME,
             RMAX_EXECUTORS,
-            loads=LOADS,
+            loads=loads,
             recovery=recovery or default_recovery(),
         )
         self.misses = misses
@@ -62,12 +68,15 @@ class Rig:
         self.run_until(lambda: bool(self.engine.tst.tree.node("m").children))
 
     def run_until(self, done: Callable[[], bool], limit: int = 600) -> None:
-        """Tick once a second, completing every command (the hook camera sees box1 below)."""
+        """Tick once a second, completing every command (the hook camera sees every load
+        below)."""
+        loads = [load.name for load in self.engine.ctx.loads]
         for _ in range(limit):
             if done():
                 return
             self.t += 1.0
-            self.platform.sightings["box1"] = Sighting((0.0, 0.0, -5.0), self.t)
+            for tag in loads:
+                self.platform.sightings[tag] = Sighting((0.0, 0.0, -5.0), self.t)
             self.engine.tick(self.t)
             for command in self.platform.running():
                 self.complete(command)
@@ -202,3 +211,45 @@ def test_without_a_step_failed_operator_a_failed_step_fails_its_goal() -> None:
     assert rig.state("m") is NodeState.FAILED
     assert rig.engine.records["m"].reason == f"m/2 failed: ppcl_hook: {MISSED}"
     assert rig.sink.recoveries == []
+
+
+CARRIER_MISSION = """world revinge
+agents uav0
+point carrier3 = carrier3 at 0
+point box7 = box7 at 0
+point box8 = box8 at 0
+point Depot = carrier_depot at 20
+point Field = west_field at 20
+m(P, TS, TE) = with T1, T2, T3, T4 sequence
+  first(T1, T2) = goal at(box7, Field);
+  second(T3, T4) = goal at(box8, Field)
+where P = uav0
+"""
+CARRIER_LOADS = (
+    Load("carrier3", "carrier", "Depot", 28.0),
+    Load("box7", "food-box", "Depot", 5.0, on="carrier3"),
+    Load("box8", "food-box", "Depot", 5.0, on="carrier3"),
+)
+"""carrier3 with box7, box8 and two more boxes: 28 kg."""
+
+
+def test_a_carrier_that_did_not_lift_leaves_boxes_behind_and_later_goals_know_it() -> None:
+    rig = Rig(mission=CARRIER_MISSION, loads=CARRIER_LOADS)
+    rig.run_until(lambda: bool(rig.engine.tst.tree.node("first").children))
+    goal = rig.engine.tst.tree.node("first")
+    planned = [rig.engine.tst.tree.node(c.node_id).action for c in goal.children]
+    assert planned[:2] == ["fly-to", "attach-carrier"]  # 28 kg <= the assumed 30 kg
+    rig.run_until(lambda: rig.state("first/2") is NodeState.RUNNING)
+    stalled = Violation(
+        "carrier_lifted@first/2", "carrier-too-heavy", False, {"carrier": "carrier3"}
+    )
+    report = rig.engine.on_violation(stalled, "first/2")
+    assert report.changes == ("lift-capacity(uav0) = 22.4",)
+    rig.run_until(lambda: rig.steps()[-1] is RecoveryStep.REPLAN)
+    replanned = [a.split()[0].strip("(") for a in rig.sink.recoveries[-1].plan]
+    assert replanned[:2] == ["fly-to", "take-from-carrier"]  # back over it; box7 on the hook
+    assert "attach-carrier" not in replanned
+    rig.run_until(lambda: len(rig.planner.requests) == 3)  # the second goal
+    assert "lift-capacity(uav0) = 22.4" in rig.planner.requests[2].problem
+    rig.run_until(lambda: rig.state("m").finished)
+    assert rig.state("m") is NodeState.SUCCEEDED, rig.engine.records["m"].reason

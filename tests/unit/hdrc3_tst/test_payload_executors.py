@@ -53,29 +53,26 @@ def _run(action: str, args: dict[str, float | str]) -> tuple[FakePlatform, Stepp
 
 
 def _search(platform: FakePlatform, stepper: Stepper, seen: Sighting | None = BELOW) -> None:
-    """A pick-up's search: up over box1's point, a new sighting (or none), the descent; then
-    the magnet switched off once the descent is complete (the caller completes the descent)."""
+    """A pick-up's start: the magnet switched off (RELEASE, ending at once here), the climb
+    over box1's point, a new sighting (or none), the descent (the caller completes it)."""
     assert stepper.step(0.0).progress is Progress.RUNNING
-    (up,) = platform.sent
+    (release,) = platform.sent
+    assert _hook_call(release) == MAGNET_OFF
+    platform.complete(release)
+    stepper.step(0.05)
+    up = platform.sent[-1]
     east, north, _ = POINTS["box1"][0]
     alt = FRAME.to_wgs84(east, north, FRAME.ground_up(east, north) + SEARCH_HEIGHT)[2]
     assert up.args["altitude"] == pytest.approx(alt)
     platform.complete(up)
     stepper.step(0.5)  # arrived: waits for a sighting newer than the last one
-    assert len(platform.sent) == 1
+    assert len(platform.sent) == 2
     if seen is None:
         stepper.step(1.0 + SIGHT_TIMEOUT_S)
     else:
         platform.sightings["box1"] = Sighting(seen.offset, seen.time + 0.5)
         stepper.step(0.6)
-    assert len(platform.sent) == 2  # the descent
-
-
-def _magnet_off(platform: FakePlatform, stepper: Stepper) -> None:
-    """Over the box: the magnet is switched off first (RELEASE), which ends at once here."""
-    stepper.step(0.8)
-    assert _hook_call(platform.sent[-1]) == MAGNET_OFF
-    platform.complete(platform.sent[-1])
+    assert len(platform.sent) == 3  # the descent
 
 
 def _lowered_twice(platform: FakePlatform, stepper: Stepper, t: float = 1.0) -> None:
@@ -105,7 +102,7 @@ def _hook_call(command: Command) -> tuple[object, ...]:
         # a pick-up hovers where the hook camera saw the box from above (the aircraft's
         # estimate, here (0, 0), plus the camera's offset)
         ("pick-up-box", {"box": "box1"}, (0.05, -0.03),
-         [MAGNET_OFF, FIRST, ONTO, (HookAction.ATTACH, 0.0, "box1"),
+         [FIRST, ONTO, (HookAction.ATTACH, 0.0, "box1"),
           (HookAction.RAISE, CARRY_CABLE, "")]),
         ("drop-box", {"box": "box1", "place": "body1"}, POINTS["body1"][0][:2],
          [LOWER, (HookAction.RELEASE, 0.0, ""), (HookAction.RAISE, 0.0, "")]),
@@ -149,7 +146,6 @@ def test_a_wrong_box_fails_the_pick_up_with_the_platforms_reason() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     _search(platform, stepper)
     platform.complete(platform.sent[-1])  # flight
-    _magnet_off(platform, stepper)
     _lowered_twice(platform, stepper)
     wrong = "FAILED wrong object: the magnet holds 'box4', not 'box1'"
     platform.complete(platform.sent[-1], ok=False, reason=wrong)
@@ -161,7 +157,6 @@ def test_the_hook_camera_corrects_the_hover_over_the_box() -> None:
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     _search(platform, stepper, Sighting((2.0, -1.0, -5.5), 1.0))  # seen 2.2 m off from above
     platform.complete(platform.sent[-1])  # the descent (the aircraft stays at (0, 0) here)
-    _magnet_off(platform, stepper)
     stepper.step(1.0)
     stepper.step(1.5)
     correction = platform.sent[-1]
@@ -191,7 +186,6 @@ def test_a_box_the_hook_camera_never_sees_fails_the_pick_up() -> None:
     _, _, alt = FRAME.to_wgs84(east, north, FRAME.ground_up(east, north) + HOVER_HEIGHT)
     assert descent.args["altitude"] == pytest.approx(alt)
     platform.complete(descent)
-    _magnet_off(platform, stepper)
     stepper.step(10.0)
     outcome = stepper.step(11.0 + SIGHT_TIMEOUT_S)
     assert outcome == Status(Progress.FAILED, "the hook camera does not see box1")
@@ -201,7 +195,6 @@ def test_a_magnet_landing_beside_the_box_is_wound_in_and_lowered_again() -> None
     platform, stepper = _run("pick-up-box", {"box": "box1"})
     _search(platform, stepper)
     platform.complete(platform.sent[-1])  # flight
-    _magnet_off(platform, stepper)
     _lowered_twice(platform, stepper)
     platform.complete(platform.sent[-1], ok=False, reason="FAILED the magnet gripped nothing")
     stepper.step(3.0)

@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import pytest
 
-from sim.hook import HookFault, HookParams
+from sim.hook import HookFault, HookParams, WinchState
 from sim.payload import PayloadPose, PayloadWorld
 from sim.payload_scene import WALL, carrier_slots
 from sim.world import BoxContents, DynamicObject, ObjectKind
@@ -60,7 +60,8 @@ def test_resting_objects_stay_where_the_world_file_puts_them() -> None:
         if obj.kind in (ObjectKind.BOX, ObjectKind.CARRIER):
             pose = world.pose(obj.id)
             assert (pose.east, pose.north) == pytest.approx((obj.east, obj.north), abs=0.01)
-            assert pose.up == pytest.approx(WORLD.terrain.height(obj.east, obj.north), abs=0.02)
+            ground = WORLD.terrain.height(obj.east, obj.north)
+            assert pose.up == pytest.approx(ground + (WALL if obj.on else 0.0), abs=0.02)
 
 
 def _pick_up(world: PayloadWorld) -> None:
@@ -167,25 +168,26 @@ def _distance(a: PayloadPose, b: PayloadPose) -> float:
     return math.dist((a.east, a.north, a.up), (b.east, b.north, b.up))
 
 
-def test_boxes_loaded_on_a_carrier_at_the_start_rest_on_it_and_rise_with_it() -> None:
-    carrier = next(o for o in WORLD.objects if o.id == "carrier1")
+@pytest.mark.parametrize(("aboard", "lifts"), [(4, False), (2, True)])
+def test_a_loaded_carrier_lifts_only_below_the_winch_rating(aboard: int, lifts: bool) -> None:
+    carrier = next(o for o in WORLD.objects if o.id == "carrier3")
+    boxes = [o for o in WORLD.objects if o.on == "carrier3"][:aboard]
     ground = WORLD.terrain.height(carrier.east, carrier.north)
-    boxes = [
-        replace(BOX1, id=f"load{i}", east=east, north=north, on="carrier1")
-        for i, (east, north) in enumerate(carrier_slots(carrier, 0.4))
-    ]
     anchor = (carrier.east, carrier.north, ground + 3.0)
     world = PayloadWorld(WORLD.terrain, [carrier, *boxes], {"uav0": anchor})
-    _run(world, 2.0, anchor)
-    for box in boxes:  # standing on the carrier's base, where the world file put them
-        pose = world.pose(box.id)
-        assert (pose.east, pose.north) == pytest.approx((box.east, box.north), abs=0.01)
-        assert pose.up == pytest.approx(world.pose("carrier1").up + WALL, abs=0.01)
-    world.command("uav0", 3.0 - carrier.size[2] + 0.05, magnet=True)
+    _run(world, 1.0, anchor)
+    world.command("uav0", 3.0 - carrier.size[2] + 0.05, magnet=True)  # onto the lifting plate
     _run(world, 6.0, anchor)
+    assert world.reading("uav0").object_id == "carrier3"
     world.command("uav0", 1.0, magnet=True)
     _run(world, 6.0, anchor)
-    assert world.pose("carrier1").up > ground + 1.0
-    assert all(world.pose(box.id).up > ground + 1.0 for box in boxes)
-    loaded = 8.0 + 4 * 5.0 + HookParams().hook_mass
-    assert world.reading("uav0").tension == pytest.approx(loaded * 9.81, rel=0.08)
+    load = (8.0 + 5.0 * aboard + HookParams().hook_mass) * 9.81
+    reading = world.reading("uav0")
+    if lifts:  # the boxes ride on their places
+        assert world.pose("carrier3").up > ground + 1.0
+        assert all(world.pose(box.id).up > ground + 1.0 for box in boxes)
+        assert reading.tension == pytest.approx(load, rel=0.08)
+    else:  # the drum stops: the carrier stays on the ground
+        assert reading.winch is WinchState.STALLED
+        assert world.pose("carrier3").up < ground + 0.1
+        assert reading.tension > HookParams().stall_tension
