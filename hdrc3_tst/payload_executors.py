@@ -66,6 +66,8 @@ PICK_ATTEMPTS = 5
 """Lowerings onto an object before a pick-up gives up."""
 MISSED = "gripped nothing"
 """Part of ppcl_hook's reason when the magnet landed beside the object."""
+WRONG_OBJECT = "wrong object"
+"""Part of ppcl_hook's reason when the magnet holds another object than the one asked for."""
 CORRECTION_SPEED = 0.5
 """m/s of a correction flight over an object."""
 SETTLE_S = 4.0
@@ -197,11 +199,13 @@ def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str =
     return (yield from finish(ctx, ctx.hook(action, length, tag)))
 
 
-def pick_up(ctx: ActionContext, place: str) -> Steps:
+def pick_up(ctx: ActionContext, place: str, loaded: bool = False) -> Steps:
     """Find the object of point ``place``, hover over it, lower, attach it (by its tag), raise.
 
     A lowering that lands the magnet beside the object (attach: nothing gripped) is tried again
-    from the alignment, up to ``PICK_ATTEMPTS`` times.
+    from the alignment, up to ``PICK_ATTEMPTS`` times. ``loaded``: the object carries others (a
+    carrier's boxes stand around its lifting plate), so a magnet that gripped another object
+    landed beside the plate: it lets go and tries again too.
     """
     tag = ctx.name(place)
     for step in (hook(ctx, HookAction.RELEASE), search(ctx, place, tag)):
@@ -227,8 +231,13 @@ def pick_up(ctx: ActionContext, place: str) -> Steps:
             if outcome.progress is not Progress.SUCCEEDED:
                 return outcome
             return (yield from depart(ctx, place))
-        if MISSED not in outcome.reason:
+        beside = loaded and WRONG_OBJECT in outcome.reason
+        if MISSED not in outcome.reason and not beside:
             return outcome
+        if beside:
+            released = yield from hook(ctx, HookAction.RELEASE)
+            if released.progress is not Progress.SUCCEEDED:
+                return released
         wound = yield from hook(ctx, HookAction.RAISE, 0.0)
         if wound.progress is not Progress.SUCCEEDED:
             return wound
@@ -270,8 +279,8 @@ class AttachCarrier(ActionExecutor):
     """``attach-carrier(carrier)``: the carrier by its central lifting plate."""
 
     def run(self, ctx: ActionContext) -> Steps:
-        """Pick up the carrier."""
-        return (yield from pick_up(ctx, "carrier"))
+        """Pick up the carrier (its boxes may stand around the lifting plate)."""
+        return (yield from pick_up(ctx, "carrier", loaded=True))
 
 
 class DropBox(ActionExecutor):

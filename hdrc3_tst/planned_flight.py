@@ -30,7 +30,15 @@ from dataclasses import dataclass, field
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_navigation.planner import MIN_FLIGHT_M, PlanRequest, PlanResult, PlanStatus
 from hdrc3_platform_server.codes import FclCommand
-from hdrc3_tst.executor import SUCCEEDED, ActionContext, Status, failed, flight_bound
+from hdrc3_tst.executor import (
+    SUCCEEDED,
+    ActionContext,
+    Progress,
+    Status,
+    failed,
+    flight_bound,
+)
+from hdrc3_tst.executor_steps import fly_to
 from hdrc3_tst.navigation_port import NavigationPort
 from hdrc3_tst.platform_port import Command, CommandState
 
@@ -52,6 +60,12 @@ SETTLE_BOUND_S = 30.0
 """Mission seconds a stop may take to come to a hover."""
 RECHECK = -1
 """A revision no world model has: the remaining path is checked again at the next tick."""
+CLIMB_OUT_M = 12.0
+"""m above the ground a flight that starts too low for the path planner (it keeps a margin from
+the ground: the hover over a load a recovery left the aircraft in) first climbs straight up
+to, clear of the planner's 6 m margin with a load hanging on the hook's carrying cable."""
+CLIMB_OUT_SPEED = 2.0
+"""m/s of that climb."""
 
 
 def segment_args(segment: PathSegment) -> dict[str, float]:
@@ -106,9 +120,17 @@ class PlannedFlight:
             return failed("no Data Interface sample to plan from")
         if math.dist(start, self.goal) < MIN_FLIGHT_M:  # already there: nothing to fly
             return SUCCEEDED
-        outcome = yield from self._plan_into_todo(start, None)
-        if outcome is not None:
-            return outcome
+        result = yield from self._query(start, None)
+        ground = self.ctx.frame.ground_up(start[0], start[1])
+        if result.status is PlanStatus.START_IN_OBSTACLE and start[2] < ground + CLIMB_OUT_M:
+            up = (start[0], start[1], ground + CLIMB_OUT_M)
+            climbed = yield from fly_to(self.ctx, up, min(self.speed, CLIMB_OUT_SPEED))
+            if climbed.progress is not Progress.SUCCEEDED:
+                return climbed
+            result = yield from self._query(self._position() or up, None)
+        no_path = self._accept(result)
+        if no_path is not None:
+            return no_path
         while True:
             refused = self._refused_replacement()
             if refused is not None:
@@ -246,6 +268,10 @@ class PlannedFlight:
         self, start: Vec3, direction: Vec3 | None
     ) -> Generator[None, None, Status | None]:
         result = yield from self._query(start, direction)
+        return self._accept(result)
+
+    def _accept(self, result: PlanResult) -> Status | None:
+        """Take a path's segments to fly; the failure when there is no path."""
         if not result.ok:
             return failed(f"path planner: {result.status.value}: {result.reason}")
         self.todo = list(result.segments)

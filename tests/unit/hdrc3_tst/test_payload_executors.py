@@ -204,3 +204,34 @@ def test_a_magnet_landing_beside_the_box_is_wound_in_and_lowered_again() -> None
     stepper.step(4.0)
     stepper.step(5.0)
     assert _hook_call(platform.sent[-1]) == FIRST
+
+
+@pytest.mark.parametrize(
+    ("action", "args", "retried"),
+    [
+        ("attach-carrier", {"carrier": "box1"}, True),  # a box on the carrier, not its plate
+        ("pick-up-box", {"box": "box1"}, False),  # another box: a mis-stocked depot
+    ],
+)
+def test_a_magnet_holding_another_object_lets_go_and_tries_again_only_over_a_carrier(
+    action: str, args: dict[str, float | str], retried: bool
+) -> None:
+    platform, stepper = _run(action, args)
+    _search(platform, stepper)
+    platform.complete(platform.sent[-1])  # flight
+    _lowered_twice(platform, stepper)
+    wrong = "FAILED wrong object: the magnet holds 'box10', not 'box1'"
+    platform.complete(platform.sent[-1], ok=False, reason=wrong)
+    outcome = stepper.step(3.0)
+    if not retried:
+        assert outcome == Status(Progress.FAILED, f"ppcl_hook: {wrong}")
+        return
+    assert _hook_call(platform.sent[-1]) == MAGNET_OFF
+    platform.complete(platform.sent[-1])
+    stepper.step(3.5)
+    assert _hook_call(platform.sent[-1]) == (HookAction.RAISE, 0.0, "")
+    platform.complete(platform.sent[-1])
+    platform.sightings["box1"] = Sighting((0.1, 0.0, -5.7), 50.0)
+    stepper.step(4.0)
+    stepper.step(5.0)
+    assert _hook_call(platform.sent[-1]) == FIRST

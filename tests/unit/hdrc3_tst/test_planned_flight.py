@@ -19,7 +19,7 @@ from hdrc3_tst.actions import ACTIONS
 from hdrc3_tst.executor import ActionContext, Progress, Status, Stepper
 from hdrc3_tst.fake_platform import FakePathFollowing, FakePlatform
 from hdrc3_tst.navigation_port import LocalNavigation, PlanJob
-from hdrc3_tst.planned_flight import ANSWER_WAIT_S
+from hdrc3_tst.planned_flight import ANSWER_WAIT_S, CLIMB_OUT_M
 from hdrc3_tst.platform_port import Command, PlatformState
 from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
 from sim.world import World
@@ -317,3 +317,23 @@ def test_a_fly_to_where_the_aircraft_already_is_succeeds_without_a_flight() -> N
     status = flight.fly()
     assert status.progress is Progress.SUCCEEDED
     assert flight.traj3d() == [] and flight.now <= 2 * TICK
+
+
+def test_a_flight_from_a_hover_too_low_to_plan_from_climbs_straight_up_first(
+    planner: PathPlanner,
+) -> None:
+    low = (WEST[0], WEST[1], FRAME.ground_up(WEST[0], WEST[1]) + 4.0)  # over a load it lifted
+    flight = Flight(LocalNavigation(planner), EAST)
+    flight.platform.move_to(low)
+    for _ in range(4):  # the planner refuses the start
+        flight.step()
+    (climb,) = flight.platform.sent
+    assert climb.command is FclCommand.TRAJ3D_FLYTO
+    up = FRAME.to_wgs84(low[0], low[1], FRAME.ground_up(low[0], low[1]) + CLIMB_OUT_M)
+    assert (climb.args["longitude"], climb.args["latitude"]) == pytest.approx(up[:2])
+    assert climb.args["altitude"] == pytest.approx(up[2])
+    flight.platform.move_to((low[0], low[1], low[2] - 4.0 + CLIMB_OUT_M))
+    flight.platform.complete(climb)
+    status = flight.fly()
+    assert status == Status(Progress.SUCCEEDED), status.reason
+    assert flight.flown()[-1].end == pytest.approx(EAST)

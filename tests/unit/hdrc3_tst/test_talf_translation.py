@@ -22,6 +22,7 @@ ROOT = Path(__file__).resolve().parents[3]
 TST_EXAMPLES = sorted((ROOT / "examples" / "tst").glob("*.tst"))
 NOT_COVERED = {
     "delivery_box_drop.tst": "goal node d",
+    "delivery_carrier_overweight.tst": "goal node first",
     "patrol.tst": "call node go",
 }
 
