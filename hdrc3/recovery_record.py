@@ -1,16 +1,19 @@
-"""What a recording says about a load lost in flight and its recovery (chapter section 9.3).
+"""What a recording says about a load lost or not lifted, and its recovery (section 9.3).
 
 Reads an MCAP of a run such as ``hdrc3 tst run examples/tst/delivery_box_drop.tst --launch
---fault uav0:hook:release@d/3+10 --out DIR``: when the load left the hook in the simulator's
-ground truth (``/world_sim/objects``), when the agent's carrying sensor stopped reporting it,
-the execution monitor's violation, the TST manager's recovery steps with the new plan, the
-flight control's modes in between, and where the load finally lies. Used by the integration
-test and ``bench/box_drop_recovery.py``; the ground truth here only measures, it decides
-nothing.
+--fault uav0:hook:release@d/3+10 --out DIR`` (:func:`read_lost_load`): when the load left the
+hook in the simulator's ground truth (``/world_sim/objects``), when the agent's carrying sensor
+stopped reporting it, the execution monitor's violation, the TST manager's recovery steps with
+the new plan, the flight control's modes in between, and where the load finally lies. Or of
+``hdrc3 tst run examples/tst/delivery_carrier_overweight.tst --launch --out DIR``
+(:func:`read_failed_lift`): when the winch first stalled under the load, the violation, the
+recovery and where every object finally lies. Used by the integration tests and
+``bench/box_drop_recovery.py``; the ground truth here only measures, it decides nothing.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -115,3 +118,59 @@ def read_lost_load(path: Path, agent: str, load: str) -> LostLoadRecord:
     if got[objects]:
         final = next((o for o in got[objects][-1].objects if o.id == load), None)
     return LostLoadRecord(released, sensor, violation, recovery, modes, final)
+
+
+@dataclass(frozen=True)
+class FailedLiftRecord:
+    """One load too heavy to lift: its detection and recovery as recorded (sim times in ms)."""
+
+    stalled_ms: int | None
+    """The first carrying-sensor reading of the stall the violation followed: holding the load
+    with the winch stalled, and stalled in every reading since (up to the violation)."""
+    violation: Any | None
+    """The first ``MonitorViolation`` (KIND_VIOLATION) naming the load in its arguments."""
+    recovery: tuple[Any, ...]
+    """The ``RecoveryEvent``s of that violation, in order."""
+    final: dict[str, Any]
+    """Every object's ``WorldObject`` in the last objects message, by id."""
+
+    @property
+    def detection_ms(self) -> int | None:
+        """Violation stamp minus the first stalled reading."""
+        if self.violation is None or self.stalled_ms is None:
+            return None
+        return stamp_ms(self.violation.header.stamp) - self.stalled_ms
+
+
+def read_failed_lift(path: Path, agent: str, load: str) -> FailedLiftRecord:
+    """The record of ``load`` that ``agent``'s hook could not lift, in the recording at ``path``."""
+    objects, carrying, violations, events = (
+        "/world_sim/objects",
+        f"/{agent}/sensors/carrying",
+        f"/{agent}/monitor_violations",
+        f"/{agent}/recovery_events",
+    )
+    got = _messages(path, (objects, carrying, violations, events))
+    violation = next(
+        (
+            v
+            for v in got[violations]
+            if v.kind == v.KIND_VIOLATION and load in list(v.argument_values)
+        ),
+        None,
+    )
+    until = math.inf if violation is None else stamp_ms(violation.header.stamp)
+    stalled: int | None = None
+    for reading in got[carrying]:
+        at = stamp_ms(reading.header.stamp)
+        if at > until:
+            break
+        if reading.object_id != load or reading.winch != reading.WINCH_STALLED:
+            stalled = None  # the drum turned again: a moment of lift-off, not a failed lift
+        elif stalled is None:
+            stalled = at
+    recovery: tuple[Any, ...] = ()
+    if violation is not None:
+        recovery = tuple(e for e in got[events] if e.monitor_id == violation.monitor_id)
+    final = {o.id: o for o in got[objects][-1].objects} if got[objects] else {}
+    return FailedLiftRecord(stalled, violation, recovery, final)

@@ -65,6 +65,7 @@ from hdrc3_tst.recovery import (
     RecoveryStep,
     Violation,
     default_recovery,
+    progressed,
 )
 from hdrc3_tst.recovery_spec import RecoverySpec
 from hdrc3_tst.resolver import InstanceStatus, Place, ResolvedTst
@@ -172,6 +173,9 @@ class ExecutionEngine:
         self._advancing: set[str] = set()
         self._stopping: set[str] = set()
         """Nodes whose subtree is being aborted: their children's endings do not advance them."""
+        self.loads = ctx.loads
+        """Where the boxes and carriers are as this agent's planned goals left them: a goal
+        planned later starts from there, not from the world file's stock."""
         self.lift_capacity: float | None = None
         """kg this agent's helicopter was found to lift at most (a recovery lowered it); goal
         nodes planned later start from it (None: the domain's assumption)."""
@@ -712,7 +716,7 @@ class ExecutionEngine:
                 points = {
                     n: p.coords[0] for n, p in self.tst.places.items() if p.kind is ParamType.POINT
                 }
-                rec.problem = goal_problem(node, self.ctx.agent, position, points, self.ctx.loads)
+                rec.problem = goal_problem(node, self.ctx.agent, position, points, self.loads)
                 if self.lift_capacity is not None:
                     rec.problem = replace(rec.problem, lift_capacity=self.lift_capacity)
                 self.tst.places.setdefault(
@@ -819,11 +823,7 @@ class ExecutionEngine:
             position = rec.problem.locations[rec.problem.start]
         else:
             position = (state.east, state.north, state.up)
-        children = [self.records[c.node_id] for c in goal.children]
-        done = [
-            s for s, r in zip(rec.steps, children, strict=False) if r.state is NodeState.SUCCEEDED
-        ]
-        decision = rec.recovery.decide(violation, rec.problem, done, position)
+        decision = rec.recovery.decide(violation, rec.problem, self._done(goal), position)
         reason = f"recovering from {violation.monitor_id}"
         self._stopping.add(goal_id)
         try:
@@ -863,6 +863,12 @@ class ExecutionEngine:
         rec.problem, rec.plan, rec.recovering = decision.problem, None, violation
         self._advance(goal_id)
         return last
+
+    def _done(self, goal: Node) -> list[PlannedStep]:
+        """The steps of a planned goal's current plan that succeeded, in order."""
+        steps = self.records[goal.node_id].steps
+        children = [self.records[c.node_id] for c in goal.children]
+        return [s for s, r in zip(steps, children, strict=False) if r.state is NodeState.SUCCEEDED]
 
     def _recover_failed_step(self, goal: Node, rec: NodeRecord) -> bool:
         """Recover a planned goal whose current step failed, when the operators say how.
@@ -957,6 +963,8 @@ class ExecutionEngine:
         rec.stepper = None
         if rec.node_id in self._running:
             self._running.remove(rec.node_id)
+        if rec.problem is not None:  # a planned goal: what its steps did to the loads holds
+            self.loads = progressed(rec.problem, self._done(self.tst.tree.node(rec.node_id))).loads
         self.ctx.sink.status(rec)
         # the parent reacts in the same tick (a sequence starts the next child at once)
         parent = self.tst.tree.nodes[rec.node_id].parent

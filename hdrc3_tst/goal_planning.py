@@ -44,6 +44,8 @@ from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
 DOMAIN = "uav-logistics"
 HELICOPTER_FUEL = 3000.0
 HELICOPTER_LIFT = 30.0
+CARRIER = "carrier"
+"""The domain type of a carrier (its load is ``load(c)``, a box's ``weight(b)``)."""
 
 
 def domain_text() -> str:
@@ -127,7 +129,7 @@ class GoalProblem:
         ]
         lines.append(f"object {agent}: helicopter")
         lines += [f"object {load.name}: {load.type}" for load in self.loads]
-        carriers = {load.name for load in self.loads if load.type == "carrier"}
+        carriers = {load.name for load in self.loads if load.type == CARRIER}
         held = (
             f"holding-{'carrier' if self.holding in carriers else 'box'}({agent}, {self.holding})"
             if self.holding
@@ -239,7 +241,7 @@ def stocked_loads(
             aboard = [b for b in stock if b.on == item.tag]
             kg = item.kg + sum(b.kg for b in aboard)
             loads.append(
-                Load(item.tag, "carrier", where[item.tag], kg, slots=item.capacity - len(aboard))
+                Load(item.tag, CARRIER, where[item.tag], kg, slots=item.capacity - len(aboard))
             )
         elif not item.is_carrier and item.tag in points and (item.on or item.tag) in where:
             kind = f"{item.contents}-box" if f"{item.contents}-box" in types else "box"

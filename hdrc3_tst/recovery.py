@@ -15,13 +15,14 @@ helicopter where its own state estimate puts it at the violation, then the opera
 from __future__ import annotations
 
 import enum
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cache
 from types import MappingProxyType
 
 from hdrc3_tst.actions import ACTIONS
-from hdrc3_tst.goal_planning import GoalProblem, Load, PlannedStep
+from hdrc3_tst.goal_planning import CARRIER, GoalProblem, Load, PlannedStep
 from hdrc3_tst.recovery_spec import (
     DEFAULT_ATTEMPTS,
     DEFAULT_RECOVERY,
@@ -35,6 +36,8 @@ STEP_FAILED = "step-failed"
 """The recovery operator a goal uses when one of its planned steps fails (not a monitor
 violation: the step's executor gave up); with no operator of that name, the goal fails."""
 
+PUT_ON_CARRIER = "put-on-carrier"
+"""The one action that puts a load down onto another load (a box onto a carrier)."""
 LOAD_PARAMS = ("box", "carrier")
 """Action parameters naming a load; an action with one and no ``place`` takes it onto the hook,
 one with a ``place`` puts it down there."""
@@ -121,20 +124,46 @@ def after(agent: str, attempt: int) -> str:
 
 
 def progressed(problem: GoalProblem, done: Sequence[PlannedStep]) -> GoalProblem:
-    """The problem with the effects of the steps that succeeded on who holds which load."""
+    """The problem with the effects of the steps that succeeded on the loads.
+
+    Who holds which load, where each is put down; a box taken off its carrier lightens it, a
+    box put onto the one carrier at its place weighs it down, a carrier's boxes go where it
+    goes.
+    """
     loads = {load.name: load for load in problem.loads}
     holding = problem.holding
     for step in done:
         spec = ACTIONS[step.action]
-        load = next((str(step.args[p]) for p in LOAD_PARAMS if p in step.args), "")
-        if not load or load not in loads:
+        name = next((str(step.args[p]) for p in LOAD_PARAMS if p in step.args), "")
+        if not name or name not in loads:
             continue
-        if spec.param("place") is None:
-            holding = load
-        else:
-            holding = ""
-            loads[load] = replace(loads[load], location=str(step.args["place"]))
+        load = loads[name]
+        if spec.param("place") is None:  # onto the hook
+            holding = name
+            carrier = loads.get(load.on)
+            if carrier is not None:
+                loads[carrier.name] = _aboard(carrier, -load.weight)
+                loads[name] = replace(load, on="", location=carrier.location)
+            continue
+        holding = ""
+        place = str(step.args["place"])
+        loads[name] = replace(load, location=place)
+        if load.type == CARRIER:
+            for box in [b for b in loads.values() if b.on == name]:
+                loads[box.name] = replace(box, location=place)
+        elif step.action == PUT_ON_CARRIER:
+            carriers = [c for c in loads.values() if c.type == CARRIER and c.location == place]
+            if len(carriers) == 1:  # the step names the place; one carrier stands there
+                loads[name] = replace(load, location=place, on=carriers[0].name)
+                loads[carriers[0].name] = _aboard(carriers[0], load.weight)
     return replace(problem, loads=tuple(loads.values()), holding=holding)
+
+
+def _aboard(carrier: Load, kg: float) -> Load:
+    """The carrier with a box of ``kg`` put on (negative: taken off)."""
+    return replace(
+        carrier, weight=carrier.weight + kg, slots=carrier.slots - int(math.copysign(1, kg))
+    )
 
 
 @cache

@@ -8,7 +8,7 @@ from typing import Any
 from rclpy.serialization import serialize_message
 
 from hdrc3.mcap_recording import RecordingWriter, TopicInfo
-from hdrc3.recovery_record import read_lost_load
+from hdrc3.recovery_record import read_failed_lift, read_lost_load
 from hdrc3_interfaces.msg import (
     HookState,
     MonitorViolation,
@@ -83,3 +83,41 @@ def test_a_run_without_a_violation_has_no_detection(tmp_path: Path) -> None:
     assert record.violation is None and record.recovery == () and record.modes == ()
     assert (record.detection_ms, record.reaction_ms) == (None, None)
     assert record.released_ms == 3000
+
+
+def write_stalled_run(path: Path) -> Path:
+    """carrier3 gripped from 1.0 s, the winch stalled from 2.1 s, violated at 3.1 s."""
+    writer = RecordingWriter(path)
+    for topic, kind in TOPICS.items():
+        writer.add_topic(TopicInfo(topic, f"hdrc3_interfaces/msg/{kind}"))
+    out: list[tuple[int, str, Any]] = []
+    for ms in range(0, 5001, 100):
+        tag = "carrier3" if 1000 <= ms < 3500 else ""
+        stalled = 1800 <= ms < 2000 or 2100 <= ms < 3500  # a moment's stall at 1.8 s
+        winch = HookState.WINCH_STALLED if stalled else HookState.WINCH_RAISING
+        reading = HookState(carrying=bool(tag), object_id=tag, winch=winch)
+        out.append((ms, "/uav0/sensors/carrying", reading))
+        objects = [WorldObject(id=i, kind="box", east=float(ms)) for i in ("carrier3", "box7")]
+        out.append((ms, "/world_sim/objects", WorldObjects(objects=objects)))
+    v = MonitorViolation(
+        kind=MonitorViolation.KIND_VIOLATION,
+        monitor_id="carrier_lifted@d/2",
+        argument_names=["carrier"],
+        argument_values=["carrier3"],
+    )
+    out.append((3100, "/uav0/monitor_violations", v))
+    for ms, step in ((3150, 1), (3150, 3)):
+        out.append((ms, "/uav0/recovery_events", RecoveryEvent(monitor_id=v.monitor_id, step=step)))
+    for ms, topic, msg in sorted(out, key=lambda x: x[0]):
+        writer.write(topic, serialize_message(_stamp(msg, ms)), ms * 1_000_000)
+    writer.close()
+    return path
+
+
+def test_a_failed_lift_is_read_from_the_recording(tmp_path: Path) -> None:
+    record = read_failed_lift(write_stalled_run(tmp_path / "run.mcap"), "uav0", "carrier3")
+    assert (record.stalled_ms, record.detection_ms) == (2100, 1000)
+    assert record.violation is not None and record.violation.monitor_id == "carrier_lifted@d/2"
+    assert [e.step for e in record.recovery] == [1, 3]
+    assert sorted(record.final) == ["box7", "carrier3"]
+    assert record.final["box7"].east == 5000.0

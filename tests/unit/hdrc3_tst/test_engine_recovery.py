@@ -250,6 +250,9 @@ def test_a_carrier_that_did_not_lift_leaves_boxes_behind_and_later_goals_know_it
     assert replanned[:2] == ["fly-to", "take-from-carrier"]  # back over it; box7 on the hook
     assert "attach-carrier" not in replanned
     rig.run_until(lambda: len(rig.planner.requests) == 3)  # the second goal
-    assert "lift-capacity(uav0) = 22.4" in rig.planner.requests[2].problem
+    second = rig.planner.requests[2].problem
+    assert "lift-capacity(uav0) = 22.4" in second
+    assert "init at(carrier3, Depot), load(carrier3) = 23, slots(carrier3) = 1" in second
+    assert "init at(box7, Field), weight(box7) = 5" in second  # delivered by the first goal
     rig.run_until(lambda: rig.state("m").finished)
     assert rig.state("m") is NodeState.SUCCEEDED, rig.engine.records["m"].reason

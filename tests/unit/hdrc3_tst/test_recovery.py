@@ -184,3 +184,49 @@ def test_a_carrier_that_did_not_lift_is_planned_again_with_fewer_boxes() -> None
     before = actions[: actions.index("attach-carrier")]
     assert before.count("take-from-carrier") == 2  # 18 kg left on the carrier
     assert actions.count("drop-box") == 4
+
+
+LOT = (
+    Load("c1", "carrier", "Depot", 18.0, slots=2),
+    Load("b1", "food-box", "Depot", 5.0, on="c1"),
+    Load("b2", "food-box", "Depot", 5.0, on="c1"),
+    Load("b3", "food-box", "Depot", 5.0),
+)
+"""A carrier of 8 kg with b1 and b2 on it, and b3 beside it."""
+
+
+@pytest.mark.parametrize(
+    ("done", "holding", "where"),
+    [
+        # b1 off the carrier: the carrier is 5 kg lighter, b1 is on the hook
+        (
+            (step("take-from-carrier", box="b1"),),
+            "b1",
+            {"c1": ("Depot", "", 13.0, 3), "b1": ("Depot", "", 5.0, 0)},
+        ),
+        # b3 onto the one carrier at the depot
+        (
+            (step("pick-up-box", box="b3"), step("put-on-carrier", box="b3", place="Depot")),
+            "",
+            {"c1": ("Depot", "", 23.0, 1), "b3": ("Depot", "c1", 5.0, 0)},
+        ),
+        # the carrier flown to the field: its boxes with it, still on it
+        (
+            (
+                step("attach-carrier", carrier="c1"),
+                step("detach-carrier", carrier="c1", place="Field"),
+            ),
+            "",
+            {"c1": ("Field", "", 18.0, 2), "b1": ("Field", "c1", 5.0, 0)},
+        ),
+    ],
+)
+def test_succeeded_steps_move_boxes_on_and_off_carriers(
+    done: tuple[PlannedStep, ...], holding: str, where: dict[str, tuple[str, str, float, int]]
+) -> None:
+    now = progressed(replace(problem(), loads=LOT), done)
+    assert now.holding == holding
+    loads = {load.name: load for load in now.loads}
+    for name, (location, on, kg, slots) in where.items():
+        load = loads[name]
+        assert (load.location, load.on, load.weight, load.slots) == (location, on, kg, slots)

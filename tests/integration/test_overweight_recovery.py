@@ -1,0 +1,88 @@
+"""A carrier too heavy to lift is detected, and the goals are planned again with fewer boxes.
+
+Issue 15's second scenario (chapter section 9.3: "the carrier can also be too heavy, which
+means that one must be able to detect takeoff failures"). ``hdrc3 tst run
+examples/tst/delivery_carrier_overweight.tst --launch`` flies the whole chain: revinge's
+carrier3 carries four boxes (28 kg); TALplanner, assuming the RMAX lifts 30 kg, plans to lift it
+with all of them; the hook's winch (rated 24 kg) stalls. Checked from the recording:
+
+* the execution monitor's ``carrier_lifted`` formula (default.monitors) is violated within its
+  1 s bound plus a state period and a sensor period of the first stalled reading, naming the
+  recovery operator ``carrier-too-heavy``;
+* the tst_manager suspends the pick-up, the aircraft hovers, the operator lowers the lift
+  capacity to 0.8 x 28 = 22.4 kg and TALplanner plans again: box7 on the hook alone, no carrier;
+* the later goals keep the lowered capacity: box9 flies on the hook too, then the carrier with
+  18 kg (box8 and box10) is lifted and set down at the yard; box7, box9 and box10 rest there.
+
+Decisions come from sensors only: the violation from ``sensors/carrying`` (the winch's state).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.integration.test_tst_run import SEED
+
+pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
+
+EXAMPLE = (
+    Path(__file__).resolve().parents[2] / "examples" / "tst" / "delivery_carrier_overweight.tst"
+)
+YARD = (-230.0, 70.0)
+"""The mission's point Yard (east, north): where the boxes go down."""
+BOUND_MS = 1000
+"""carrier_lifted: a stall may last up to 1 s."""
+PERIODS_MS = 200
+"""One state period (100 ms) and one carrying-sensor period (10 Hz)."""
+PUT_DOWN_WITHIN = 5.0
+"""m of the yard's point: a put-down hovers there on GPS (metres of error)."""
+
+
+@pytest.mark.timeout(2700)
+def test_a_carrier_too_heavy_to_lift_is_replanned_with_fewer_boxes(
+    hdrc3_cli: Callable[..., Any], ros_domain: int, tmp_path: Path
+) -> None:
+    from hdrc3.recovery_record import read_failed_lift, stamp_ms
+    from hdrc3_interfaces.msg import RecoveryEvent
+
+    out = tmp_path / "run"
+    run = hdrc3_cli(
+        "tst", "run", str(EXAMPLE), "--launch", "--out", str(out),
+        "--domain-id", str(ros_domain), "--mission", "heavy", "--seed", SEED,
+    )  # fmt: skip
+    code = run.finish(timeout=2600.0)
+    text = "\n".join(run.lines)
+    assert code == 0, text
+    assert "mission heavy succeeded" in text
+
+    record = read_failed_lift(out / "run.mcap", "uav0", "carrier3")
+    stalled = record.violation
+    assert stalled is not None, "no violation naming carrier3 recorded"
+    assert stalled.monitor_id.startswith("carrier_lifted@")
+    assert (stalled.action, stalled.recovery) == ("attach-carrier", "carrier-too-heavy")
+    assert record.detection_ms is not None
+    print(f"carrier_lifted violated {record.detection_ms} ms after the first stalled reading")
+    assert BOUND_MS <= record.detection_ms <= BOUND_MS + PERIODS_MS
+    assert stamp_ms(stalled.header.stamp) > (record.stalled_ms or 0)
+
+    e = RecoveryEvent
+    steps = [ev.step for ev in record.recovery]
+    assert steps == [
+        e.STEP_SUSPENDED, e.STEP_HOVERING, e.STEP_OPERATOR_APPLIED, e.STEP_REPLANNED,
+    ], steps  # fmt: skip
+    assert list(record.recovery[2].changes) == ["lift-capacity(uav0) = 22.4"]
+    plan = [a.strip("()").split()[0] for a in record.recovery[3].plan]
+    assert "take-from-carrier" in plan and "attach-carrier" not in plan, plan
+
+    final = record.final
+    for box in ("box7", "box9", "box10", "carrier3"):
+        obj = final[box]
+        away = math.hypot(obj.east - YARD[0], obj.north - YARD[1])
+        assert obj.held_by == "" and away < PUT_DOWN_WITHIN, (box, away)
+    box8, carrier = final["box8"], final["carrier3"]  # rode along on the carrier
+    assert math.hypot(box8.east - carrier.east, box8.north - carrier.north) < 1.5
