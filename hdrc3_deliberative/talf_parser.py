@@ -2,7 +2,8 @@
 
 Bad input never raises out of :func:`parse_text`: lark errors become diagnostics with
 ``file:line:column``, the offending text and the tokens that were expected. Names are checked
-afterwards (:mod:`hdrc3_deliberative.talf_check`).
+afterwards (:mod:`hdrc3_deliberative.talf_check`). The builder runs inside the LALR parse
+(:mod:`hdrc3_base.inline_parsing`), not on a lark tree afterwards.
 """
 
 from __future__ import annotations
@@ -15,8 +16,9 @@ from pathlib import Path
 from typing import Any
 
 import lark
-from lark import Token, Transformer
+from lark import Token
 
+from hdrc3_base.inline_parsing import BadValue, InlineBuilder, InlineParser
 from hdrc3_base.syntax_errors import describe
 from hdrc3_deliberative.mission_syntax import (
     AgentsDecl,
@@ -75,10 +77,10 @@ class ParseResult:
 
 
 @cache
-def lark_parser() -> lark.Lark:
-    """The LALR parser of ``talf.lark`` (built once per process)."""
+def lark_parser() -> InlineParser:
+    """The LALR parser of ``talf.lark`` with its builder (built once per process)."""
     grammar = resources.files("hdrc3_deliberative").joinpath("talf.lark").read_text("utf-8")
-    return lark.Lark(grammar, parser="lalr", maybe_placeholders=True)
+    return InlineParser.of(grammar, _Builder())
 
 
 def retime(formula: Formula, time: str) -> Formula:
@@ -100,16 +102,12 @@ def retime(formula: Formula, time: str) -> Formula:
     return formula
 
 
-class _Builder(Transformer[Token, Any]):
-    """Turn the lark parse tree into frozen dataclasses, keeping positions."""
-
-    def __init__(self, file: str) -> None:
-        super().__init__()
-        self._file = file
+class _Builder(InlineBuilder):
+    """Turn each reduction into frozen dataclasses, keeping positions."""
 
     def _pos(self, token: Token) -> SourcePos:
         return SourcePos(
-            self._file, getattr(token, "line", 0) or 0, getattr(token, "column", 0) or 0
+            self.file, getattr(token, "line", 0) or 0, getattr(token, "column", 0) or 0
         )
 
     def _name(self, token: Token) -> Name:
@@ -119,7 +117,7 @@ class _Builder(Transformer[Token, Any]):
     def number(self, children: list[Token]) -> Number:
         value = float(children[0])
         if not math.isfinite(value):
-            raise ValueError(f"{self._pos(children[0])}: number {children[0]!s} is out of range")
+            self.reject(f"{self._pos(children[0])}: number {children[0]!s} is out of range")
         return Number(value)
 
     def neg_number(self, children: list[Token]) -> Number:
@@ -289,18 +287,18 @@ class _Builder(Transformer[Token, Any]):
 def _syntax_diagnostic(
     exc: lark.exceptions.UnexpectedInput, file: str, text: str
 ) -> TalfDiagnostic:
-    problem = describe(exc, lark_parser(), text)
+    problem = describe(exc, lark_parser().lark, text)
     return TalfDiagnostic("T001", problem.message, SourcePos(file, problem.line, problem.column))
 
 
 def parse_text(text: str, file: str = "<string>") -> ParseResult:
     """Parse ``.talf`` text; syntax errors come back as diagnostics, never as exceptions."""
     try:
-        tree = _Builder(file).transform(lark_parser().parse(text))
+        tree = lark_parser().parse(text, file)
     except lark.exceptions.UnexpectedInput as exc:
         return ParseResult(TalfStatus.SYNTAX_ERROR, None, (_syntax_diagnostic(exc, file, text),))
-    except lark.exceptions.VisitError as exc:  # only numbers too large for a float
-        diag = TalfDiagnostic("T002", f"bad value: {exc.orig_exc}", SourcePos(file, 0, 0))
+    except BadValue as exc:  # only numbers too large for a float
+        diag = TalfDiagnostic("T002", f"bad value: {exc}", SourcePos(file, 0, 0))
         return ParseResult(TalfStatus.SYNTAX_ERROR, None, (diag,))
     return ParseResult(TalfStatus.OK, tree)
 

@@ -1,7 +1,8 @@
 """Parser: ``.tst`` text -> :class:`~hdrc3_tst.syntax.TstFile` through the lark grammar.
 
 Bad input never raises out of :func:`parse_text`: lark errors become diagnostics with
-``file:line:column``, the offending text and the tokens that were expected.
+``file:line:column``, the offending text and the tokens that were expected. The builder runs
+inside the LALR parse (:mod:`hdrc3_base.inline_parsing`), not on a lark tree afterwards.
 """
 
 from __future__ import annotations
@@ -15,8 +16,9 @@ from pathlib import Path
 from typing import Any
 
 import lark
-from lark import Token, Transformer
+from lark import Token
 
+from hdrc3_base.inline_parsing import BadValue, InlineBuilder, InlineParser
 from hdrc3_base.syntax_errors import describe
 from hdrc3_deliberative.mission_syntax import (
     AgentsDecl,
@@ -70,28 +72,24 @@ class ParseResult:
 
 
 @cache
-def lark_parser() -> lark.Lark:
-    """The LALR parser of ``tst.lark`` (built once per process)."""
+def lark_parser() -> InlineParser:
+    """The LALR parser of ``tst.lark`` with its builder (built once per process)."""
     grammar = resources.files("hdrc3_tst").joinpath("tst.lark").read_text(encoding="utf-8")
     # Positions come from the tokens (propagate_positions would cost 45 % of the parse).
-    return lark.Lark(grammar, parser="lalr", maybe_placeholders=True)
+    return InlineParser.of(grammar, _Builder())
 
 
-class _Builder(Transformer[Token, Any]):
-    """Turn the lark parse tree into frozen dataclasses, keeping positions."""
-
-    def __init__(self, file: str) -> None:
-        super().__init__()
-        self._file = file
+class _Builder(InlineBuilder):
+    """Turn each reduction into frozen dataclasses, keeping positions."""
 
     def _pos(self, item: Token) -> SourcePos:
-        return SourcePos(self._file, getattr(item, "line", 0) or 0, getattr(item, "column", 0) or 0)
+        return SourcePos(self.file, getattr(item, "line", 0) or 0, getattr(item, "column", 0) or 0)
 
     # --- small pieces -------------------------------------------------------------------
     def number(self, children: list[Token]) -> Number:
         value = float(children[0])
         if not math.isfinite(value):
-            raise ValueError(f"number {children[0]!s} is out of range")
+            self.reject(f"number {children[0]!s} is out of range")
         return Number(value, self._pos(children[0]))
 
     def neg_number(self, children: list[Token]) -> Number:
@@ -236,7 +234,7 @@ class _Builder(Transformer[Token, Any]):
 
 
 def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: str) -> Diagnostic:
-    problem = describe(exc, lark_parser(), text)
+    problem = describe(exc, lark_parser().lark, text)
     message = problem.message
     if "'where'" in problem.expected and problem.found in ("';'", "end of file"):
         message += " (a composite child ends with a where clause, `where true` if none)"
@@ -246,12 +244,11 @@ def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: st
 def parse_text(text: str, file: str = "<string>") -> ParseResult:
     """Parse ``.tst`` text; syntax errors come back as diagnostics, never as exceptions."""
     try:
-        tree = _Builder(file).transform(lark_parser().parse(text))
+        tree = lark_parser().parse(text, file)
     except lark.exceptions.UnexpectedInput as exc:
         return ParseResult(ParseStatus.SYNTAX_ERROR, None, (_syntax_diagnostic(exc, file, text),))
-    except lark.exceptions.VisitError as exc:
-        # Only numbers too large for a float fail inside the builder.
-        diag = Diagnostic("E002", f"bad value: {exc.orig_exc}", SourcePos(file, 0, 0))
+    except BadValue as exc:  # only numbers too large for a float
+        diag = Diagnostic("E002", f"bad value: {exc}", SourcePos(file, 0, 0))
         return ParseResult(ParseStatus.SYNTAX_ERROR, None, (diag,))
     return ParseResult(ParseStatus.OK, tree, ())
 
