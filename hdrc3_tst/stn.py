@@ -184,20 +184,27 @@ class SimpleTemporalNetwork:
             for edge in edges.values():
                 j = index[getattr(edge, end)]
                 (up if j > i else down)[i].append((j, edge.weight[0], edge.weight[1], edge))
+        # A variable's edges are relaxed again only when its distance changed since they last
+        # were (once per list): an unchanged distance cannot improve anything.
+        stale_up, stale_down = [False] * n, [False] * n
+        stale_up[index[ORIGIN]] = stale_down[index[ORIGIN]] = True
         for _ in range(n + 1):
             changed = False
-            for order, lists in ((range(n), up), (range(n - 1, -1, -1), down)):
+            for order, lists, stale in (
+                (range(n), up, stale_up),
+                (range(n - 1, -1, -1), down, stale_down),
+            ):
                 for i in order:
-                    base = value[i]
-                    if base == math.inf:
+                    if not stale[i]:
                         continue
-                    sbase = strict[i]
+                    stale[i] = False
+                    base, sbase = value[i], strict[i]
                     for j, w, s, edge in lists[i]:
                         cand = base + w
                         cs = sbase if sbase < s else s
                         if cand < value[j] or (cand == value[j] and cs < strict[j]):
                             value[j], strict[j], pred[j] = cand, cs, edge
-                            changed = True
+                            stale_up[j] = stale_down[j] = changed = True
             if not changed:
                 return {name: (value[i], strict[i]) for i, name in enumerate(names)}
             cycle = self._pred_cycle(names, index, pred, end)
