@@ -64,6 +64,10 @@ class Edge:
         object.__setattr__(self, "weight", (_ticks(self.bound[0]), self.bound[1]))
 
 
+_Arc = tuple[int, float, int, Edge]
+"""Where an edge leads in a sweep (an index), its weight and strictness, and the edge."""
+
+
 @dataclass(frozen=True)
 class Window:
     """Earliest and latest time of a variable (open ends when strict)."""
@@ -165,25 +169,36 @@ class SimpleTemporalNetwork:
         settles in a few passes; a cycle in the predecessor graph is a negative cycle.
         """
         names = list(self._out)
-        self._from = self._sweeps(names, self._out, "target")
-        self._to = self._sweeps(names, self._in, "source")
+        index = {name: i for i, name in enumerate(names)}
+        n = len(names)
+        # Both sweeps' adjacency from one walk over the edges: an edge ``u -> v`` goes from u to
+        # v for the distances from the origin and from v to u for those to it.
+        lists: list[list[list[_Arc]]] = [[[] for _ in range(n)] for _ in range(4)]
+        from_up, from_down, to_up, to_down = lists
+        for i, edges in enumerate(self._out.values()):
+            for edge in edges.values():
+                j = index[edge.target]
+                arc_from = (j, edge.weight[0], edge.weight[1], edge)
+                arc_to = (i, edge.weight[0], edge.weight[1], edge)
+                (from_up if j > i else from_down)[i].append(arc_from)
+                (to_up if i > j else to_down)[j].append(arc_to)
+        self._from = self._sweeps(names, index, from_up, from_down, "target")
+        self._to = self._sweeps(names, index, to_up, to_down, "source")
 
     def _sweeps(
-        self, names: list[str], graph: dict[str, dict[str, Edge]], end: str
+        self,
+        names: list[str],
+        index: dict[str, int],
+        up: list[list[_Arc]],
+        down: list[list[_Arc]],
+        end: str,
     ) -> dict[str, Weight]:
-        index = {name: i for i, name in enumerate(names)}
+        """Bellman-Ford over arcs to later (``up``) and earlier (``down``) variables."""
         n = len(names)
         value = [math.inf] * n
         strict = [0] * n
         pred: list[Edge | None] = [None] * n
         value[index[ORIGIN]] = 0
-        up: list[list[tuple[int, float, int, Edge]]] = [[] for _ in range(n)]
-        down: list[list[tuple[int, float, int, Edge]]] = [[] for _ in range(n)]
-        for name, edges in graph.items():
-            i = index[name]
-            for edge in edges.values():
-                j = index[getattr(edge, end)]
-                (up if j > i else down)[i].append((j, edge.weight[0], edge.weight[1], edge))
         # A variable's edges are relaxed again only when its distance changed since they last
         # were (once per list): an unchanged distance cannot improve anything.
         stale_up, stale_down = [False] * n, [False] * n
