@@ -316,6 +316,8 @@ class _Resolver:
     def _domain(self, kind: ParamType) -> tuple[str, ...]:
         if kind is ParamType.AGENT:
             return self.agents
+        if kind.numeric:
+            return ()
         return tuple(n for n, p in self.places.items() if p.kind is kind)
 
     def constant(self, value: float | str, kind: ParamType, where: str) -> str:
