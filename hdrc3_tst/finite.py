@@ -91,8 +91,7 @@ class FiniteModel:
         single: dict[str, list[LinearConstraint | SymbolConstraint]] = {}
         shared = FiniteModel(set(), {}, [], [])
         for lin in self.linear:
-            names = {v for _, v in lin.terms}
-            if len(names) == 1:
+            if len(lin.terms) == 1 or len({v for _, v in lin.terms}) == 1:
                 single.setdefault(lin.terms[0][1], []).append(lin)
             else:
                 shared.linear.append(lin)
@@ -103,10 +102,10 @@ class FiniteModel:
                 shared.symbolic.append(sym)
         witness: dict[str, float | str] = {}
         for var, constraints in single.items():
-            result = _one_variable(var, constraints, self.domains.get(var))
-            if result.status is not SolveStatus.CONSISTENT:
-                return result
-            witness.update(result.witness)
+            value = _one_variable(constraints, self.domains.get(var))
+            if isinstance(value, tuple):
+                return SolveResult(SolveStatus.INCONSISTENT, {}, value)
+            witness[var] = value
         used = {v for lin in shared.linear for _, v in lin.terms}
         used |= {v for sym in shared.symbolic for v in (sym.var, sym.other) if v is not None}
         if not used:
@@ -176,12 +175,13 @@ class FiniteModel:
 
 
 def _one_variable(
-    var: str, constraints: list[LinearConstraint | SymbolConstraint], domain: tuple[str, ...] | None
-) -> SolveResult:
+    constraints: list[LinearConstraint | SymbolConstraint], domain: tuple[str, ...] | None
+) -> float | str | tuple[str, ...]:
     """Intersect the constraints over one variable: bounds for a number, a set for a name.
 
-    A conflict names the constraints that leave nothing (the tightest bound of each side, or
-    every constraint of a name).
+    Returns:
+        A value the variable may take, or the labels of the constraints that leave it none
+        (the tightest bound of each side, or every constraint of a name).
     """
     if domain is not None:  # a name (agent, area, point, path); a variable without possible
         allowed = set(domain)  # values stays open while nothing constrains it
@@ -190,10 +190,8 @@ def _one_variable(
             values = set(sym.values)
             allowed = allowed & values if sym.op is Cmp.EQ else allowed - values
         if not allowed:
-            return SolveResult(
-                SolveStatus.INCONSISTENT, {}, tuple(sorted(c.label for c in constraints))
-            )
-        return SolveResult(SolveStatus.CONSISTENT, {var: min(allowed, key=domain.index)})
+            return tuple(sorted(c.label for c in constraints))
+        return min(allowed, key=domain.index)
     step = 1.0 / SCALE
     lo, hi = (-float(LIMIT), ""), (float(LIMIT), "")
     excluded: list[tuple[float, str]] = []
@@ -202,7 +200,7 @@ def _one_variable(
         coef = lin.terms[0][0]
         if coef == 0:
             if not _holds(0.0, lin.op, lin.constant):
-                return SolveResult(SolveStatus.INCONSISTENT, {}, (lin.label,))
+                return (lin.label,)
             continue
         bound = lin.constant / coef
         op = _FLIP[lin.op] if coef < 0 else lin.op
@@ -215,17 +213,14 @@ def _one_variable(
         if op is Cmp.NE:
             excluded.append((bound, lin.label))
     if lo[0] > hi[0] + 1e-12:
-        return SolveResult(
-            SolveStatus.INCONSISTENT, {}, tuple(sorted(x for x in (lo[1], hi[1]) if x))
-        )
+        return tuple(sorted(x for x in (lo[1], hi[1]) if x))
     value = lo[0]
     for bad, label in sorted(excluded):
         if abs(value - bad) < 1e-12:
             value += step
             if value > hi[0] + 1e-12:
-                labels = {lo[1], hi[1], label} - {""}
-                return SolveResult(SolveStatus.INCONSISTENT, {}, tuple(sorted(labels)))
-    return SolveResult(SolveStatus.CONSISTENT, {var: value})
+                return tuple(sorted({lo[1], hi[1], label} - {""}))
+    return value
 
 
 _FLIP = {
