@@ -25,6 +25,7 @@ import heapq
 import math
 from collections import deque
 from dataclasses import dataclass, field
+from operator import attrgetter
 
 Bound = tuple[float, int]
 """(value, strictness): strictness -1 for ``<``, 0 for ``<=``."""
@@ -62,10 +63,6 @@ class Edge:
     def __post_init__(self) -> None:
         """Quantise the bound once."""
         object.__setattr__(self, "weight", (_ticks(self.bound[0]), self.bound[1]))
-
-
-_Arc = tuple[int, float, int, Edge]
-"""Where an edge leads in a sweep (an index), its weight and strictness, and the edge."""
 
 
 @dataclass(frozen=True)
@@ -172,16 +169,15 @@ class SimpleTemporalNetwork:
         index = {name: i for i, name in enumerate(names)}
         n = len(names)
         # Both sweeps' adjacency from one walk over the edges: an edge ``u -> v`` goes from u to
-        # v for the distances from the origin and from v to u for those to it.
-        lists: list[list[list[_Arc]]] = [[[] for _ in range(n)] for _ in range(4)]
+        # v for the distances from the origin and from v to u for those to it. The lists hold
+        # the edges themselves (no tuple per edge: fewer objects for the garbage collector).
+        lists: list[list[list[Edge]]] = [[[] for _ in range(n)] for _ in range(4)]
         from_up, from_down, to_up, to_down = lists
         for i, edges in enumerate(self._out.values()):
             for edge in edges.values():
                 j = index[edge.target]
-                arc_from = (j, edge.weight[0], edge.weight[1], edge)
-                arc_to = (i, edge.weight[0], edge.weight[1], edge)
-                (from_up if j > i else from_down)[i].append(arc_from)
-                (to_up if i > j else to_down)[j].append(arc_to)
+                (from_up if j > i else from_down)[i].append(edge)
+                (to_up if i > j else to_down)[j].append(edge)
         self._from = self._sweeps(names, index, from_up, from_down, "target")
         self._to = self._sweeps(names, index, to_up, to_down, "source")
 
@@ -189,11 +185,12 @@ class SimpleTemporalNetwork:
         self,
         names: list[str],
         index: dict[str, int],
-        up: list[list[_Arc]],
-        down: list[list[_Arc]],
+        up: list[list[Edge]],
+        down: list[list[Edge]],
         end: str,
     ) -> dict[str, Weight]:
-        """Bellman-Ford over arcs to later (``up``) and earlier (``down``) variables."""
+        """Bellman-Ford over edges to later (``up``) and earlier (``down``) variables."""
+        far = attrgetter(end)
         n = len(names)
         value = [math.inf] * n
         strict = [0] * n
@@ -214,7 +211,9 @@ class SimpleTemporalNetwork:
                         continue
                     stale[i] = False
                     base, sbase = value[i], strict[i]
-                    for j, w, s, edge in lists[i]:
+                    for edge in lists[i]:
+                        j = index[far(edge)]
+                        w, s = edge.weight
                         cand = base + w
                         cs = sbase if sbase < s else s
                         if cand < value[j] or (cand == value[j] and cs < strict[j]):
