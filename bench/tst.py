@@ -43,7 +43,7 @@ def main() -> None:
     args = ap.parse_args()
     text = generated_mission(args.groups)
     nodes = 1 + NODES_PER_GROUP * args.groups
-    load_text(text)  # warm the caches (grammar analysis, the world file): once per process
+    load_text(text)  # warm the parser cache (grammar analysis is once per process)
     rows = []
     for _ in range(args.repeat):
         parsed, p_wall, p_cpu = timed(lambda: parse_text(text))
