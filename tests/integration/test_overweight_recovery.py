@@ -11,8 +11,9 @@ with all of them; the hook's winch (rated 24 kg) stalls. Checked from the record
   recovery operator ``carrier-too-heavy``;
 * the tst_manager suspends the pick-up, the aircraft hovers, the operator lowers the lift
   capacity to 0.8 x 28 = 22.4 kg and TALplanner plans again: box7 on the hook alone, no carrier;
-* the later goals keep the lowered capacity: box9 flies on the hook too, then the carrier with
-  18 kg (box8 and box10) is lifted and set down at the yard; box7, box9 and box10 rest there.
+* the later goals keep the lowered capacity: box10 flies on the hook too, then the carrier with
+  18 kg (box8 and box9, at opposite corners) is lifted and set down at the yard; box7, box9 and
+  box10 rest there, box8 on the carrier.
 
 Decisions come from sensors only: the violation from ``sensors/carrying`` (the winch's state).
 """
