@@ -32,11 +32,19 @@ def _stamp(msg: Any, ms: int) -> Any:
     return msg
 
 
-def write_run(path: Path, *, violated: bool = True) -> Path:
-    """box1 held from 1.0 s, off the hook at 3.0 s (truth) and 3.1 s (sensor)."""
+def _write(path: Path, out: list[tuple[int, str, Any]]) -> Path:
+    """A recording of ``out`` ((sim ms, topic, message)), in time order."""
     writer = RecordingWriter(path)
     for topic, kind in TOPICS.items():
         writer.add_topic(TopicInfo(topic, f"hdrc3_interfaces/msg/{kind}"))
+    for ms, topic, msg in sorted(out, key=lambda x: x[0]):
+        writer.write(topic, serialize_message(_stamp(msg, ms)), ms * 1_000_000)
+    writer.close()
+    return path
+
+
+def write_run(path: Path, *, violated: bool = True) -> Path:
+    """box1 held from 1.0 s, off the hook at 3.0 s (truth) and 3.1 s (sensor)."""
     out: list[tuple[int, str, Any]] = []
     for ms in range(0, 6001, 100):
         held = "uav0" if 1000 <= ms < 3000 else ""
@@ -61,10 +69,7 @@ def write_run(path: Path, *, violated: bool = True) -> Path:
             out.append((ms, "/uav0/recovery_events", event))
     other = RecoveryEvent(monitor_id="speed_limit", step=RecoveryEvent.STEP_IGNORED)
     out.append((3500, "/uav0/recovery_events", other))
-    for ms, topic, msg in sorted(out, key=lambda x: x[0]):
-        writer.write(topic, serialize_message(_stamp(msg, ms)), ms * 1_000_000)
-    writer.close()
-    return path
+    return _write(path, out)
 
 
 def test_detection_recovery_and_modes_are_read_from_the_recording(tmp_path: Path) -> None:
@@ -87,9 +92,6 @@ def test_a_run_without_a_violation_has_no_detection(tmp_path: Path) -> None:
 
 def write_stalled_run(path: Path) -> Path:
     """carrier3 gripped from 1.0 s, the winch stalled from 2.1 s, violated at 3.1 s."""
-    writer = RecordingWriter(path)
-    for topic, kind in TOPICS.items():
-        writer.add_topic(TopicInfo(topic, f"hdrc3_interfaces/msg/{kind}"))
     out: list[tuple[int, str, Any]] = []
     for ms in range(0, 5001, 100):
         tag = "carrier3" if 1000 <= ms < 3500 else ""
@@ -108,10 +110,7 @@ def write_stalled_run(path: Path) -> Path:
     out.append((3100, "/uav0/monitor_violations", v))
     for ms, step in ((3150, 1), (3150, 3)):
         out.append((ms, "/uav0/recovery_events", RecoveryEvent(monitor_id=v.monitor_id, step=step)))
-    for ms, topic, msg in sorted(out, key=lambda x: x[0]):
-        writer.write(topic, serialize_message(_stamp(msg, ms)), ms * 1_000_000)
-    writer.close()
-    return path
+    return _write(path, out)
 
 
 def test_a_failed_lift_is_read_from_the_recording(tmp_path: Path) -> None:
