@@ -246,8 +246,14 @@ class PayloadWorld:
         d, m = self.data, self.model
         eq = self._grip[(agent, target)]
         body = self._body[target]
-        point = d.xpos[self._hook_body[agent]] - np.array([0.0, 0.0, self.params.hook_radius])
-        local = d.xmat[body].reshape(3, 3).T @ (point - d.xpos[body])
+        obj = self.objects[target]
+        if obj.kind is ObjectKind.CARRIER:
+            # the lifting plate's eye centres the carrier under the hook: lifted off centre, it
+            # would tip onto one edge and shed its boxes
+            local = np.array([0.0, 0.0, obj.size[2]])
+        else:
+            point = d.xpos[self._hook_body[agent]] - np.array([0.0, 0.0, self.params.hook_radius])
+            local = d.xmat[body].reshape(3, 3).T @ (point - d.xpos[body])
         m.eq_data[eq, 0:3] = (0.0, 0.0, -self.params.hook_radius)
         m.eq_data[eq, 3:6] = local
         d.eq_active[eq] = 1
