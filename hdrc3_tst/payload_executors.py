@@ -8,7 +8,8 @@ node's agent; its boxes, carriers and locations are points: an object's point is
 object's tag (what the magnet reads) and lies where the object is, a location's point where a
 load goes down.
 
-A pick-up is the chapter's sequence: look for the object from ``SEARCH_HEIGHT`` m above its
+A pick-up is the chapter's sequence: switch the magnet off and wind the hook in (a recovery
+may have stopped a lift with the load still gripped and cable out), look for the object from ``SEARCH_HEIGHT`` m above its
 point (the hook camera sees a wide circle from there: a box that fell off the hook in flight
 lies metres from where it was lost), hover ``HOVER_HEIGHT`` m above the object where the camera
 saw it, switch the magnet off (one left energised after losing a load grips nothing new),
@@ -208,9 +209,14 @@ def pick_up(ctx: ActionContext, place: str, loaded: bool = False) -> Steps:
     landed beside the plate: it lets go and tries again too.
     """
     tag = ctx.name(place)
-    for step in (hook(ctx, HookAction.RELEASE), search(ctx, place, tag)):
-        # magnet off first: an electromagnet left energised after losing a load grips nothing
-        # new, and one still holding a load that did not lift (a recovery) must not fly it
+    for step in (
+        hook(ctx, HookAction.RELEASE),
+        hook(ctx, HookAction.RAISE, 0.0),
+        search(ctx, place, tag),
+    ):
+        # magnet off and hook wound in first: an electromagnet left energised after losing a
+        # load grips nothing new, and one still holding a load that did not lift (a recovery
+        # stopped the raise with cable out) must not fly it, nor trail the cable
         outcome = yield from step
         if outcome.progress is not Progress.SUCCEEDED:
             return outcome

@@ -53,12 +53,17 @@ def _run(action: str, args: dict[str, float | str]) -> tuple[FakePlatform, Stepp
 
 
 def _search(platform: FakePlatform, stepper: Stepper, seen: Sighting | None = BELOW) -> None:
-    """A pick-up's start: the magnet switched off (RELEASE, ending at once here), the climb
-    over box1's point, a new sighting (or none), the descent (the caller completes it)."""
+    """A pick-up's start: the magnet switched off and the hook wound in (each ending at once
+    here), the climb over box1's point, a new sighting (or none), the descent (the caller
+    completes it)."""
     assert stepper.step(0.0).progress is Progress.RUNNING
     (release,) = platform.sent
     assert _hook_call(release) == MAGNET_OFF
     platform.complete(release)
+    stepper.step(0.02)
+    wind = platform.sent[-1]
+    assert _hook_call(wind) == (HookAction.RAISE, 0.0, "")
+    platform.complete(wind)
     stepper.step(0.05)
     up = platform.sent[-1]
     east, north, _ = POINTS["box1"][0]
@@ -66,13 +71,13 @@ def _search(platform: FakePlatform, stepper: Stepper, seen: Sighting | None = BE
     assert up.args["altitude"] == pytest.approx(alt)
     platform.complete(up)
     stepper.step(0.5)  # arrived: waits for a sighting newer than the last one
-    assert len(platform.sent) == 2
+    assert len(platform.sent) == 3
     if seen is None:
         stepper.step(1.0 + SIGHT_TIMEOUT_S)
     else:
         platform.sightings["box1"] = Sighting(seen.offset, seen.time + 0.5)
         stepper.step(0.6)
-    assert len(platform.sent) == 3  # the descent
+    assert len(platform.sent) == 4  # the descent
 
 
 def _lowered_twice(platform: FakePlatform, stepper: Stepper, t: float = 1.0) -> None:
@@ -202,7 +207,7 @@ def test_a_magnet_beside_the_object_is_wound_in_and_lowered_again(
     outcome = stepper.step(3.0)
     if lets_go is None:  # the pick-up fails with the platform's reason
         assert outcome == Status(Progress.FAILED, f"ppcl_hook: {reason}")
-        assert len(platform.sent) == 6  # no raise after a failed attach
+        assert len(platform.sent) == 7  # no raise after a failed attach
         return
     for k, expected in enumerate((*lets_go, (HookAction.RAISE, 0.0, ""))):
         assert _hook_call(platform.sent[-1]) == expected
