@@ -8,16 +8,16 @@ node's agent; its boxes, carriers and locations are points: an object's point is
 object's tag (what the magnet reads) and lies where the object is, a location's point where a
 load goes down.
 
-A pick-up is the chapter's sequence: switch the magnet off and wind the hook in (a recovery
-may have stopped a lift with the load still gripped and cable out), look for the object from ``SEARCH_HEIGHT`` m above its
-point (the hook camera sees a wide circle from there: a box that fell off the hook in flight
-lies metres from where it was lost), hover ``HOVER_HEIGHT`` m above the object where the camera
-saw it, switch the magnet off (one left energised after losing a load grips nothing new),
-align on the camera's view (a GPS fix is metres off), lower the hook to
-``FIRST_CABLE`` m, align again (the hover wanders a decimetre per second while the hook goes
-down: a single 5 m lowering often ended beside the box), lower the hook as deep as the camera
-sees the object until it rests on it (``ppcl_hook`` lower ends on a slack cable), attach (the magnet
-must hold that very object), raise to ``CARRY_CABLE`` m, climb to ``DEPART_HEIGHT``. A
+A pick-up is the chapter's sequence: switch the magnet off (one left energised after losing a
+load grips nothing new) and wind the hook in (a recovery may have stopped a lift with the load
+still gripped and cable out), look for the object from ``SEARCH_HEIGHT`` m above its point (the
+hook camera sees a wide circle from there: a box that fell off the hook in flight lies metres
+from where it was lost), hover ``HOVER_HEIGHT`` m above the object where the camera saw it,
+align on the camera's view (a GPS fix is metres off), lower the hook to ``FIRST_CABLE`` m, align
+again (the hover wanders a decimetre per second while the hook goes down: a single 5 m lowering
+often ended beside the box), lower the hook as deep as the camera sees the object until it
+rests on it (``ppcl_hook`` lower ends on a slack cable), attach (the magnet must hold that very
+object), raise to ``CARRY_CABLE`` m, climb to ``DEPART_HEIGHT``. A
 put-down hovers above the place, lowers until the load rests, releases, winds the hook in and
 climbs likewise. Each step is one platform command
 whose failure fails the node with the platform's reason (wrong box, nothing gripped, winch
