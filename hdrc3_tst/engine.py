@@ -37,6 +37,7 @@ from typing import Protocol
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_platform_server.codes import FclCommand
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.hook_api import HookAction
 from hdrc3_tst.actions import ACTIONS, ParamSpec, ParamType
 from hdrc3_tst.executor import ActionContext, ActionExecutor, Progress, Status, Stepper
 from hdrc3_tst.finite import SolveStatus
@@ -103,6 +104,11 @@ class NodeRecord:
     """A goal node's failure counts per fault."""
     brake: Command | None = None
     """The emergency brake a recovering goal waits for before it plans."""
+    letting_go: list[tuple[HookAction, float]] = field(default_factory=list)
+    """Hook commands a recovering goal sends, one after the other, before it plans (let go of
+    a load that did not lift, wind the hook in)."""
+    hook: Command | None = None
+    """The last of those sent."""
     recovering: Violation | None = None
     """The violation a goal node is planning again for."""
     remote_requested: bool = False
@@ -707,6 +713,12 @@ class ExecutionEngine:
     def _advance_goal(self, node: Node, rec: NodeRecord) -> None:
         if rec.brake is not None and not rec.brake.state.ended:
             return
+        if rec.hook is not None and not rec.hook.state.ended:
+            return
+        if rec.letting_go:
+            action, length = rec.letting_go.pop(0)
+            rec.hook = self.ctx.platform.hook(action, length)
+            return
         if rec.plan is None:
             if rec.problem is None:
                 state = self.ctx.platform.state()
@@ -859,6 +871,8 @@ class ExecutionEngine:
         if decision.problem.lift_capacity != rec.problem.lift_capacity:
             self.lift_capacity = decision.problem.lift_capacity  # learnt for later goals too
         last = report(RecoveryStep.APPLY_OPERATOR, decision.reason, decision.changes)
+        if decision.released:  # magnet off, hook wound in, then plan
+            rec.letting_go = [(HookAction.RELEASE, 0.0), (HookAction.RAISE, 0.0)]
         self.tst.tree.collapse(goal_id)
         rec.problem, rec.plan, rec.recovering = decision.problem, None, violation
         self._advance(goal_id)

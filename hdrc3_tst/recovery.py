@@ -100,6 +100,8 @@ class RecoveryDecision:
     """Points the new plan's steps use that changed or are new (a lost box's place)."""
     changes: tuple[str, ...] = ()
     """The operator's changes as planning-language facts."""
+    released: tuple[str, ...] = ()
+    """Loads the hook must let go of (and wind in) before the new plan starts."""
     reason: str = ""
 
 
@@ -232,7 +234,7 @@ class Recovery:
                 attempt,
                 reason=f"{violation.monitor_id}: {operator.name}: {applied}",
             )
-        new, places, changes = applied
+        new, places, changes, released = applied
         return RecoveryDecision(
             RecoveryStatus.REPLAN,
             (*halt, RecoveryStep.APPLY_OPERATOR, RecoveryStep.REPLAN),
@@ -240,6 +242,7 @@ class Recovery:
             new,
             MappingProxyType({here: position, **places}),
             changes,
+            released,
             f"{violation.monitor_id}: {operator.name}, attempt {attempt} of {operator.attempts}",
         )
 
@@ -250,7 +253,9 @@ class Recovery:
         return self._spec.operators.get(name)
 
 
-_Applied = tuple[GoalProblem, dict[str, tuple[float, float, float]], tuple[str, ...]]
+_Applied = tuple[
+    GoalProblem, dict[str, tuple[float, float, float]], tuple[str, ...], tuple[str, ...]
+]
 
 
 def _apply(
@@ -262,6 +267,7 @@ def _apply(
     """The operator's changes, or why they cannot be made."""
     places: dict[str, tuple[float, float, float]] = {}
     changes: list[str] = []
+    released: list[str] = []
     loads = {load.name: load for load in problem.loads}
     for effect in operator.effects:
         if effect.kind is EffectKind.REPLAN:
@@ -276,6 +282,11 @@ def _apply(
             lift = effect.factor * load.weight
             problem = replace(problem, lift_capacity=lift)
             changes.append(f"lift-capacity({problem.agent}) = {lift:g}")
+        elif effect.kind is EffectKind.RELEASE:
+            # not lifted: it stays where it was, off the hook
+            released.append(name)
+            problem = replace(problem, holding="" if problem.holding == name else problem.holding)
+            changes.append(f"release({name})")
         else:
             # it lies below the aircraft: at the location the aircraft hovers at now
             where = problem.start
@@ -284,4 +295,4 @@ def _apply(
             problem = replace(problem, loads=tuple(loads.values()), holding=holding)
             places[name] = position
             changes.append(f"at({name}, {where})")
-    return problem, places, tuple(changes)
+    return problem, places, tuple(changes), tuple(released)

@@ -45,6 +45,9 @@ class EffectKind(enum.Enum):
 
     LIFT_CAPACITY = "lift-capacity"
     LOST = "lost"
+    RELEASE = "release"
+    """Not a change of the problem but of the world: the hook lets go of the load and winds in
+    before the goal is planned again (a load gripped but not lifted must not be flown off)."""
     REPLAN = "replan"
 
 
@@ -149,7 +152,7 @@ class RecoverySpecParser:
                         item.meta.column,
                     )
                 effects.append(Effect(kind, str(parameter), factor))
-            elif kind is EffectKind.LOST:
+            elif kind in (EffectKind.LOST, EffectKind.RELEASE):
                 effects.append(Effect(kind, str(item.children[0])))
             else:
                 effects.append(Effect(kind))

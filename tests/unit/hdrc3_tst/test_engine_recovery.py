@@ -244,7 +244,13 @@ def test_a_carrier_that_did_not_lift_leaves_boxes_behind_and_later_goals_know_it
         "carrier_lifted@first/2", "carrier-too-heavy", False, {"carrier": "carrier3"}
     )
     report = rig.engine.on_violation(stalled, "first/2")
-    assert report.changes == ("lift-capacity(uav0) = 22.4",)
+    assert report.changes == ("lift-capacity(uav0) = 22.4", "release(carrier3)")
+    # the magnet lets go and the hook winds in before the goal is planned again
+    assert rig.platform.sent[-1].command is HookAction.RELEASE
+    assert len(rig.planner.requests) == 1
+    rig.run_until(lambda: len(rig.planner.requests) == 2)
+    hook = [c.command for c in rig.platform.sent if isinstance(c.command, HookAction)]
+    assert hook[-2:] == [HookAction.RELEASE, HookAction.RAISE]
     rig.run_until(lambda: rig.steps()[-1] is RecoveryStep.REPLAN)
     replanned = [a.split()[0].strip("(") for a in rig.sink.recoveries[-1].plan]
     assert replanned[:2] == ["fly-to", "take-from-carrier"]  # back over it; box7 on the hook

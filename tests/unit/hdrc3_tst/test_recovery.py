@@ -75,7 +75,14 @@ def test_succeeded_steps_move_the_loads(
     [
         (BOX_LOST, (TO_DEPOT, PICKED), (*HALT_BRAKE, *RECOVER), ("at(box1, recover_uav0_1)",),
          30.0, after("uav0", 1)),
-        (NO_LIFT, (TO_DEPOT,), (*HALT, *RECOVER), ("lift-capacity(uav0) = 4.8",), 4.8, "Depot"),
+        (
+            NO_LIFT,
+            (TO_DEPOT,),
+            (*HALT, *RECOVER),
+            ("lift-capacity(uav0) = 4.8", "release(box1)"),
+            4.8,
+            "Depot",
+        ),
         (Violation("speed_limit", "", True), (TO_DEPOT, PICKED), (*HALT_BRAKE, *RECOVER), (),
          30.0, "Depot"),
     ],
@@ -176,7 +183,8 @@ def test_a_carrier_that_did_not_lift_is_planned_again_with_fewer_boxes() -> None
     start = replace(goal_problem(GOAL, "uav0", (-100.0, 0.0, 20.0), POINTS, loads), goal=goal)
     too_heavy = Violation("lifted@d/2", "carrier-too-heavy", False, {"av": "uav0", "carrier": "c1"})
     decision = Recovery(SPEC).decide(too_heavy, start, (TO_DEPOT,), WHERE)
-    assert decision.changes == ("lift-capacity(uav0) = 22.4",)
+    assert decision.changes == ("lift-capacity(uav0) = 22.4", "release(c1)")
+    assert decision.released == ("c1",)  # the magnet still grips it: let go before planning
     assert decision.problem is not None
     status, steps = plan(decision.problem)
     assert status is PlanStatus.SOLVED

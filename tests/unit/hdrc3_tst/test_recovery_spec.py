@@ -29,6 +29,7 @@ def test_the_packaged_operators_parse() -> None:
     }
     assert spec.operators["lower-lift-capacity"].effects == (
         Effect(EffectKind.LIFT_CAPACITY, "box", 0.8),
+        Effect(EffectKind.RELEASE, "box"),
     )
     assert spec.operators["lower-lift-capacity"].attempts == 2
     assert spec.operators["box-lost"].effects == (Effect(EffectKind.LOST, "box"),)
@@ -39,6 +40,7 @@ def test_the_packaged_operators_parse() -> None:
     [
         ("recovery r: replan;", (Effect(EffectKind.REPLAN),), DEFAULT_ATTEMPTS),
         ("recovery r: lost(b), attempts 5;", (Effect(EffectKind.LOST, "b"),), 5),
+        ("recovery r: release(c);", (Effect(EffectKind.RELEASE, "c"),), DEFAULT_ATTEMPTS),
         (
             "recovery r: lift-capacity = 0.5 * weight(c), replan;",
             (Effect(EffectKind.LIFT_CAPACITY, "c", 0.5), Effect(EffectKind.REPLAN)),
