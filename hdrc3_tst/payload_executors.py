@@ -200,13 +200,13 @@ def hook(ctx: ActionContext, action: HookAction, length: float = 0.0, tag: str =
     return (yield from finish(ctx, ctx.hook(action, length, tag)))
 
 
-def pick_up(ctx: ActionContext, place: str, loaded: bool = False) -> Steps:
+def pick_up(ctx: ActionContext, place: str, crowded: bool = False) -> Steps:
     """Find the object of point ``place``, hover over it, lower, attach it (by its tag), raise.
 
     A lowering that lands the magnet beside the object (attach: nothing gripped) is tried again
-    from the alignment, up to ``PICK_ATTEMPTS`` times. ``loaded``: the object carries others (a
-    carrier's boxes stand around its lifting plate), so a magnet that gripped another object
-    landed beside the plate: it lets go and tries again too.
+    from the alignment, up to ``PICK_ATTEMPTS`` times. ``crowded``: other objects stand next to
+    it (a carrier's boxes around its lifting plate, a box among the others on a carrier), so a
+    magnet that gripped another object landed beside it: it lets go and tries again too.
     """
     tag = ctx.name(place)
     for step in (
@@ -237,7 +237,7 @@ def pick_up(ctx: ActionContext, place: str, loaded: bool = False) -> Steps:
             if outcome.progress is not Progress.SUCCEEDED:
                 return outcome
             return (yield from depart(ctx, place))
-        beside = loaded and WRONG_OBJECT in outcome.reason
+        beside = crowded and WRONG_OBJECT in outcome.reason
         if MISSED not in outcome.reason and not beside:
             return outcome
         if beside:
@@ -277,8 +277,8 @@ class TakeFromCarrier(ActionExecutor):
     """``take-from-carrier(box)``: a box off a carrier (its point: its place on the carrier)."""
 
     def run(self, ctx: ActionContext) -> Steps:
-        """Pick up the box from the carrier."""
-        return (yield from pick_up(ctx, "box"))
+        """Pick up the box from the carrier (among its other boxes, on the carrier)."""
+        return (yield from pick_up(ctx, "box", crowded=True))
 
 
 class AttachCarrier(ActionExecutor):
@@ -286,7 +286,7 @@ class AttachCarrier(ActionExecutor):
 
     def run(self, ctx: ActionContext) -> Steps:
         """Pick up the carrier (its boxes may stand around the lifting plate)."""
-        return (yield from pick_up(ctx, "carrier", loaded=True))
+        return (yield from pick_up(ctx, "carrier", crowded=True))
 
 
 class DropBox(ActionExecutor):

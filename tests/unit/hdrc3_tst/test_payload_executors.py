@@ -193,6 +193,7 @@ WRONG = "FAILED wrong object: the magnet holds 'box10', not 'box1'"
     [
         ("pick-up-box", {"box": "box1"}, "FAILED the magnet gripped nothing", ()),
         ("attach-carrier", {"carrier": "box1"}, WRONG, (MAGNET_OFF,)),  # a box on the carrier
+        ("take-from-carrier", {"box": "box1"}, WRONG, (MAGNET_OFF,)),  # its neighbour
         ("pick-up-box", {"box": "box1"}, WRONG, None),  # another box: a mis-stocked depot
     ],
 )
