@@ -218,6 +218,6 @@ def test_a_delivery_goal_that_cannot_lift_its_box_gives_up_with_the_planners_rea
         e.STEP_OPERATOR_APPLIED,
         e.STEP_GAVE_UP,
     ]
-    assert list(chain.events[2].changes) == ["lift-capacity(uav0) = 4"]
+    assert list(chain.events[2].changes) == ["lift-capacity(uav0) = 4", "release(box1)"]
     assert chain.events[3].reason.startswith("planning at: ")
     chain.until(lambda: chain.statuses.get("d") == "failed", "the goal's failure")
