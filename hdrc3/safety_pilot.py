@@ -57,10 +57,13 @@ def set_rc(
             f"no service /{agent}/rc/set: unknown agent {agent!r} or world_sim is not running "
             "(same ROS_DOMAIN_ID?)"
         )
-    future = client.call_async(SimSetRc.Request(mode=_MODE[mode], engine=_ENGINE[engine]))
-    if not process.spin_until(future.done, timeout_s):
+    # switch positions are idempotent: sent again until answered (DDS can drop the first
+    # answers to a new client, hdrc3_base.ros_runtime.first_answer)
+    request = SimSetRc.Request(mode=_MODE[mode], engine=_ENGINE[engine])
+    response = process.first_answer(client, request, timeout_s)
+    if response is None:
         raise ConfigError(f"/{agent}/rc/set did not answer within {timeout_s} s")
-    result: SimResult = future.result().result
+    result: SimResult = response.result
     return int(result.code), str(result.reason)
 
 
