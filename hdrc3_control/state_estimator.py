@@ -104,8 +104,11 @@ class EstimatorConfig:
     coast_accel_sigma: float = 3.0
     """Acceleration uncertainty while IMU samples repeat (a stuck IMU), m/s^2: the filter
     coasts on a constant-velocity model and GPS and barometer carry the solution."""
-    vision_priority: float = 1.0
-    """GPS gives only its velocity while a vision fix was accepted within this, s."""
+    vision_priority: float = 3.0
+    """GPS gives only its velocity while a vision fix was accepted within this, s: through a
+    short gap in the fixes (a frame dropped by a loaded image pipeline, an occlusion) the filter
+    dead-reckons on GPS velocity (centimetres in 3 s) instead of jumping to the GPS position,
+    metres off, that the next fixes would then be gated against."""
     vision_max_delay: float = 1.0
     """Vision fixes older than this (image time behind the filter's time) are stale, s."""
     vision_reset_spread: float = 0.3

@@ -100,7 +100,12 @@ def test_vision_fixes_are_fused_over_the_pad(hdrc3_cli: Any, ros_context: Any) -
     # the first fixes may be rejected: the GPS/INS solution is metres off, the filter takes them
     # once a run of them agrees (StateEstimator.update_vision); from then on they pass the gate
     early = aiding[-1]["sources"]["vision"]
-    assert spin_until(executor, lambda: vision_accepted() >= 40, 90.0), (aiding[-1:], fixes[-3:])
+
+    def on_vision() -> bool:  # 40 fixes in, and the last 2 s (the window checked) free of GPS
+        gps_age = aiding[-1]["sources"].get("gps", {}).get("age_s")
+        return vision_accepted() >= 40 and (gps_age is None or gps_age >= 2.0)
+
+    assert spin_until(executor, on_vision, 90.0), (aiding[-1:], fixes[-3:])
     report = aiding[-1]
     assert "vision" in report["used"] and "gps" not in report["used"], report
     assert "gps_velocity" in report["used"], report  # GPS gives only its velocity meanwhile

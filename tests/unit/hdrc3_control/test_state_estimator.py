@@ -35,8 +35,8 @@ class Scenario:
     vision: bool = False
     vision_delay: float = 0.0
     """s between an image's time (the fix's stamp) and the fix reaching the filter."""
-    vision_off: tuple[float, float] = (math.inf, math.inf)
-    """The pad out of sight (occlusion) in this interval of image times."""
+    vision_off: tuple[tuple[float, float], ...] = ()
+    """The pad out of sight (occlusions) in these intervals of image times."""
     gps_bias: tuple[float, float, float] = (0.0, 0.0, 0.0)
     verdicts: list[Verdict] = field(default_factory=list)
     baro_drift: float = 0.0
@@ -65,7 +65,7 @@ class Scenario:
                 drift = self.baro_drift * max(0.0, t - 40.0)
                 noise = 0.3 * rng.standard_normal()
                 self.est.update_baro(BaroMeasurement(t, truth[2] + drift + noise))
-            if self.vision and k % 8 == 0 and not self.vision_off[0] <= t < self.vision_off[1]:
+            if self.vision and k % 8 == 0 and not any(a <= t < b for a, b in self.vision_off):
                 pos = truth[:3] + 0.05 * rng.standard_normal(3)
                 queued.append(VisionPoseMeasurement(t, tuple(pos)))  # type: ignore[arg-type]
             while queued and queued[0].time + self.vision_delay <= t + 1e-9:
@@ -208,7 +208,7 @@ def test_late_vision_fixes_are_moved_to_the_filter_s_time(delay: float, max_erro
 def test_occlusions_are_dead_reckoned_through(occlusion: float, max_error: float) -> None:
     rec: list[tuple[float, np.ndarray, np.ndarray]] = []
     end = 8.0 + occlusion - 0.005
-    sc = Scenario(gps_off=(2.0, 100.0), vision=True, vision_off=(8.0, end))
+    sc = Scenario(gps_off=(2.0, 100.0), vision=True, vision_off=((8.0, end),))
     sc.run(end + 1.0, rec)
     assert sc.health[7.9] is EstimatorHealth.OK
     assert sc.health[round(end, 3)] is EstimatorHealth.DEGRADED  # blind: dead reckoning
@@ -258,7 +258,7 @@ def test_vision_outliers_are_gated(
 def test_vision_takes_over_from_a_biased_gps() -> None:
     """GPS 3 m off (its correlated error): the pad comes into view, the fixes win."""
     rec: list[tuple[float, np.ndarray, np.ndarray]] = []
-    sc = Scenario(gps_bias=(3.0, -2.0, 0.0), vision=True, vision_off=(0.0, 10.0))
+    sc = Scenario(gps_bias=(3.0, -2.0, 0.0), vision=True, vision_off=((0.0, 10.0),))
     sc.run(15.0, rec)
     assert 3.0 < _error(rec, 9.9) < 4.5  # on the GPS before the pad was seen
     assert _error(rec, 14.9) < 0.15
@@ -267,3 +267,26 @@ def test_vision_takes_over_from_a_biased_gps() -> None:
     # one run of consistent rejections, then the filter is on the fixes
     assert sc.est.aiding.count(AidingSource.VISION, Verdict.REJECTED) == 10
     assert sc.est.aiding.report(14.99, 0.5)["used"] == ["gps_velocity", "vision", "baro"]
+
+
+@pytest.mark.parametrize(("gap", "back_on_gps"), [(2.0, False), (5.0, True)])
+def test_a_gap_in_the_fixes_is_bridged_on_gps_velocity(gap: float, back_on_gps: bool) -> None:
+    """On the fixes over a GPS 3.6 m off, the pad is lost for ``gap`` s (frames dropped).
+
+    Shorter than ``vision_priority`` the filter keeps to GPS velocity and stays on the fixes; a
+    longer gap hands the position back to GPS (pulled towards its bias by the end of the gap).
+    """
+    end = 15.0 + gap
+    runs = [
+        Scenario(gps_bias=(3.0, -2.0, 0.0), vision=True, vision_off=((0.0, 10.0), (15.0, end)))
+        for _ in range(2)
+    ]
+    rec: list[tuple[float, np.ndarray, np.ndarray]] = []
+    runs[0].run(15.0, [])
+    runs[1].run(end, rec)  # the same seed: the first 15 s are the same
+    before, after = (sc.est.aiding.count(AidingSource.GPS, Verdict.ACCEPTED) for sc in runs)
+    error = _error(rec, end - 0.01)
+    if back_on_gps:
+        assert after > before and error > 1.0, (after - before, error)
+    else:
+        assert after == before and error < 0.2, (after - before, error)
