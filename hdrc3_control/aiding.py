@@ -73,6 +73,11 @@ class AidingLog:
             if s in self.stats and now - self.stats[s].last_accepted <= within
         )
 
+    def age(self, source: AidingSource, now: float) -> float:
+        """Seconds from the last accepted measurement of ``source`` to ``now`` (inf: none)."""
+        stats = self.stats.get(source)
+        return math.inf if stats is None else now - stats.last_accepted
+
     def count(self, source: AidingSource, verdict: Verdict) -> int:
         """How many measurements of ``source`` got ``verdict``."""
         stats = self.stats.get(source)

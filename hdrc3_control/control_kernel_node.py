@@ -47,6 +47,7 @@ from hdrc3_base.stamps import set_stamp_ns, stamp_ns, stamp_s
 from hdrc3_control.commands import EstimatorHealth, VerticalMode
 from hdrc3_control.kernel import PfcKernel, TickResult, UiCommand
 from hdrc3_control.kernel_config import KernelConfig
+from hdrc3_control.landing import landing_sites
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,
@@ -130,6 +131,7 @@ class ControlKernelNode(SteppedNode):
             raise ConfigError(f"takeoff_height must be within 3 .. 100 m, got {height}")
         world = load_world(world_name)
         self.origin = world.origin
+        sites = landing_sites(world.pads, world.terrain.height)
         self.agent = self.get_namespace().strip("/")
         self.transport = RosTransport(self, "PFC")
         trace = FiringTrace(TracePublisher(self, "hcsm/trace")) if trace_on else None
@@ -138,6 +140,7 @@ class ControlKernelNode(SteppedNode):
             terrain=world.terrain.height,
             transport=self.transport,
             trace=trace,
+            landing_sites=sites,
         )
         warm = read_warm_start(self._warm_path) if self._warm_path is not None else None
         self.kernel = PfcKernel(
@@ -145,6 +148,7 @@ class ControlKernelNode(SteppedNode):
             terrain=world.terrain.height,
             transport=self.transport,
             trace=trace,
+            landing_sites=sites,
             warm_start=warm.record if warm is not None else None,
         )
         if warm is not None and warm.record is None:

@@ -149,15 +149,19 @@ class EventProtocol:
         failure_reason: Callable[[], str],
         rejected_id: int,
         trigger_reason: Callable[[str], str | None] = lambda _trigger: None,
+        finish_note: Callable[[int], str] = lambda _command_id: "",
     ) -> None:
         """``failure_reason`` gives the reason of the last control function failure.
 
         ``rejected_id`` is the model's id of Cmd-Rejected-EV, which the protocol sends itself.
         ``trigger_reason`` gives the reason of replies sent on an internal event that carries
-        one (the failsafe's Fs-Hold-EV, Fs-Land-EV), None for the others.
+        one (the failsafe's Fs-Hold-EV, Fs-Land-EV), None for the others. ``finish_note`` gives
+        (and forgets) what a command's control function has to say when the command ends (the
+        landing: which aid it used); a Cmd-Finished-EV carries it as its reason.
         """
         self.failure_reason = failure_reason
         self.trigger_reason = trigger_reason
+        self.finish_note = finish_note
         self.rejected_id = rejected_id
         self.active: set[int] = set()
         self.dropped = 0
@@ -204,7 +208,10 @@ class EventProtocol:
             return None
         if name == "Request-Segment-EV" and cid not in self.active:
             return None
-        if name in ID_ONLY:
+        note = self.finish_note(cid) if name in FINAL else ""
+        if name == "Cmd-Finished-EV" and note:
+            data = encode(cid, (), note)
+        elif name in ID_ONLY:
             data = event.data[:8]
         elif send is not None and send.trigger.startswith(FUNCTION_EVENT_PREFIX):
             data = event.data

@@ -31,6 +31,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 from hdrc3_base.errors import ConfigError
+from hdrc3_control.aiding import AidingSource
 from hdrc3_control.automata import automaton_path
 from hdrc3_control.braking import BrakeStatus
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth, Vec3
@@ -48,7 +49,7 @@ from hdrc3_control.kernel_functions import (
     Traj3DFunction,
     pack_pose,
 )
-from hdrc3_control.landing import LandingPhase
+from hdrc3_control.landing import LandingPhase, LandingSite
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,
@@ -162,8 +163,11 @@ class PfcKernel:
         trace: TraceSink | None = None,
         start_time: float = 0.0,
         warm_start: WarmStart | None = None,
+        landing_sites: tuple[LandingSite, ...] = (),
     ) -> None:
         """Load the automata and bind conditions, functions and flags (ModelError if invalid).
+
+        ``landing_sites``: the world's pads with the vision landing pattern (§5.4).
 
         ``warm_start``: the record a previous run of this kernel left (``warm_start.py``); used
         at the first tick if it is at most ``warm_start_max_age`` old then.
@@ -174,7 +178,7 @@ class PfcKernel:
         """What became of the warm-start record (for the node's log)."""
         self.terrain = terrain
         self.transport = transport
-        self.ctx = FunctionContext(terrain=terrain, dt=c.tick)
+        self.ctx = FunctionContext(terrain=terrain, dt=c.tick, landing_sites=landing_sites)
         self.hover = HoverFunction(self.ctx)
         self.takeoff = TakeoffFunction(self.ctx, c.takeoff)
         self.traj3d = Traj3DFunction(self.ctx, c.path, c.segment_start_tolerance)
@@ -196,7 +200,10 @@ class PfcKernel:
         self.log = SendLog(frozenset(e.name for e in events if e.source == "DRC"), trace)
         rejected = self.model.events.id_of("Cmd-Rejected-EV")
         self.protocol = EventProtocol(
-            lambda: self.ctx.failure, rejected, lambda trigger: self._fs_reasons.get(trigger)
+            lambda: self.ctx.failure,
+            rejected,
+            lambda trigger: self._fs_reasons.get(trigger),
+            lambda command_id: self.ctx.notes.pop(command_id, ""),
         )
         self.interpreter = Interpreter(self.model, self._conditions(), trace=self.log)
         self.loop = MainLoop(self.interpreter, (self, self.braking, self.functions))
@@ -426,6 +433,7 @@ class PfcKernel:
                     self.log.posted(event.name, event.data)
         self.state = self._estimate(now)
         self.ctx.state, self.ctx.command = self.state, None
+        self.ctx.vision_age = self.estimator.aiding.age(AidingSource.VISION, now)
         self._write_slots(interp.memory, now)
         step = interp.execute(now)
         self._states = self._machine_states()

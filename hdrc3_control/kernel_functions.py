@@ -20,7 +20,15 @@ from hdrc3_control.braking import BrakeStatus, EmergencyBrake
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth, Vec3
 from hdrc3_control.event_codec import command_id_of, decode, encode
 from hdrc3_control.hover import HoverController, HoverSetpoint, HoverStatus
-from hdrc3_control.landing import Landing, LandingConfig, LandingPhase, LandingTarget
+from hdrc3_control.landing import (
+    Landing,
+    LandingAid,
+    LandingConfig,
+    LandingPhase,
+    LandingPlan,
+    LandingSite,
+    plan_landing,
+)
 from hdrc3_control.path_following import (
     OfferStatus,
     PathEvent,
@@ -84,6 +92,12 @@ class FunctionContext:
     """Function events to post to the automata after this tick."""
     yaw_request: bool = False
     offer_pending: bool = False
+    landing_sites: tuple[LandingSite, ...] = ()
+    """The world's pads with the vision landing pattern."""
+    vision_age: float = math.inf
+    """Seconds since the navigation filter last accepted a vision fix (inf: never)."""
+    notes: dict[int, str] = field(default_factory=dict)
+    """Text for a command's Cmd-Finished-EV, by command id (what the function used)."""
 
     def fail(self, reason: str) -> HookResult:
         """Record a failure reason and report FAILED to the template."""
@@ -393,12 +407,19 @@ class FlytoFunction(_PathBase):
 
 
 class LandingFunction:
-    """Landing (Land-Mode-AC): descent on the navigation filter, touchdown, engine shutdown."""
+    """Landing (Land-Mode-AC): on the pad's vision fixes or on GPS, touchdown, engine shutdown.
+
+    The Cmd-Finished-EV of the command says which aid the landing used (``FunctionContext.notes``).
+    """
 
     def __init__(self, ctx: FunctionContext, config: LandingConfig) -> None:
         self.ctx = ctx
         self.core = Landing(config)
         self.phase = LandingPhase.APPROACH
+        self.plan: LandingPlan | None = None
+        self.command_id = 0
+        self.lowest_fix: float | None = None
+        """Lowest height above the pad at which a vision fix was fresh, m."""
 
     def step(self, phase: Phase, memory: MemoryBank, now: float) -> HookResult:
         """Template hook."""
@@ -416,20 +437,46 @@ class LandingFunction:
             elif pose is not None:
                 heading = pose[1]
             e, n, _ = state.position
-            target = LandingTarget(e, n, self.ctx.terrain(e, n), heading)
-            self.phase = self.core.start(state, target, ctx.integral)
+            ground, sites = ctx.terrain(e, n), ctx.landing_sites
+            self.plan = plan_landing(
+                state, heading, ground, ctx.vision_age, sites, self.core.config
+            )
+            self.command_id, self.lowest_fix = command_id_of(data), None
+            self.phase = self.core.start(state, self.plan.target, ctx.integral)
             if self.phase is LandingPhase.REFUSED_ON_GROUND:
                 return ctx.fail("landing refused: already on the ground")
+            self._note()
             return HookResult.DONE
         if phase is Phase.STOPPING:
             return HookResult.DONE
         state = ctx.state
         if state is None:
             return ctx.fail("landing: navigation solution lost")
-        out = self.core.update(state, now, ctx.dt)
+        precise = False
+        if self.plan is not None and self.plan.aid is LandingAid.VISION:
+            precise = ctx.vision_age <= self.core.config.vision_recent
+        out = self.core.update(state, now, ctx.dt, precise=precise)
+        if precise and self.phase is not LandingPhase.APPROACH:
+            lowest = max(0.0, out.height_above_ground)
+            if self.lowest_fix is None or lowest < self.lowest_fix - 0.05:
+                self.lowest_fix = lowest
+                self._note()
         ctx.command = replace(out.command, engine_off=out.engine_shutdown)
         self.phase = out.phase
         return HookResult.BUSY
+
+    def _note(self) -> None:
+        """What the command's final reply says about the aid."""
+        plan = self.plan
+        if plan is None or self.command_id == 0:
+            return
+        if plan.aid is LandingAid.GPS:
+            text = f"landed on GPS and barometer: {plan.reason}"
+        else:
+            text = f"landed on vision: {plan.reason}"
+            if self.lowest_fix is not None:
+                text += f", fixes down to {self.lowest_fix:.1f} m above it"
+        self.ctx.notes[self.command_id] = text
 
 
 class BrakingConsumer:

@@ -16,6 +16,7 @@ from hdrc3_control.commands import AttitudeCommand, VerticalMode
 from hdrc3_control.event_codec import command_id_of, encode
 from hdrc3_control.kernel import PfcKernel, TickResult, load_model
 from hdrc3_control.kernel_config import KernelConfig
+from hdrc3_control.landing import landing_sites
 from hdrc3_control.measurements import (
     AttitudeMeasurement,
     BaroMeasurement,
@@ -109,6 +110,7 @@ class KernelFlight:
         self.kernel = PfcKernel(
             config,
             terrain=self.world.terrain.height,
+            landing_sites=landing_sites(self.world.pads, self.world.terrain.height),
             transport=self.network.endpoint("PFC"),
             trace=self.trace,
             start_time=self.sim.time,

@@ -6,13 +6,21 @@ TOUCHDOWN (skid switch closed for ``touchdown_ticks`` consecutive ticks, a timel
 early detection loads the skids, late detection causes ground resonance), then LANDED with an
 engine shutdown request. The height above ground comes from the navigation filter; a vision pose
 (the landing pattern) enters through ``StateEstimator.update_vision`` (the hook of chapter 5.4).
+
+Which aid (§5.4, :func:`plan_landing`): with a vision fix accepted within ``vision_recent`` and
+a patterned pad within ``engage_radius`` (the chapter's 20 m hemisphere) the landing point is
+the pad's centre and the position is held on it down to the skids while fixes keep coming;
+otherwise the aircraft lands where it is on GPS and the barometer, and below ``final_height``
+holds only its velocity (GPS position jitter would become horizontal speed at touchdown).
 """
 
 from __future__ import annotations
 
 import enum
 import math
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import (
@@ -51,6 +59,55 @@ class LandingTarget:
             raise ConfigError("landing target must be finite")
 
 
+class LandingAid(enum.Enum):
+    """What the landing point and the final descent rest on."""
+
+    VISION = "vision"
+    """The pad's pattern: its fixes in the navigation filter (§5.4)."""
+    GPS = "gps"
+    """GPS and the barometer: the landing point is where the aircraft is."""
+
+
+@dataclass(frozen=True, slots=True)
+class LandingSite:
+    """A pad carrying the vision landing pattern, in the world's ENU frame."""
+
+    name: str
+    east: float
+    north: float
+    ground_height: float
+    """Height of the pad's surface, ENU up, m."""
+
+
+class Pad(Protocol):
+    """A pad of the world file (``sim.world.LandingPad``)."""
+
+    @property
+    def name(self) -> str:
+        """The pad's name."""
+
+    @property
+    def east(self) -> float:
+        """East of the world's origin, m."""
+
+    @property
+    def north(self) -> float:
+        """North of the world's origin, m."""
+
+    @property
+    def pattern(self) -> bool:
+        """Whether it carries the vision landing pattern."""
+
+
+def landing_sites(
+    pads: Iterable[Pad], terrain: Callable[[float, float], float]
+) -> tuple[LandingSite, ...]:
+    """The pads that carry the vision landing pattern, on the terrain."""
+    return tuple(
+        LandingSite(p.name, p.east, p.north, terrain(p.east, p.north)) for p in pads if p.pattern
+    )
+
+
 @dataclass(frozen=True, slots=True)
 class LandingConfig:
     """Descent schedule and touchdown detection."""
@@ -71,6 +128,11 @@ class LandingConfig:
     """Without a usable inertial solution (``EstimatorHealth.LOST``): the climb-rate command
     becomes ``rate + k * (rate - vz)`` on the filter's GPS/barometer vertical velocity, 1 (see
     :meth:`Landing._vertical`)."""
+    vision_recent: float = 1.0
+    """A vision fix accepted within this makes a vision landing; during one, fixes within this
+    keep the position held on the pad below ``final_height``, s."""
+    engage_radius: float = 20.0
+    """A vision landing engages within this distance of the pad's centre (§5.4 requirement 1), m."""
     touchdown_ticks: int = 3
     settle_time: float = 1.0
     """After touchdown: push down on the skids this long, then request engine shutdown, s."""
@@ -87,6 +149,44 @@ class LandingOutput:
     engine_shutdown: bool
     """True once the engine may be shut down."""
     touchdown_time: float | None
+
+
+@dataclass(frozen=True, slots=True)
+class LandingPlan:
+    """Where to land and on which aid; ``reason`` says why (for the operator)."""
+
+    target: LandingTarget
+    aid: LandingAid
+    site: LandingSite | None
+    reason: str
+
+
+def plan_landing(
+    state: EstimatedState,
+    heading: float,
+    ground_height: float,
+    vision_age: float,
+    sites: tuple[LandingSite, ...],
+    config: LandingConfig,
+) -> LandingPlan:
+    """Choose the landing point: the nearest patterned pad on vision, else here on GPS.
+
+    ``vision_age``: seconds since the filter last accepted a vision fix (inf: never);
+    ``ground_height``: the terrain under the aircraft (the GPS landing point's height).
+    """
+    e, n, u = state.position
+    here = LandingTarget(e, n, ground_height, heading)
+    if not sites:
+        return LandingPlan(here, LandingAid.GPS, None, "no patterned pad in the world")
+    site = min(sites, key=lambda s: math.dist((e, n, u), (s.east, s.north, s.ground_height)))
+    distance = math.dist((e, n, u), (site.east, site.north, site.ground_height))
+    if vision_age > config.vision_recent:
+        return LandingPlan(here, LandingAid.GPS, None, f"no vision fix of pad {site.name}")
+    if distance > config.engage_radius:
+        reason = f"pad {site.name} {distance:.0f} m away (over {config.engage_radius:.0f} m)"
+        return LandingPlan(here, LandingAid.GPS, None, reason)
+    target = LandingTarget(site.east, site.north, site.ground_height, heading)
+    return LandingPlan(target, LandingAid.VISION, site, f"pad {site.name}")
 
 
 class Landing:
@@ -115,8 +215,10 @@ class Landing:
         self._phase = LandingPhase.REFUSED_ON_GROUND if state.on_ground else LandingPhase.APPROACH
         return self._phase
 
-    def update(self, state: EstimatedState, now: float, dt: float) -> LandingOutput:
-        """One tick."""
+    def update(
+        self, state: EstimatedState, now: float, dt: float, *, precise: bool = False
+    ) -> LandingOutput:
+        """One tick; ``precise``: the position is good to centimetres (fresh vision fixes)."""
         c = self.config
         tg = self._target
         if tg is None:
@@ -136,13 +238,13 @@ class Landing:
         touched = self._touchdown is not None and now - self._touchdown >= c.settle_time
         if self._phase is LandingPhase.TOUCHDOWN and touched:
             self._phase = LandingPhase.LANDED
-        cmd = self._command(state, tg, agl, dt)
+        cmd = self._command(state, tg, agl, dt, precise)
         return LandingOutput(
             cmd, self._phase, agl, self._phase is LandingPhase.LANDED, self._touchdown
         )
 
     def _command(
-        self, state: EstimatedState, tg: LandingTarget, agl: float, dt: float
+        self, state: EstimatedState, tg: LandingTarget, agl: float, dt: float, precise: bool
     ) -> AttitudeCommand:
         c = self.config
         if self._phase in (LandingPhase.TOUCHDOWN, LandingPhase.LANDED):
@@ -151,9 +253,9 @@ class Landing:
         if self._phase is LandingPhase.REFUSED_ON_GROUND:
             return AttitudeCommand(vertical=-1.0)
         here: Vec3 = (tg.east, tg.north, state.position[2])
-        if self._phase is LandingPhase.DESCENT and agl <= c.final_height:
-            # final descent: velocity hold only; GPS position jitter would otherwise become
-            # horizontal speed at touchdown
+        if self._phase is LandingPhase.DESCENT and agl <= c.final_height and not precise:
+            # final descent on GPS: velocity hold only; GPS position jitter would otherwise
+            # become horizontal speed at touchdown
             here = state.position
         cmd = self.loop.update(state, Reference(position=here, heading=tg.heading), dt)
         if self._phase is LandingPhase.APPROACH:

@@ -435,7 +435,8 @@ class FlightCommandLayer:
             self._segment_started(cur, cid, request=False)
             cur.outcome = cur.outcome or (EventKind.FINISHED, "")
         elif name in ("Cmd-Finished-EV", "Traj-Arrived-EV"):
-            cur.outcome = cur.outcome or (EventKind.FINISHED, "")
+            # the PFC's note, if any (fcl_land: which aid it landed on)
+            cur.outcome = cur.outcome or (EventKind.FINISHED, _reason(event.data, ""))
         elif name == "Cmd-Cancelled-EV":
             cur.outcome = (EventKind.CANCELLED, _reason(event.data, "cancelled by the PFC"))
         elif name == "Cmd-Rejected-EV":

@@ -15,6 +15,12 @@ renderer skips exposures (world_render never holds the simulation), so fixes can
 two apart, 0.15-0.6 m of drift for 1-3 s (``test_state_estimator.py``). Hence at most 0.5 m
 off the truth, 0.3 m on average over the last 2 s (measured: 0.09-0.11 m mean alone, 0.24-0.34
 m while other launches ran on the two cores).
+
+Then ``fcl land 30`` from there (§5.4): the landing mode sees fresh fixes and the pad within
+20 m, lands on the pad's centre, holds the position on the fixes down to the skids, and its
+FCL_FINISHED says so. The touchdown (ground truth, the centre of gravity) is within
+``TOUCHDOWN_BOUND`` of the pad's centre (the issue's mean target is 0.2 m, `bench/landing.py`
+measures the mean of many; the chapter's own was 0.42 m).
 """
 
 from __future__ import annotations
@@ -31,6 +37,7 @@ from std_msgs.msg import String
 
 from hdrc3.cli.main import main as hdrc3_main
 from hdrc3_perception.node import RESULT_QOS
+from sim.world_loader import load_world
 from tests.integration.ros_wait import spin_until
 
 pytestmark = pytest.mark.ros
@@ -42,13 +49,16 @@ GPS_BOUND_H = 4.5
 BARO_BOUND_V = 1.5
 TRUTH_BOUND = 0.5
 TRUTH_MEAN_BOUND = 0.3
+TOUCHDOWN_BOUND = 0.5
 
 
 def _stamp(msg: Any) -> float:
     return float(msg.header.stamp.sec) + 1e-9 * float(msg.header.stamp.nanosec)
 
 
-def test_vision_fixes_are_fused_over_the_pad(hdrc3_cli: Any, ros_context: Any) -> None:
+def test_vision_fixes_are_fused_over_the_pad_and_land_the_aircraft_on_it(
+    hdrc3_cli: Any, ros_context: Any, capsys: pytest.CaptureFixture[str]
+) -> None:
     from hdrc3_interfaces.msg import PfcState, TruthState
 
     launch = hdrc3_cli(
@@ -130,5 +140,16 @@ def test_vision_fixes_are_fused_over_the_pad(hdrc3_cli: Any, ros_context: Any) -
     assert len(errors) >= 20 and max(errors) <= TRUTH_BOUND, errors
     assert float(np.mean(errors)) <= TRUTH_MEAN_BOUND, errors
     assert all(f["fix"]["pad"] == "L1" for f in fixes if f["fix"]["status"] == "ok")
+
+    capsys.readouterr()
+    assert hdrc3_main(["fcl", "uav0", "land", "30", "--timeout", "180"]) == 0
+    said = capsys.readouterr().out
+    assert "FCL_FINISHED" in said and "landed on vision: pad L1, fixes down to" in said, said
+    assert spin_until(executor, lambda: bool(truth) and truth[-1].on_ground, 10.0)
+    pad = load_world("revinge").pad("L1")
+    down = truth[-1].position_enu
+    miss = math.hypot(down[0] - pad.east, down[1] - pad.north)
+    print(f"touchdown {miss:.3f} m from the pad's centre; {said.strip().splitlines()[-1]}")
+    assert miss <= TOUCHDOWN_BOUND, (miss, said)
     node.destroy_node()
     assert launch.interrupt() == 0

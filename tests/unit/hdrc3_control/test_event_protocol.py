@@ -33,6 +33,22 @@ def test_id_only_replies_are_trimmed_and_finals_sent_once() -> None:
     assert again == [] and p.dropped == 1 and p.current == 0
 
 
+def test_a_function_s_note_rides_on_its_command_s_final_reply_once() -> None:
+    notes = {4: "landed on vision: pad L1", 5: "never said"}
+    p = EventProtocol(lambda: "", REJECTED_ID, finish_note=lambda cid: notes.pop(cid, ""))
+    p.active = {4, 5}
+    out = p.outgoing(
+        [ev("Cmd-Finished-EV", encode(4)), ev("Cmd-Failed-EV", encode(5, (), "no fix"))],
+        [rec("Cmd-Finished-EV", "A.29"), rec("Cmd-Failed-EV", "C.12", trigger="Fn-Failed-EV")],
+        [],
+    )
+    assert [(e.name, decode(e.data, 0, with_reason=True).reason) for e in out] == [
+        ("Cmd-Finished-EV", "landed on vision: pad L1"),
+        ("Cmd-Failed-EV", "no fix"),  # a failure keeps its own reason; the note is dropped
+    ]
+    assert notes == {}
+
+
 def test_reasons_come_from_table_function_failure_or_function_event() -> None:
     p = EventProtocol(lambda: "rotor at 0 rpm", REJECTED_ID)
     p.active = {1, 2, 3}

@@ -115,7 +115,8 @@ def test_takeoff_hover_path_land() -> None:
         return finished(f, lid)
 
     assert f.run_until(landed, 90)
-    assert answers(f, lid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    landed_on = "landed on GPS and barometer: no vision fix of pad L1"
+    assert answers(f, lid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", landed_on)]
     assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 5)
     assert f.sim.truth(f.agent).on_ground and -0.5 < touchdown[0] <= 0.0
     assert abs(math.remainder(f.sim.truth(f.agent).heading - math.pi / 2, math.tau)) < 0.15

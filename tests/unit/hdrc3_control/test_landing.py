@@ -8,7 +8,15 @@ from types import ModuleType
 import pytest
 
 from hdrc3_control.commands import EstimatedState, EstimatorHealth
-from hdrc3_control.landing import Landing, LandingPhase, LandingTarget
+from hdrc3_control.landing import (
+    Landing,
+    LandingAid,
+    LandingConfig,
+    LandingPhase,
+    LandingSite,
+    LandingTarget,
+    plan_landing,
+)
 from hdrc3_control.path_following import PathEvent, PathStatus
 
 PAD = LandingTarget(0.0, 0.0, 0.0, 0.0)
@@ -102,3 +110,48 @@ def test_takeoff_hover_path_land_sequence(harness: ModuleType) -> None:
     vz, vh = harness.touchdown_velocity(f, down.first_tick)
     assert vz <= 0.35 and vh <= 0.15
     assert math.hypot(f.truth().position_enu[0] - e, f.truth().position_enu[1] - n) < 5.0
+
+
+L1 = LandingSite("L1", 100.0, 50.0, 2.0)
+FAR = LandingSite("F", 400.0, 50.0, 0.0)
+
+
+@pytest.mark.parametrize(
+    ("at", "vision_age", "sites", "aid", "reason"),
+    [
+        ((110.0, 55.0, 14.0), 0.2, (L1, FAR), LandingAid.VISION, "pad L1"),
+        ((110.0, 55.0, 14.0), 3.0, (L1,), LandingAid.GPS, "no vision fix of pad L1"),
+        ((110.0, 55.0, 14.0), math.inf, (L1,), LandingAid.GPS, "no vision fix of pad L1"),
+        ((120.0, 60.0, 14.0), 0.2, (L1,), LandingAid.GPS, "pad L1 25 m away (over 20 m)"),
+        ((110.0, 55.0, 14.0), 0.2, (), LandingAid.GPS, "no patterned pad in the world"),
+    ],
+)
+def test_the_landing_point_is_the_pad_on_a_recent_fix_within_20_m(
+    at: tuple[float, float, float],
+    vision_age: float,
+    sites: tuple[LandingSite, ...],
+    aid: LandingAid,
+    reason: str,
+) -> None:
+    state = EstimatedState(0.0, at, (0.0, 0.0, 0.0), 0.0, 0.0, 0.3)
+    plan = plan_landing(state, 0.3, 1.0, vision_age, sites, LandingConfig())
+    assert (plan.aid, plan.reason) == (aid, reason)
+    expected = (L1.east, L1.north, L1.ground_height) if aid is LandingAid.VISION else (*at[:2], 1.0)
+    target = plan.target
+    assert (target.east, target.north, target.ground_height, target.heading) == (*expected, 0.3)
+
+
+@pytest.mark.parametrize(("precise", "roll_towards_pad"), [(True, True), (False, False)])
+def test_the_final_descent_holds_the_pad_only_on_precise_positions(
+    precise: bool, roll_towards_pad: bool
+) -> None:
+    """0.5 m east of the pad at 3 m: on vision fixes the loop closes the gap, on GPS it holds
+    its velocity (a GPS position jump must not become horizontal speed at touchdown)."""
+    fn = Landing()
+    state = EstimatedState(0.0, (0.5, 0.0, 3.45), (0.0, 0.0, 0.0), 0.0, 0.0, 0.0)
+    fn.start(_state(3.45), PAD)
+    fn.update(_state(3.45), 0.0, 0.02)  # settled over the pad: descending
+    out = fn.update(state, 0.02, 0.02, precise=precise)
+    assert out.phase is LandingPhase.DESCENT
+    roll = out.command.roll  # heading north: the pad to the west is a left (negative) roll
+    assert (roll < -1e-3, abs(roll) < 1e-3) == (roll_towards_pad, not roll_towards_pad), roll
