@@ -33,6 +33,7 @@ from sim import checkpoint as world_checkpoint
 from sim.aircraft import Aircraft
 from sim.rc_transmitter import FlightModeSwitch, RcSticks
 from sim.sensors.suite import SensorReadings
+from sim.wind import WindSettings
 from sim.world_loader import load_world
 from sim.world_sim import SimConfig, WorldSim
 from sim.yacs import VerticalMode as YacsVerticalMode
@@ -100,9 +101,11 @@ class KernelFlight:
         seed: int = 3,
         agent: str = "uav0",
         payload: float = 0.0,
+        wind: WindSettings | None = None,
     ) -> None:
         self.world = load_world("revinge")
-        self.sim = WorldSim(SimConfig(self.world, (agent,), seed, payload=payload))
+        settings = wind or WindSettings()
+        self.sim = WorldSim(SimConfig(self.world, (agent,), seed, settings, payload=payload))
         self.agent = agent
         self.network = LoopbackNetwork()
         self.drc: LoopbackTransport = self.network.endpoint("DRC")

@@ -183,7 +183,7 @@ def plan_landing(
     if vision_age > config.vision_recent:
         return LandingPlan(here, LandingAid.GPS, None, f"no vision fix of pad {site.name}")
     if distance > config.engage_radius:
-        reason = f"pad {site.name} {distance:.0f} m away (over {config.engage_radius:.0f} m)"
+        reason = f"pad {site.name} {distance:.1f} m away (over {config.engage_radius:g} m)"
         return LandingPlan(here, LandingAid.GPS, None, reason)
     target = LandingTarget(site.east, site.north, site.ground_height, heading)
     return LandingPlan(target, LandingAid.VISION, site, f"pad {site.name}")

@@ -61,6 +61,10 @@ CALL_TIMEOUT_S = 10.0
 MATCH_WAIT_S = 2.0
 """Longest wait for a new inbox publisher to match its receiver (an absent one: no match)."""
 TICK_S = 0.2
+POSITION_WAIT_S = 10.0
+"""A speech act that arrives before the aircraft's first Data Interface sample waits up to this
+(wall s) for it: the gateway starts before its aircraft publishes a state, and a cfp refused
+for "does not know where it is yet" is lost to the auction (seen in a loaded CI run)."""
 
 
 def inbox(agent: str) -> str:
@@ -299,6 +303,8 @@ class GatewayNode(Node):
         self.outbox = Outbox(acl_node, self.auth)
         self.refused = 0
         self._inbox: queue.Queue[Any] = queue.Queue(maxsize=10_000)
+        self._early: list[tuple[float, Any]] = []
+        """(arrival, message) held until the first Data Interface sample (worker thread only)."""
         acl_node.create_subscription(AclMessageMsg, inbox(self.agent), self._on_acl, ACL_QOS)
         self.create_subscription(
             HelicopterState, f"/{self.agent}/helicopter_state", self._on_state, 10
@@ -330,10 +336,22 @@ class GatewayNode(Node):
                 msg = None
             try:
                 if msg is not None:
-                    self._receive(msg)
+                    self._early.append((time.monotonic(), msg))
+                for held in self._due():
+                    self._receive(held)
                 self.outbox.send(self.contractor.tick(time.time()))
             except Exception as exc:  # the gateway answers on; the log says what broke
                 self.get_logger().error(f"gateway step failed: {exc!r}")
+
+    def _due(self) -> list[Any]:
+        """The held messages to handle now: all once the position is known, else the expired."""
+        if self.server.position is not None:
+            due, self._early = [m for _, m in self._early], []
+            return due
+        expired = time.monotonic() - POSITION_WAIT_S
+        due = [m for t, m in self._early if t <= expired]
+        self._early = [(t, m) for t, m in self._early if t > expired]
+        return due
 
     def _receive(self, ros: Any) -> None:
         now = time.time()

@@ -1,0 +1,251 @@
+"""Closed-loop vision landings on revinge's pad L1 (chapter §5.4, issue 16's landing targets).
+
+One aircraft of the simulator (JSBSim RMAX, ``--wind`` m/s mean wind with ``--gust`` m/s gusts)
+flown by the PFC kernel in process (:class:`~hdrc3_control.kernel_harness.KernelFlight`, the
+same lockstep as the nodes without DDS) lands ``--landings`` times in a row: take off, fly to a
+random point of the 20 m hemisphere over L1 (6-19 m from the pad's centre, 30-90 deg above the
+horizon, at least 5 m up), hover there with the camera on the pad, and ``FCL-Land-EV`` with the
+nose into the wind (no tailwind landing). While the camera is on, every ``--rate`` Hz of sim time
+the simulator's renderer draws the colour camera at the aircraft's true pose, with the PTU
+pointed at the pad's place in the world file from the *filter's* pose (as the PPC points at a
+GIS position), pointing jitter in the image and encoder noise in the angles read back; then
+``pad_pose.estimate`` and ``pad_fix.helicopter_fix`` turn it into a fix that reaches the
+kernel's filter ``--latency`` s after the image's time, as the nodes do.
+
+Printed: landings on vision and their touchdown error (the centre of gravity against the pad's
+centre, horizontally, ground truth used only to score), the vertical speed at the first skid
+contact, what each ``Cmd-Finished-EV`` said, the fixes per second of sim time, and the CPU
+time of estimate + fix per image. GPS is the simulator's nominal receiver (1.5 m Gauss-Markov
+per axis): vision landings use only its velocity.
+
+Run: .venv/bin/python bench/vision_landing.py [--landings 20] [--wind 5] [--seed 1]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+from collections import deque
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from hdrc3_control.event_codec import command_id_of, decode
+from hdrc3_control.kernel_harness import KernelFlight
+from hdrc3_control.measurements import VisionPoseMeasurement
+from hdrc3_control.pfc_state import FlightMode
+from hdrc3_control.ppc_modes import Pose, look_at_angles
+from hdrc3_perception.camera import Intrinsics
+from hdrc3_perception.pad_fix import FixStatus, PadPlacement, helicopter_fix
+from hdrc3_perception.pad_pose import PoseStatus, estimate
+from sim.render.renderer import Renderer
+from sim.sensors.camera import COLOR_CAMERA, camera_intrinsics
+from sim.sensors.camera_model import camera_pose
+from sim.sensors.ptu import PtuParams
+from sim.wind import WindSettings
+
+FINAL = (
+    "Cmd-Finished-EV",
+    "Cmd-Failed-EV",
+    "Cmd-Cancelled-EV",
+    "Cmd-Rejected-EV",
+    "Traj-Arrived-EV",
+)
+
+
+@dataclass
+class Landing:
+    """One landing's outcome."""
+
+    start: tuple[float, float, float]
+    """Offset from the pad's centre where the landing was commanded, m (ENU)."""
+    said: str
+    error: float | None
+    """Touchdown: horizontal distance of the CG from the pad's centre, m."""
+    sink: float | None
+    """Vertical speed at the first skid contact, m/s (positive down)."""
+
+
+class Camera:
+    """The colour camera pointed at the pad, rendered by the simulator, fixes into the filter."""
+
+    def __init__(self, flight: KernelFlight, rate: float, latency: float, seed: int) -> None:
+        self.flight = flight
+        self.placement = PadPlacement.of_world(flight.world)
+        self.renderer = Renderer(flight.world)
+        sim_k = camera_intrinsics(COLOR_CAMERA, 0.0)
+        self.sim_k = sim_k
+        self.k = Intrinsics(sim_k.width, sim_k.height, sim_k.fx, sim_k.fy, sim_k.cx, sim_k.cy)
+        self.period, self.latency = 1.0 / rate, latency
+        self.rng = np.random.default_rng(seed)
+        self.next_image = -math.inf
+        self.queue: deque[VisionPoseMeasurement] = deque()
+        self.images = self.fixes = 0
+        self.cpu = 0.0
+
+    def step(self) -> None:
+        """Before a tick: deliver due fixes; take an image when one is due."""
+        f = self.flight
+        now = f.sim.time
+        while self.queue and self.queue[0].time + self.latency <= now + 1e-9:
+            f.kernel.feed(self.queue.popleft())
+        state = f.kernel.state
+        if now < self.next_image or state is None:
+            return
+        self.next_image = now + self.period
+        pan, tilt = look_at_angles(
+            Pose(state.position, state.roll, state.pitch, state.heading),
+            tuple(self.placement.origin),
+        )
+        jitter, encoder = COLOR_CAMERA.jitter, PtuParams().encoder_noise
+        shown = (pan + self.rng.normal(0.0, jitter), tilt + self.rng.normal(0.0, jitter))
+        read = (pan + self.rng.normal(0.0, encoder), tilt + self.rng.normal(0.0, encoder))
+        pose = camera_pose(f.sim.truth(f.agent), *shown, COLOR_CAMERA.mount_offset)
+        rgb = self.renderer.render_color(pose, self.sim_k)
+        gray = cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2GRAY)
+        self.images += 1
+        started = time.process_time()
+        found = estimate(gray, self.k)
+        fix = None
+        if found.status is PoseStatus.OK and found.rotation is not None:
+            assert found.translation is not None
+            fix = helicopter_fix(now, found.rotation, found.translation, read, self.placement)
+        self.cpu += time.process_time() - started
+        if fix is not None and fix.status is FixStatus.OK:
+            self.fixes += 1
+            self.queue.append(VisionPoseMeasurement(now, fix.position, fix.sigma))
+
+    def off(self) -> None:
+        """Camera off: no more images; fixes in the pipeline are dropped."""
+        self.next_image, self.queue = math.inf, deque()
+
+
+def replies(flight: KernelFlight, cid: int) -> list[tuple[str, str]]:
+    """(event, reason) of the PFC's replies about ``cid``."""
+    return [
+        (e.name, decode(e.data, 0, with_reason=True).reason)
+        for e in flight.replies
+        if command_id_of(e.data) == cid
+    ]
+
+
+def run_until(flight: KernelFlight, camera: Camera, done: object, timeout: float) -> bool:
+    """Tick (with the camera) until ``done()`` or ``timeout`` s of sim time."""
+    assert callable(done)
+    for _ in range(round(timeout / 0.02)):
+        if done():
+            return True
+        camera.step()
+        flight.tick()
+    return bool(done())
+
+
+def command(flight: KernelFlight, camera: Camera, name: str, values: tuple[float, ...]) -> str:
+    """Send a command and wait for its final reply; returns 'event: reason'."""
+    cid = flight.send(name, values)
+    ended = lambda: any(n in FINAL for n, _ in replies(flight, cid))  # noqa: E731
+    if not run_until(flight, camera, ended, 240.0):
+        return "no final reply in 240 s"
+    name, reason = next((n, r) for n, r in replies(flight, cid) if n in FINAL)
+    return f"{name}: {reason}" if reason else name
+
+
+def fly_one(
+    flight: KernelFlight, camera: Camera, rng: np.random.Generator, wind: WindSettings
+) -> Landing:
+    """Take off, go to a random point of the hemisphere, land on the pad."""
+    f, pad = flight, camera.placement.origin
+    f.aircraft.restart_engine()  # the pilot's restart after the landing's engine cut
+    f.engine_on(autonomous=True)
+    run_until(f, camera, lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 30.0)
+    f.run(12.0)  # rotor spin-up on the skids
+    said = command(f, camera, "FCL-Takeoff-EV", ())
+    if said != "Cmd-Finished-EV":
+        return Landing((0.0, 0.0, 0.0), f"take-off: {said}", None, None)
+    distance = rng.uniform(6.0, 19.0)  # 1 m inside: the hover holds the point to about 1 m
+    elevation = math.radians(rng.uniform(30.0, 90.0))
+    azimuth = rng.uniform(0.0, math.tau)
+    up = max(5.0, distance * math.sin(elevation))
+    across = math.sqrt(max(distance**2 - up**2, 0.0))
+    offset = (across * math.cos(azimuth), across * math.sin(azimuth), up)
+    target = (pad[0] + offset[0], pad[1] + offset[1], pad[2] + offset[2] + 0.45)
+    said = command(f, camera, "Traj3D-Flyto-EV", (*target, 3.0))
+    if said != "Traj-Arrived-EV":
+        return Landing(offset, f"fly-to: {said}", None, None)
+    camera.next_image = f.sim.time
+    settle = f.sim.time + 8.0  # the fixes win over the GPS/INS solution first (10 rejections)
+    run_until(f, camera, lambda: f.sim.time >= settle, 10.0)
+    we, wn, _ = wind.mean_enu
+    into_wind = math.degrees(math.atan2(-we, -wn)) % 360.0 if (we or wn) else 0.0
+    airborne = [0.0]  # sink rate of the latest tick in the air
+    contact: list[float] = []  # the sink rate of the last tick before the skids touched
+
+    def ended() -> bool:
+        truth = f.sim.truth(f.agent)
+        if not contact and truth.on_ground:
+            contact.append(airborne[0])
+        airborne[0] = -truth.velocity_enu[2]
+        return any(n in FINAL for n, _ in replies(f, cid))
+
+    cid = f.send("FCL-Land-EV", (math.radians(into_wind),))
+
+    finished = run_until(f, camera, ended, 240.0)
+    camera.off()
+    outcome = next(((n, r) for n, r in replies(f, cid) if n in FINAL), ("none", "no reply"))
+    said = f"{outcome[0]}: {outcome[1]}" if finished else "no final reply in 240 s"
+    truth = f.sim.truth(f.agent)
+    if not (truth.on_ground and contact):
+        return Landing(offset, said, None, None)
+    error = math.hypot(truth.position_enu[0] - pad[0], truth.position_enu[1] - pad[1])
+    return Landing(offset, said, error, contact[0])
+
+
+def main() -> None:
+    """Fly the landings and print the figures."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--landings", type=int, default=20)
+    parser.add_argument("--wind", type=float, default=5.0, help="mean wind, m/s (from the west)")
+    parser.add_argument("--gust", type=float, default=1.0, help="gust intensity, m/s")
+    parser.add_argument("--rate", type=float, default=10.0, help="camera images per s of sim time")
+    parser.add_argument("--latency", type=float, default=0.15, help="image to filter, s")
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args()
+    wind = WindSettings((args.wind, 0.0, 0.0), args.gust)
+    flight = KernelFlight(seed=args.seed, wind=wind)
+    camera = Camera(flight, args.rate, args.latency, args.seed)
+    rng = np.random.default_rng(args.seed)
+    print(f"revinge L1, wind {args.wind:g} m/s from the west, gusts {args.gust:g} m/s, camera "
+          f"{args.rate:g} Hz, fixes {args.latency:g} s late, {args.landings} landings", flush=True)  # fmt: skip
+    results: list[Landing] = []
+    vision_time = 0.0
+    for i in range(args.landings):
+        before = flight.sim.time
+        result = fly_one(flight, camera, rng, wind)
+        vision_time += flight.sim.time - before
+        results.append(result)
+        where = ", ".join(f"{v:+.1f}" for v in result.start)
+        error = "-" if result.error is None else f"{result.error:.3f} m"
+        sink = "-" if result.sink is None else f"{result.sink:.2f} m/s"
+        print(f"{i + 1:2d}: from ({where}) m: touchdown {error} off, sink {sink}; {result.said}",
+              flush=True)  # fmt: skip
+    on_vision = [r for r in results if r.error is not None and "landed on vision" in r.said]
+    errors = [r.error for r in on_vision if r.error is not None]
+    sinks = [r.sink for r in on_vision if r.sink is not None]
+    camera.renderer.release()
+    print(f"landed on vision: {len(on_vision)}/{len(results)}", flush=True)
+    if errors:
+        print(f"touchdown error: mean {statistics.mean(errors):.3f} m, max {max(errors):.3f} m "
+              f"(target mean <= 0.20 m; chapter 0.42 m)", flush=True)  # fmt: skip
+        print(f"vertical speed at contact: mean {statistics.mean(sinks):.2f} m/s, max "
+              f"{max(sinks):.2f} m/s (target <= 0.35 m/s)", flush=True)  # fmt: skip
+    if camera.images:
+        print(f"camera: {camera.images} images, {camera.fixes} fixes; estimate + fix "
+              f"{1000.0 * camera.cpu / camera.images:.1f} ms CPU per image "
+              f"({camera.images / camera.cpu:.0f} Hz; target >= 25 Hz)", flush=True)  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
