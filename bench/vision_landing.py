@@ -28,6 +28,7 @@ import math
 import statistics
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import cv2
@@ -132,22 +133,24 @@ def replies(flight: KernelFlight, cid: int) -> list[tuple[str, str]]:
     ]
 
 
-def run_until(flight: KernelFlight, camera: Camera, done: object, timeout: float) -> bool:
+def run_until(
+    flight: KernelFlight, camera: Camera, done: Callable[[], bool], timeout: float
+) -> bool:
     """Tick (with the camera) until ``done()`` or ``timeout`` s of sim time."""
-    assert callable(done)
     for _ in range(round(timeout / 0.02)):
         if done():
             return True
         camera.step()
         flight.tick()
-    return bool(done())
+    return done()
 
 
 def command(flight: KernelFlight, camera: Camera, name: str, values: tuple[float, ...]) -> str:
     """Send a command and wait for its final reply; returns 'event: reason'."""
     cid = flight.send(name, values)
-    ended = lambda: any(n in FINAL for n, _ in replies(flight, cid))  # noqa: E731
-    if not run_until(flight, camera, ended, 240.0):
+    if not run_until(
+        flight, camera, lambda: any(n in FINAL for n, _ in replies(flight, cid)), 240.0
+    ):
         return "no final reply in 240 s"
     name, reason = next((n, r) for n, r in replies(flight, cid) if n in FINAL)
     return f"{name}: {reason}" if reason else name
@@ -217,14 +220,14 @@ def main() -> None:
     flight = KernelFlight(seed=args.seed, wind=wind)
     camera = Camera(flight, args.rate, args.latency, args.seed)
     rng = np.random.default_rng(args.seed)
-    print(f"revinge L1, wind {args.wind:g} m/s from the west, gusts {args.gust:g} m/s, camera "
-          f"{args.rate:g} Hz, fixes {args.latency:g} s late, {args.landings} landings", flush=True)  # fmt: skip
+    print(
+        f"revinge L1, wind {args.wind:g} m/s from the west, gusts {args.gust:g} m/s, camera "
+        f"{args.rate:g} Hz, fixes {args.latency:g} s late, {args.landings} landings",
+        flush=True,
+    )
     results: list[Landing] = []
-    vision_time = 0.0
     for i in range(args.landings):
-        before = flight.sim.time
         result = fly_one(flight, camera, rng, wind)
-        vision_time += flight.sim.time - before
         results.append(result)
         where = ", ".join(f"{v:+.1f}" for v in result.start)
         error = "-" if result.error is None else f"{result.error:.3f} m"

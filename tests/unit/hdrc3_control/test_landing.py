@@ -122,7 +122,7 @@ FAR = LandingSite("F", 400.0, 50.0, 0.0)
         ((110.0, 55.0, 14.0), 0.2, (L1, FAR), LandingAid.VISION, "pad L1"),
         ((110.0, 55.0, 14.0), 3.0, (L1,), LandingAid.GPS, "no vision fix of pad L1"),
         ((110.0, 55.0, 14.0), math.inf, (L1,), LandingAid.GPS, "no vision fix of pad L1"),
-        ((120.0, 60.0, 14.0), 0.2, (L1,), LandingAid.GPS, "pad L1 25 m away (over 20 m)"),
+        ((120.0, 60.0, 14.0), 0.2, (L1,), LandingAid.GPS, "pad L1 25.4 m away (over 20 m)"),
         ((110.0, 55.0, 14.0), 0.2, (), LandingAid.GPS, "no patterned pad in the world"),
     ],
 )
