@@ -64,8 +64,8 @@ class Landing:
     start: tuple[float, float, float]
     """Offset from the pad's centre where the landing was commanded, m (ENU)."""
     said: str
-    error: float | None
-    """Touchdown: horizontal distance of the CG from the pad's centre, m."""
+    miss: tuple[float, float] | None
+    """Touchdown: the CG east and north of the pad's centre, m (the scatter)."""
     sink: float | None
     """Vertical speed at the first skid contact, m/s (positive down)."""
 
@@ -202,8 +202,8 @@ def fly_one(
     truth = f.sim.truth(f.agent)
     if not (truth.on_ground and contact):
         return Landing(offset, said, None, None)
-    error = math.hypot(truth.position_enu[0] - pad[0], truth.position_enu[1] - pad[1])
-    return Landing(offset, said, error, contact[0])
+    miss = (truth.position_enu[0] - pad[0], truth.position_enu[1] - pad[1])
+    return Landing(offset, said, miss, contact[0])
 
 
 def main() -> None:
@@ -230,12 +230,16 @@ def main() -> None:
         result = fly_one(flight, camera, rng, wind)
         results.append(result)
         where = ", ".join(f"{v:+.1f}" for v in result.start)
-        error = "-" if result.error is None else f"{result.error:.3f} m"
+        error = "-"
+        if result.miss is not None:
+            error = (
+                f"({result.miss[0]:+.3f}, {result.miss[1]:+.3f}) = {math.hypot(*result.miss):.3f} m"
+            )
         sink = "-" if result.sink is None else f"{result.sink:.2f} m/s"
         print(f"{i + 1:2d}: from ({where}) m: touchdown {error} off, sink {sink}; {result.said}",
               flush=True)  # fmt: skip
-    on_vision = [r for r in results if r.error is not None and "landed on vision" in r.said]
-    errors = [r.error for r in on_vision if r.error is not None]
+    on_vision = [r for r in results if r.miss is not None and "landed on vision" in r.said]
+    errors = [math.hypot(*r.miss) for r in on_vision if r.miss is not None]
     sinks = [r.sink for r in on_vision if r.sink is not None]
     camera.renderer.release()
     print(f"landed on vision: {len(on_vision)}/{len(results)}", flush=True)
