@@ -22,7 +22,7 @@ import queue
 import sys
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import rclpy
@@ -65,6 +65,8 @@ POSITION_WAIT_S = 10.0
 """A speech act that arrives before the aircraft's first Data Interface sample waits up to this
 (wall s) for it: the gateway starts before its aircraft publishes a state, and a cfp refused
 for "does not know where it is yet" is lost to the auction (seen in a loaded CI run)."""
+EARLY_LIMIT = 1_000
+"""At most this many speech acts are held so (more are answered at once)."""
 
 
 def inbox(agent: str) -> str:
@@ -334,14 +336,23 @@ class GatewayNode(Node):
                 msg = self._inbox.get(timeout=TICK_S)
             except queue.Empty:
                 msg = None
-            try:
-                if msg is not None:
-                    self._early.append((time.monotonic(), msg))
-                for held in self._due():
-                    self._receive(held)
-                self.outbox.send(self.contractor.tick(time.time()))
-            except Exception as exc:  # the gateway answers on; the log says what broke
-                self.get_logger().error(f"gateway step failed: {exc!r}")
+            if msg is not None and len(self._early) < EARLY_LIMIT:
+                self._early.append((time.monotonic(), msg))
+            elif msg is not None:  # a flood before the first sample: answered at once
+                self._guarded(self._receive, msg)
+            for held in self._due():
+                self._guarded(self._receive, held)
+            self._guarded(self._tick)
+
+    def _tick(self) -> None:
+        self.outbox.send(self.contractor.tick(time.time()))
+
+    def _guarded(self, step: Callable[..., None], *args: Any) -> None:
+        """One step of the worker; a failure is logged and the gateway answers on."""
+        try:
+            step(*args)
+        except Exception as exc:  # the log says what broke
+            self.get_logger().error(f"gateway step failed: {exc!r}")
 
     def _due(self) -> list[Any]:
         """The held messages to handle now: all once the position is known, else the expired."""
