@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from hdrc3_control.event_codec import command_id_of, decode
+from hdrc3_control.event_protocol import FINAL
 from hdrc3_control.kernel_harness import KernelFlight
 from hdrc3_control.measurements import VisionPoseMeasurement
 from hdrc3_control.pfc_state import FlightMode
@@ -47,14 +47,6 @@ from sim.sensors.camera import COLOR_CAMERA, camera_intrinsics
 from sim.sensors.camera_model import camera_pose
 from sim.sensors.ptu import PtuParams
 from sim.wind import WindSettings
-
-FINAL = (
-    "Cmd-Finished-EV",
-    "Cmd-Failed-EV",
-    "Cmd-Cancelled-EV",
-    "Cmd-Rejected-EV",
-    "Traj-Arrived-EV",
-)
 
 
 @dataclass
@@ -124,15 +116,6 @@ class Camera:
         self.next_image, self.queue = math.inf, deque()
 
 
-def replies(flight: KernelFlight, cid: int) -> list[tuple[str, str]]:
-    """(event, reason) of the PFC's replies about ``cid``."""
-    return [
-        (e.name, decode(e.data, 0, with_reason=True).reason)
-        for e in flight.replies
-        if command_id_of(e.data) == cid
-    ]
-
-
 def run_until(
     flight: KernelFlight, camera: Camera, done: Callable[[], bool], timeout: float
 ) -> bool:
@@ -148,11 +131,9 @@ def run_until(
 def command(flight: KernelFlight, camera: Camera, name: str, values: tuple[float, ...]) -> str:
     """Send a command and wait for its final reply; returns 'event: reason'."""
     cid = flight.send(name, values)
-    if not run_until(
-        flight, camera, lambda: any(n in FINAL for n, _ in replies(flight, cid)), 240.0
-    ):
+    if not run_until(flight, camera, lambda: flight.finished(cid), 240.0):
         return "no final reply in 240 s"
-    name, reason = next((n, r) for n, r in replies(flight, cid) if n in FINAL)
+    name, reason = next((n, r) for n, r in flight.answers(cid) if n in FINAL)
     return f"{name}: {reason}" if reason else name
 
 
@@ -191,13 +172,13 @@ def fly_one(
         if not contact and truth.on_ground:
             contact.append(airborne[0])
         airborne[0] = -truth.velocity_enu[2]
-        return any(n in FINAL for n, _ in replies(f, cid))
+        return f.finished(cid)
 
     cid = f.send("FCL-Land-EV", (math.radians(into_wind),))
 
     finished = run_until(f, camera, ended, 240.0)
     camera.off()
-    outcome = next(((n, r) for n, r in replies(f, cid) if n in FINAL), ("none", "no reply"))
+    outcome = next(((n, r) for n, r in f.answers(cid) if n in FINAL), ("none", "no reply"))
     said = f"{outcome[0]}: {outcome[1]}" if finished else "no final reply in 240 s"
     truth = f.sim.truth(f.agent)
     if not (truth.on_ground and contact):

@@ -13,7 +13,8 @@ from collections.abc import Callable
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_control.commands import AttitudeCommand, VerticalMode
-from hdrc3_control.event_codec import command_id_of, encode
+from hdrc3_control.event_codec import command_id_of, decode, encode
+from hdrc3_control.event_protocol import FINAL, ID_ONLY, WITH_REASON
 from hdrc3_control.kernel import PfcKernel, TickResult, load_model
 from hdrc3_control.kernel_config import KernelConfig
 from hdrc3_control.landing import landing_sites
@@ -39,6 +40,8 @@ from sim.world_sim import SimConfig, WorldSim
 from sim.yacs import VerticalMode as YacsVerticalMode
 from sim.yacs import YacsCommand
 
+REPLIES = ID_ONLY | WITH_REASON
+"""The PFC's replies about a command (they carry its id)."""
 CHECKPOINT_TICKS = 25
 """world_sim's default checkpoint period (0.5 s of sim time)."""
 
@@ -192,6 +195,18 @@ class KernelFlight:
         payload = segment_payload(cid, seg)
         self.drc.send(WireEvent(event_id("Traj3D-EV"), "Traj3D-EV", payload, "DRC", "PFC"))
         return cid
+
+    def answers(self, command_id: int) -> list[tuple[str, str]]:
+        """(event, reason) of every reply about command ``command_id``, in order."""
+        return [
+            (e.name, decode(e.data, 0, with_reason=True).reason)
+            for e in self.replies
+            if e.name in REPLIES and command_id_of(e.data) == command_id
+        ]
+
+    def finished(self, command_id: int) -> bool:
+        """True once command ``command_id`` got its final reply."""
+        return any(name in FINAL for name, _ in self.answers(command_id))
 
     def reply(self, name: str, command_id: int | None = None) -> WireEvent | None:
         """First reply named ``name`` (for ``command_id`` if given)."""

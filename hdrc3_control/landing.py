@@ -157,7 +157,6 @@ class LandingPlan:
 
     target: LandingTarget
     aid: LandingAid
-    site: LandingSite | None
     reason: str
 
 
@@ -177,16 +176,20 @@ def plan_landing(
     e, n, u = state.position
     here = LandingTarget(e, n, ground_height, heading)
     if not sites:
-        return LandingPlan(here, LandingAid.GPS, None, "no patterned pad in the world")
-    site = min(sites, key=lambda s: math.dist((e, n, u), (s.east, s.north, s.ground_height)))
-    distance = math.dist((e, n, u), (site.east, site.north, site.ground_height))
+        return LandingPlan(here, LandingAid.GPS, "no patterned pad in the world")
+
+    def distance(site: LandingSite) -> float:
+        return math.dist((e, n, u), (site.east, site.north, site.ground_height))
+
+    site = min(sites, key=distance)
+    far = distance(site)
     if vision_age > config.vision_recent:
-        return LandingPlan(here, LandingAid.GPS, None, f"no vision fix of pad {site.name}")
-    if distance > config.engage_radius:
-        reason = f"pad {site.name} {distance:.1f} m away (over {config.engage_radius:g} m)"
-        return LandingPlan(here, LandingAid.GPS, None, reason)
+        return LandingPlan(here, LandingAid.GPS, f"no vision fix of pad {site.name}")
+    if far > config.engage_radius:
+        away = f"{far:.1f} m away (over {config.engage_radius:g} m)"
+        return LandingPlan(here, LandingAid.GPS, f"pad {site.name} {away}")
     target = LandingTarget(site.east, site.north, site.ground_height, heading)
-    return LandingPlan(target, LandingAid.VISION, site, f"pad {site.name}")
+    return LandingPlan(target, LandingAid.VISION, f"pad {site.name}")
 
 
 class Landing:

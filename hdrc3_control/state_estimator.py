@@ -45,7 +45,6 @@ from hdrc3_control.aiding import (
     AidingLog,
     AidingSource,
     PositionHistory,
-    SourceStats,
     Verdict,
     consistent,
 )
@@ -60,7 +59,6 @@ from hdrc3_control.measurements import (
 )
 
 _N = 10
-_NEVER = SourceStats({})
 _P, _V, _BA, _BB = slice(0, 3), slice(3, 6), slice(6, 9), 9
 
 
@@ -298,9 +296,7 @@ class StateEstimator:
         gh, gv, vs = c.gps_horizontal_sigma, c.gps_vertical_sigma, c.gps_velocity_sigma
         r = np.diag([gh**2, gh**2, gv**2, vs**2, vs**2, vs**2])
         source = AidingSource.GPS
-        if meas.time - self.aiding.stats.get(AidingSource.VISION, _NEVER).last_accepted <= (
-            c.vision_priority
-        ):
+        if self.aiding.age(AidingSource.VISION, meas.time) <= c.vision_priority:
             z, h, r, source = z[3:], h[3:], r[3:, 3:], AidingSource.GPS_VELOCITY
         force = self._rejected >= c.gate_reset_count
         if not self._correct(z, h, r, force=force):

@@ -56,7 +56,7 @@ from hdrc3_tst.goal_planning import (
 from hdrc3_tst.model import Node, NodeKind, NodeRef, NodeState
 from hdrc3_tst.navigation_port import NavigationPort
 from hdrc3_tst.network import FixStatus
-from hdrc3_tst.platform_port import Command, PlatformPort
+from hdrc3_tst.platform_port import LET_GO, Command, PlatformPort
 from hdrc3_tst.queries import Answer, QueryDomain, ask, ask_all
 from hdrc3_tst.recovery import (
     STEP_FAILED,
@@ -872,7 +872,7 @@ class ExecutionEngine:
             self.lift_capacity = decision.problem.lift_capacity  # learnt for later goals too
         last = report(RecoveryStep.APPLY_OPERATOR, decision.reason, decision.changes)
         if decision.released:  # magnet off, hook wound in, then plan
-            rec.letting_go = [(HookAction.RELEASE, 0.0), (HookAction.RAISE, 0.0)]
+            rec.letting_go = list(LET_GO)
         self.tst.tree.collapse(goal_id)
         rec.problem, rec.plan, rec.recovering = decision.problem, None, violation
         self._advance(goal_id)

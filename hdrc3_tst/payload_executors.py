@@ -40,7 +40,7 @@ from hdrc3_tst.executor import (
     failed,
 )
 from hdrc3_tst.executor_steps import airborne, finish, fly_to
-from hdrc3_tst.platform_port import Sighting
+from hdrc3_tst.platform_port import LET_GO, Sighting
 
 Steps = Generator[None, None, Status]
 HOVER_HEIGHT = 4.0
@@ -210,8 +210,7 @@ def pick_up(ctx: ActionContext, place: str, crowded: bool = False) -> Steps:
     """
     tag = ctx.name(place)
     for step in (
-        hook(ctx, HookAction.RELEASE),
-        hook(ctx, HookAction.RAISE, 0.0),
+        *(hook(ctx, action, length) for action, length in LET_GO),
         search(ctx, place, tag),
     ):
         # magnet off and hook wound in first: an electromagnet left energised after losing a

@@ -18,6 +18,10 @@ from hdrc3_platform_server.hook_api import LABEL as HOOK_LABEL
 from hdrc3_platform_server.hook_api import HookAction
 
 AnyCommand = FclCommand | PpclCommand | HookAction
+
+LET_GO: tuple[tuple[HookAction, float], ...] = ((HookAction.RELEASE, 0.0), (HookAction.RAISE, 0.0))
+"""Hook commands (action, cable length) that let go of a load and wind the hook in, in order:
+a pick-up starts with them, and so does a recovery whose load did not lift."""
 """What a command handle names: an FCL or PPCL command, or a ``ppcl_hook`` action."""
 
 

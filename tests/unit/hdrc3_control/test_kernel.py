@@ -8,7 +8,8 @@ from collections.abc import Callable
 
 import pytest
 
-from hdrc3_control.event_codec import command_id_of, decode, encode
+from hdrc3_control.event_codec import decode, encode
+from hdrc3_control.event_protocol import FINAL
 from hdrc3_control.kernel import PfcKernel, UiCommand
 from hdrc3_control.kernel_harness import KernelFlight
 from hdrc3_control.path_segment import PathSegment
@@ -19,28 +20,7 @@ from sim.sensors.fault import FaultMode
 
 Vec3 = tuple[float, float, float]
 
-FINAL = (
-    "Cmd-Finished-EV",
-    "Cmd-Failed-EV",
-    "Cmd-Rejected-EV",
-    "Cmd-Cancelled-EV",
-    "Traj-Arrived-EV",
-)
-REPLIES = (*FINAL, "Cmd-Accepted-EV", "Request-Segment-EV")
 FIGURE_14 = ["A.1", "B.1", "A.2", "A.3", "B.2", "B.7", "B.8", "A.4", "A.5"]
-
-
-def answers(f: KernelFlight, cid: int) -> list[tuple[str, str]]:
-    """(event, reason) of every reply about command ``cid``, in order."""
-    return [
-        (e.name, decode(e.data, 0, with_reason=True).reason)
-        for e in f.replies
-        if e.name in REPLIES and command_id_of(e.data) == cid
-    ]
-
-
-def finished(f: KernelFlight, cid: int) -> bool:
-    return any(name in FINAL for name, _ in answers(f, cid))
 
 
 def hovering(f: KernelFlight) -> bool:
@@ -58,8 +38,8 @@ def airborne_flight() -> KernelFlight:
     assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 5)
     f.run(12)  # rotor spin-up on the skids
     cid = f.send("FCL-Takeoff-EV")
-    assert f.run_until(lambda: finished(f, cid) and hovering(f), 60)
-    assert answers(f, cid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    assert f.run_until(lambda: f.finished(cid) and hovering(f), 60)
+    assert f.answers(cid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
     return f
 
 
@@ -101,8 +81,8 @@ def test_takeoff_hover_path_land() -> None:
     f = airborne_flight()
     x, y, z = f.kernel.state.position  # type: ignore[union-attr]
     cid = f.send("Traj3D-Flyto-EV", (x + 30.0, y + 20.0, z + 5.0, 6.0))
-    assert f.run_until(lambda: finished(f, cid), 40)
-    assert answers(f, cid) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
+    assert f.run_until(lambda: f.finished(cid), 40)
+    assert f.answers(cid) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
     assert math.dist(f.sim.truth(f.agent).position_enu, (x + 30, y + 20, z + 5)) < 3.5
     assert f.run_until(lambda: hovering(f), 20)
     lid = f.send("FCL-Land-EV", (math.pi / 2,))
@@ -112,11 +92,11 @@ def test_takeoff_hover_path_land() -> None:
         truth = f.sim.truth(f.agent)
         if truth.on_ground and not touchdown:
             touchdown.append(truth.velocity_enu[2])
-        return finished(f, lid)
+        return f.finished(lid)
 
     assert f.run_until(landed, 90)
     landed_on = "landed on GPS and barometer: no vision fix of pad L1"
-    assert answers(f, lid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", landed_on)]
+    assert f.answers(lid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", landed_on)]
     assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 5)
     assert f.sim.truth(f.agent).on_ground and -0.5 < touchdown[0] <= 0.0
     assert abs(math.remainder(f.sim.truth(f.agent).heading - math.pi / 2, math.tau)) < 0.15
@@ -129,13 +109,13 @@ def test_segments_in_sequence_request_and_switch() -> None:
     second = PathSegment(mid, end, (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), 5.0, 0.0)
     request_delay = f.sim.time
     c2 = f.send_segment(second)
-    assert f.run_until(lambda: finished(f, c2), 40)
-    assert answers(f, c1) == [
+    assert f.run_until(lambda: f.finished(c2), 40)
+    assert f.answers(c1) == [
         ("Cmd-Accepted-EV", ""),
         ("Request-Segment-EV", ""),
         ("Cmd-Finished-EV", ""),
     ]
-    assert answers(f, c2) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
+    assert f.answers(c2) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
     assert request_delay > 0.0
 
 
@@ -174,14 +154,14 @@ def test_an_interrupted_path_ends_the_segment_in_flight(
     # had long finished: the protocol dropped them and the segment in flight never ended.
     f, p, mid, c1 = first_segment(20.0)
     c2 = f.send_segment(PathSegment.straight(mid, (mid[0] + 80.0, mid[1], p[2]), 5.0, 0.0))
-    assert f.run_until(lambda: finished(f, c1), 20)
-    assert answers(f, c1)[-1] == ("Cmd-Finished-EV", "")  # the PFCM flies c2 now
+    assert f.run_until(lambda: f.finished(c1), 20)
+    assert f.answers(c1)[-1] == ("Cmd-Finished-EV", "")  # the PFCM flies c2 now
     interrupt(f)
-    assert f.run_until(lambda: finished(f, c2), 5)
+    assert f.run_until(lambda: f.finished(c2), 5)
     f.run(1.0)  # nothing more for either segment: exactly one final reply each
-    assert [n for n, _ in answers(f, c2)] == ["Cmd-Accepted-EV", reply]
-    assert answers(f, c2)[-1][1].startswith(reason), answers(f, c2)
-    assert [n for n, _ in answers(f, c1)] == FIRST_OF_TWO
+    assert [n for n, _ in f.answers(c2)] == ["Cmd-Accepted-EV", reply]
+    assert f.answers(c2)[-1][1].startswith(reason), f.answers(c2)
+    assert [n for n, _ in f.answers(c1)] == FIRST_OF_TWO
 
 
 def test_safety_braking_when_the_next_segment_is_withheld() -> None:
@@ -189,8 +169,8 @@ def test_safety_braking_when_the_next_segment_is_withheld() -> None:
     p = f.kernel.state.position  # type: ignore[union-attr]
     seg = PathSegment.straight(p, (p[0], p[1] + 40.0, p[2]), 6.0, 6.0)
     cid = f.send_segment(seg)
-    assert f.run_until(lambda: finished(f, cid), 40)
-    (name, reason) = answers(f, cid)[-1]
+    assert f.run_until(lambda: f.finished(cid), 40)
+    (name, reason) = f.answers(cid)[-1]
     assert name == "Cmd-Failed-EV" and reason.startswith("safety braking")
     assert f.run_until(lambda: hovering(f), 30)
     north = f.sim.truth(f.agent).position_enu[1]
@@ -204,9 +184,9 @@ def test_emergency_brake_mid_path() -> None:
     cid = f.send_segment(PathSegment.straight(p, (p[0] - 80.0, p[1], p[2]), 8.0, 0.0))
     assert f.run_until(lambda: speed(f) > 6.0, 30)
     bid = f.send("Emergency-Brake-EV")
-    assert f.run_until(lambda: finished(f, bid), 30)
-    assert answers(f, cid)[-1] == ("Cmd-Cancelled-EV", "emergency brake")
-    assert answers(f, bid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    assert f.run_until(lambda: f.finished(bid), 30)
+    assert f.answers(cid)[-1] == ("Cmd-Cancelled-EV", "emergency brake")
+    assert f.answers(bid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
     assert speed(f) < 1.0 and hovering(f)
 
 
@@ -228,8 +208,8 @@ def test_requests_in_the_wrong_state_are_refused_with_a_reason(
         reason = "segment starts"
     else:
         cid = f.send(event, values)
-    assert f.run_until(lambda: finished(f, cid), 5)
-    name, text = answers(f, cid)[-1]
+    assert f.run_until(lambda: f.finished(cid), 5)
+    name, text = f.answers(cid)[-1]
     assert name == "Cmd-Rejected-EV" and reason in text
     assert f.run_until(lambda: hovering(f), 10)
 
@@ -251,8 +231,8 @@ def test_on_the_ground_only_takeoff_with_the_engine_running(
         f.aircraft.rc.set_engine(False)
     assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 5)
     cid = f.send(event, (1.0,) * {"FCL-Takeoff-EV": 0, "FCL-Land-EV": 1}.get(event, 4))
-    assert f.run_until(lambda: finished(f, cid), 2)
-    assert answers(f, cid)[-1][0] == "Cmd-Rejected-EV" and reason in answers(f, cid)[-1][1]
+    assert f.run_until(lambda: f.finished(cid), 2)
+    assert f.answers(cid)[-1][0] == "Cmd-Rejected-EV" and reason in f.answers(cid)[-1][1]
 
 
 def test_takeoff_without_enough_lift_fails_and_stays_on_the_ground() -> None:
@@ -260,8 +240,8 @@ def test_takeoff_without_enough_lift_fails_and_stays_on_the_ground() -> None:
     f.engine_on(autonomous=True)
     f.run(12)
     cid = f.send("FCL-Takeoff-EV")
-    assert f.run_until(lambda: finished(f, cid), 30)
-    name, reason = answers(f, cid)[-1]
+    assert f.run_until(lambda: f.finished(cid), 30)
+    name, reason = f.answers(cid)[-1]
     assert name == "Cmd-Failed-EV" and "need" in reason
     assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 10)
     assert f.sim.truth(f.agent).on_ground
@@ -273,8 +253,8 @@ def test_gps_loss_brakes_then_lands_when_the_solution_is_lost() -> None:
     cid = f.send("Traj3D-Flyto-EV", (p[0] + 60.0, p[1], p[2], 6.0))
     assert f.run_until(lambda: speed(f) > 4.0, 20)
     f.sim.agents[f.agent].sensors.sensors()["gps"].fault.set(FaultMode.DROP, (0.0,))
-    assert f.run_until(lambda: finished(f, cid), 5)
-    name, reason = answers(f, cid)[-1]
+    assert f.run_until(lambda: f.finished(cid), 5)
+    name, reason = f.answers(cid)[-1]
     assert name == "Cmd-Failed-EV" and "GPS lost" in reason
     faults = [e.data.decode() for e in f.replies if e.name == "PFC-Fault-EV"]
     assert any("degraded" in text for text in faults)
@@ -294,8 +274,8 @@ def test_a_short_gps_dropout_is_ridden_through_on_dead_reckoning() -> None:
     gps.fault.set(FaultMode.DROP, (0.0,))
     f.run(2.0)  # shorter than KernelConfig.gps_loss_tolerance
     gps.fault.clear()
-    assert f.run_until(lambda: finished(f, cid), 40)
-    assert answers(f, cid)[-1] == ("Traj-Arrived-EV", "")
+    assert f.run_until(lambda: f.finished(cid), 40)
+    assert f.answers(cid)[-1] == ("Traj-Arrived-EV", "")
 
 
 def test_frozen_imu_ends_in_a_landing() -> None:
@@ -318,8 +298,8 @@ def test_a_simulator_resumed_from_its_checkpoint_is_a_pause_not_a_sensor_loss(
     checkpoint = f.checkpoint()
     f.run(lost_ticks * 0.02)
     f.resume(checkpoint)
-    assert f.run_until(lambda: finished(f, cid), 40)
-    assert answers(f, cid)[-1] == ("Traj-Arrived-EV", "")
+    assert f.run_until(lambda: f.finished(cid), 40)
+    assert f.answers(cid)[-1] == ("Traj-Arrived-EV", "")
     assert f.kernel.failsafe is Failsafe.NONE
     assert f.kernel.pauses == (1 if 25 - lost_ticks > 5 else 0)
     assert not [e for e in f.replies if e.name == "PFC-Fault-EV"]
@@ -359,8 +339,8 @@ def test_a_drifting_barometer_is_announced_excluded_and_the_flyto_goes_on() -> N
     for _ in range(round(40 / 0.02)):  # 0.2 m/s of drift for 30 s (6 m), as bench/faults.py
         baro.set(FaultMode.BIAS, (0.2 * min(30.0, f.sim.time - start),))
         f.tick()
-    assert f.run_until(lambda: finished(f, cid), 30)
-    assert answers(f, cid)[-1] == ("Traj-Arrived-EV", "")
+    assert f.run_until(lambda: f.finished(cid), 30)
+    assert f.answers(cid)[-1] == ("Traj-Arrived-EV", "")
     texts = [e.data.decode() for e in f.replies if e.name == "PFC-Fault-EV"]
     assert len(texts) == 1 and texts[0].startswith("navigation degraded: barometer drifting")
     error = f.kernel.state.position[2] - f.sim.truth(f.agent).position_enu[2]  # type: ignore[union-attr]
@@ -374,8 +354,8 @@ def test_rc_switch_to_manual_cancels_the_command() -> None:
     cid = f.send("Traj3D-Flyto-EV", (p[0] + 40.0, p[1], p[2], 5.0))
     assert f.run_until(lambda: speed(f) > 2.0, 20)
     f.set_mode(False)
-    assert f.run_until(lambda: finished(f, cid), 2)
-    assert answers(f, cid)[-1] == (
+    assert f.run_until(lambda: f.finished(cid), 2)
+    assert f.answers(cid)[-1] == (
         "Cmd-Cancelled-EV",
         "RC switch to manual: the safety pilot has the aircraft",
     )
@@ -393,7 +373,7 @@ def test_ui_brake_needs_the_arm_key(arm: bool, braked: bool) -> None:
         f.tick()
     f.kernel.post_ui(UiCommand.BRAKE)
     f.run(1.0)
-    cancelled = answers(f, cid)[-1] == ("Cmd-Cancelled-EV", "emergency brake")
+    cancelled = f.answers(cid)[-1] == ("Cmd-Cancelled-EV", "emergency brake")
     assert cancelled is braked
 
 
@@ -406,7 +386,7 @@ def test_figure_23_single_segment_event_order() -> None:
     mark = len(f.trace.records())
     p = f.kernel.state.position  # type: ignore[union-attr]
     cid = f.send_segment(PathSegment.straight(p, (p[0] + 20.0, p[1], p[2]), 4.0, 0.0))
-    assert f.run_until(lambda: finished(f, cid) and hovering(f), 40)
+    assert f.run_until(lambda: f.finished(cid) and hovering(f), 40)
     fired = [t.tid for r in f.trace.records()[mark:] for t in r.transitions if t.tid[0] in "ABC"]
     assert fired[: len(FIGURE_23)] == FIGURE_23
     assert fired[-len(FIGURE_23_END) :] == FIGURE_23_END
@@ -454,16 +434,16 @@ def test_sync_sends_time_and_ground_reference() -> None:
 def test_yaw_then_climb() -> None:
     f = airborne_flight()
     yid = f.send("FCL-Yaw-EV", (math.pi / 2,))
-    assert f.run_until(lambda: finished(f, yid), 20)
-    assert answers(f, yid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    assert f.run_until(lambda: f.finished(yid), 20)
+    assert f.answers(yid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
     heading = f.kernel.state.heading  # type: ignore[union-attr]
     assert abs(math.remainder(heading - math.pi / 2, math.tau)) <= math.radians(5.0)
     # the attitude sensor's heading error comes on top (sim/sensors/attitude.py)
     assert abs(math.remainder(f.sim.truth(f.agent).heading - math.pi / 2, math.tau)) < 0.2
     z = f.kernel.state.position[2]  # type: ignore[union-attr]
     cid = f.send("FCL-Climb-EV", (z + 8.0,))
-    assert f.run_until(lambda: finished(f, cid), 30)
-    assert answers(f, cid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
+    assert f.run_until(lambda: f.finished(cid), 30)
+    assert f.answers(cid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", "")]
     assert f.run_until(lambda: hovering(f), 30)
     assert abs(f.kernel.state.position[2] - (z + 8.0)) < 1.0  # type: ignore[union-attr]
 
@@ -478,8 +458,8 @@ def test_next_segment_must_continue_the_path(
     f, _, mid, _ = first_segment(30.0)
     start = (mid[0] + offset[0], mid[1] + offset[1], mid[2] + offset[2])
     c2 = f.send_segment(PathSegment.straight(start, (start[0] + 10.0, start[1], start[2]), 4.0))
-    assert f.run_until(lambda: bool(answers(f, c2)), 2)
-    name, text = answers(f, c2)[0]
+    assert f.run_until(lambda: bool(f.answers(c2)), 2)
+    name, text = f.answers(c2)[0]
     if reason:
         assert name == "Cmd-Rejected-EV" and reason in text
     else:
@@ -504,19 +484,19 @@ def test_a_queued_segment_is_replaced_before_it_is_flown(
     )
     c3 = f.send_segment(third)
     flown, dropped = (c3, c2) if replaced else (c2, c3)
-    assert f.run_until(lambda: finished(f, dropped), 2)
-    assert not finished(f, c1)  # decided before the PFCM left the first segment
-    assert f.run_until(lambda: finished(f, flown), 40)
+    assert f.run_until(lambda: f.finished(dropped), 2)
+    assert not f.finished(c1)  # decided before the PFCM left the first segment
+    assert f.run_until(lambda: f.finished(flown), 40)
     f.run(1.0)  # nothing more for any segment: exactly one final reply each
-    assert [n for n, _ in answers(f, c1)] == FIRST_OF_TWO
-    assert answers(f, flown) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
+    assert [n for n, _ in f.answers(c1)] == FIRST_OF_TWO
+    assert f.answers(flown) == [("Cmd-Accepted-EV", ""), ("Traj-Arrived-EV", "")]
     if replaced:
-        assert answers(f, c2) == [
+        assert f.answers(c2) == [
             ("Cmd-Accepted-EV", ""),
             ("Cmd-Cancelled-EV", f"replaced by segment {c3}"),
         ]
     else:
-        [(name, reason)] = answers(f, c3)
+        [(name, reason)] = f.answers(c3)
         assert name == "Cmd-Rejected-EV" and "does not start where" in reason
     end = (third if replaced else second).end
     # arrival radius 3 m, plus the estimate's error and the payload hook's pull (measured 3.51 m)
@@ -538,8 +518,8 @@ def test_malformed_payloads_get_a_defined_answer(
 ) -> None:
     f = airborne_flight()
     cid = f.send(event, values)
-    assert f.run_until(lambda: finished(f, cid), 5)
-    name, text = answers(f, cid)[-1]
+    assert f.run_until(lambda: f.finished(cid), 5)
+    name, text = f.answers(cid)[-1]
     assert name == answer and reason in text
     assert f.run_until(lambda: hovering(f), 20)
 
@@ -579,8 +559,8 @@ def test_frozen_imu_during_a_flyto_fails_it_once_and_lands_as_announced() -> Non
     # velocity although the YACS's own climb-rate hold had lost its accelerometer
     assert f.sim.truth(f.agent).velocity_enu[2] > -1.0
     assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 10)
-    finals = [(n, r) for n, r in answers(f, cid) if n in FINAL]
-    assert len(finals) == 1 and finals[0][0] == "Cmd-Failed-EV", answers(f, cid)
+    finals = [(n, r) for n, r in f.answers(cid) if n in FINAL]
+    assert len(finals) == 1 and finals[0][0] == "Cmd-Failed-EV", f.answers(cid)
     assert "emergency landing" in finals[0][1] and "IMU frozen" in finals[0][1]
     texts = [e.data.decode() for e in f.replies if e.name == "PFC-Fault-EV"]
     assert [t for t in texts if t.startswith("failsafe")] == [
@@ -599,13 +579,13 @@ def test_gps_back_within_the_dead_reckoning_limit_ends_the_hold_in_hover() -> No
     gps = f.sim.agents[f.agent].sensors.sensors()["gps"]
     gps.fault.set(FaultMode.DROP, (0.0,))
     assert f.run_until(lambda: f.kernel.failsafe is Failsafe.HOLD, 5)
-    ((name, reason),) = [(n, r) for n, r in answers(f, cid) if n in FINAL]
+    ((name, reason),) = [(n, r) for n, r in f.answers(cid) if n in FINAL]
     assert name == "Cmd-Failed-EV" and reason.startswith("failsafe: GPS lost"), reason
     assert f.kernel.failsafe_reason == reason
     f.run(1.0)
     refused = f.send("Traj3D-Flyto-EV", (p[0], p[1], p[2], 6.0))
     f.run(0.1)
-    assert [n for n, _ in answers(f, refused)] == ["Cmd-Rejected-EV"]
+    assert [n for n, _ in f.answers(refused)] == ["Cmd-Rejected-EV"]
     gps.fault.clear()
     assert f.run_until(lambda: f.kernel.failsafe is Failsafe.NONE, 2)
     assert f.run_until(lambda: hovering(f), 30)
