@@ -11,11 +11,9 @@ import enum
 from rclpy.node import Node
 
 from hdrc3_base.errors import ConfigError
-from hdrc3_base.ros_runtime import RosProcess
+from hdrc3_base.ros_runtime import SERVICE_WAIT_S, RosProcess
 from hdrc3_interfaces.msg import PfcState, SimResult
 from hdrc3_interfaces.srv import SimSetRc
-
-SERVICE_WAIT_S = 5.0
 
 
 class Switch(enum.Enum):

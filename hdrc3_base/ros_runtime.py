@@ -38,6 +38,11 @@ from rclpy.signals import SignalHandlerOptions
 from hdrc3_base.errors import ConfigError, Hdrc3Error
 from hdrc3_base.ros_env import apply_localhost_default
 
+SERVICE_WAIT_S = 10.0
+"""How long a new client looks for a service before calling it absent (one value for the CLI,
+the safety pilot and the mission client: in a fresh clone's test run the platform server's
+``ppcl/turn_to`` stayed unseen for the 5 s the CLI then waited, with the server running)."""
+
 SERVICE_QOS = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
     history=HistoryPolicy.KEEP_LAST,

@@ -17,15 +17,12 @@ from rclpy.node import Node
 from hdrc3_base.agents import parse_agents
 from hdrc3_base.answer_memory import RESEND_S, ensure_key
 from hdrc3_base.errors import ConfigError
-from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
+from hdrc3_base.ros_runtime import SERVICE_QOS, SERVICE_WAIT_S, RosProcess
 from hdrc3_base.stamps import stamp_s
 from hdrc3_interfaces.msg import PlatformEvent
 from hdrc3_platform_server.codes import EventKind
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
 from hdrc3_platform_server.node import EVENT_QOS
-
-SERVICE_WAIT_S = 5.0
-"""How long to look for the agent's service before calling the agent unknown."""
 
 
 def check_agent(agent: str) -> str:

@@ -17,7 +17,7 @@ from typing import Any
 from rclpy.node import Node
 
 from hdrc3_base.answer_memory import RESEND_S, ensure_key
-from hdrc3_base.ros_runtime import SERVICE_QOS, RosProcess
+from hdrc3_base.ros_runtime import SERVICE_QOS, SERVICE_WAIT_S, RosProcess
 from hdrc3_interfaces.msg import TstNodeStatus, TstReturn
 from hdrc3_interfaces.srv import TstAbort, TstCreate, TstExecute, TstPause, TstSet
 from hdrc3_tst.check import CheckResult, CheckStatus, load_text
@@ -25,7 +25,6 @@ from hdrc3_tst.distribution import bind_open_agents, involved_agents
 from hdrc3_tst.model import NodeState
 from hdrc3_tst.node import STATUS_QOS
 
-SERVICE_WAIT_S = 10.0
 CALL_TIMEOUT_S = 30.0
 UNANSWERED = 255
 """Code of a reply that never came (not a ``TstReturn`` code)."""
