@@ -25,7 +25,8 @@ Barometer monitor: the filter's bias state follows slow weather drift, so a baro
 fast (a blocked static port, a heating sensor) would carry the height away unnoticed (GPS height
 is too poor, 3 m correlated, to veto it). GPS Doppler velocity is not: integrated, its vertical
 component gives the climb to 0.2 m over half a minute. The monitor compares the barometer's height
-change (low-passed, 1 s) with that integral over the last ``baro_window``; a difference above
+change with that integral, both through the same 1 s low-pass (which alone would lag a 3 m/s
+climb by 3 m), over the last ``baro_window``; a difference above
 ``baro_drift_limit`` excludes the barometer for the rest of the filter's life. The height then
 goes back to the filter's height at the start of the window plus the GPS climb since, and GPS
 velocity (with the GPS height, weakly) carries it on. :attr:`StateEstimator.baro_fault` says why.
@@ -213,6 +214,8 @@ class StateEstimator:
         self._gps_climb = 0.0
         self._gps_velocity: tuple[float, float] | None = None
         self._baro_low: float | None = None
+        self._climb_low = 0.0
+        """The GPS climb through the barometer's low-pass."""
         self._baro_history: deque[tuple[float, float, float, float | None]] = deque()
         """(time, barometer height minus GPS climb, GPS climb, filter height) once a second."""
 
@@ -399,11 +402,14 @@ class StateEstimator:
         gps = self._gps_velocity
         if self.baro_fault is not None or gps is None or meas.time - gps[0] > 0.5:
             return
-        low = self._baro_low
+        low, climb_low = self._baro_low, self._climb_low
         if low is None or not self._baro_history:
-            low = meas.height
-        self._baro_low = low = low + 0.04 * (meas.height - low)  # 1 s at 25 Hz
-        offset = low - self._gps_climb
+            low, climb_low = meas.height, self._gps_climb
+        # both through the same 1 s low-pass (at 25 Hz): it lags a climb by the climb rate
+        # times 1 s, which must not count as a difference
+        self._baro_low = low = low + 0.04 * (meas.height - low)
+        self._climb_low = climb_low = climb_low + 0.04 * (self._gps_climb - climb_low)
+        offset = low - climb_low
         history = self._baro_history
         while history and meas.time - history[0][0] > c.baro_window:
             history.popleft()
