@@ -20,6 +20,8 @@ Publishes, in the agent's namespace:
 A specification that does not parse, or a formula over an unknown fluent, stops the node with
 exit code 2 and the reason (``file:line:column``): it never runs without its formulas. Time is
 the ROS clock (``/clock`` from ``world_sim`` unless ``sim_time`` is false), in milliseconds.
+States are synthesised and progressed after every sample (a state complete with it is decided at
+once) and on a timer (``tick_period_s``: states whose samples are late or missing).
 """
 
 from __future__ import annotations
@@ -145,11 +147,15 @@ class ExecutionMonitorNode(Node):
         return ms_from_ns(self.get_clock().now().nanoseconds)
 
     def _on_state(self, topic: str, msg: Any) -> None:
+        now = self._now_ms()
         try:
-            self.streams.catalog.on_message(topic, msg, self._now_ms())
+            self.streams.catalog.on_message(topic, msg, now)
         except Hdrc3Error as exc:  # one bad message must not stop the node
             self.bad_messages += 1
             self.get_logger().warning(f"dropped message on {topic}: {exc}", throttle_duration_sec=5)
+            return
+        if self._started:  # a state complete with this sample is progressed now, not at the tick
+            self._advance(now)
 
     def _on_power(self, msg: PowerStatus) -> None:
         stamp = ms_from_ns(msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec)
@@ -186,6 +192,9 @@ class ExecutionMonitorNode(Node):
             result = self.monitor.start(now)
             self._started = True
             self.get_logger().info(f"monitoring started at {now} ms: {result.reason}")
+        self._advance(now)
+
+    def _advance(self, now: int) -> None:
         self.streams.host.advance(now)
         self._publish(self.monitor.advance(now))
 

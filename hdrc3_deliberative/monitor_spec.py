@@ -4,7 +4,7 @@ A specification says how often states are synthesised from DyKnow streams and li
 formulas: *global* ones, active for the whole execution, and *operator-specific* ones, activated
 each time a step of their operator starts, with the operator's arguments bound (Example 9.2)::
 
-    states period 100 ms, max_delay 200 ms, stale 1000 ms;
+    states period 40 ms, max_delay 200 ms, stale 1000 ms;
     monitor speed_limit brake: always forall av in AV: speed(av) <= 12;
     monitor climbed for climb(av): EXEC until altitude(av) >= 7.0;
     monitor pickup for pickup-box(av, box) recovery retry_pickup:
@@ -35,6 +35,7 @@ from lark.exceptions import UnexpectedInput
 from hdrc3_base.errors import SourceError
 from hdrc3_dyknow.formula import Formula
 from hdrc3_dyknow.formula_parser import FormulaParser, FormulaSyntaxError
+from hdrc3_platform_server.data_interface import DI_RATE_HZ
 
 GRAMMAR_PATH = Path(__file__).with_name("monitor_spec.lark")
 DEFAULT_SPEC = Path(__file__).with_name("default.monitors")
@@ -70,7 +71,9 @@ class StateSettings:
     """How states are synthesised from streams (ms).
 
     Attributes:
-        period_ms: One state every period, on the grid ``k * period_ms``.
+        period_ms: One state every period, on the grid ``k * period_ms``. By default the
+            Data Interface's own period (25 Hz: 40 ms): on its grid a state never waits for a
+            later sample and a violation is seen within the formula's bound plus one period.
         max_delay_ms: How long a state waits for late samples (§9.3.2: "delaying state
             generation slightly to allow values to propagate").
         stale_ms: A stream without a sample for longer than this is stale: its value is
@@ -78,7 +81,7 @@ class StateSettings:
 
     """
 
-    period_ms: int = 100
+    period_ms: int = round(1000 / DI_RATE_HZ)
     max_delay_ms: int = 200
     stale_ms: int = 1000
 

@@ -27,16 +27,19 @@ from typing import Any
 
 import pytest
 
+from hdrc3_deliberative.monitor_spec import DEFAULT_SPEC, MonitorSpecParser
+from sim.node import PAYLOAD_EVERY
+from sim.world_sim import TICK_RATE_HZ
 from tests.integration.test_tst_run import SEED
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tst"
 FAULT = "uav0:hook:release@d/3+10"
-STATE_PERIOD_MS = 100
-"""default.monitors: states every 100 ms."""
-SENSOR_PERIOD_MS = 100
-"""The carrying sensor reports at 10 Hz."""
+STATE_PERIOD_MS = MonitorSpecParser().parse_file(DEFAULT_SPEC).settings.period_ms
+"""default.monitors' state period."""
+SENSOR_PERIOD_MS = PAYLOAD_EVERY * 1000 // TICK_RATE_HZ
+"""The carrying sensor's period."""
 PUT_DOWN_WITHIN = 4.0
 """m of the west field's point: the drop hovers there on GPS (metres of error)."""
 

@@ -28,7 +28,7 @@ pytestmark = pytest.mark.ros
 AGENT = "uav0"
 LIMIT = 0.5
 BOUND_MS = 1000
-PERIOD_MS = 100
+PERIOD_MS = 40  # on the 25 Hz Data Interface's grid
 MAX_DELAY_MS = 200
 SPEC = f"""
 states period {PERIOD_MS} ms, max_delay {MAX_DELAY_MS} ms, stale 1000 ms;

@@ -26,6 +26,7 @@ from typing import Any
 
 import pytest
 
+from tests.integration.test_box_drop_recovery import SENSOR_PERIOD_MS, STATE_PERIOD_MS
 from tests.integration.test_tst_run import SEED
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
@@ -37,8 +38,8 @@ YARD = (-230.0, 70.0)
 """The mission's point Yard (east, north): where the boxes go down."""
 BOUND_MS = 1000
 """carrier_lifted: a stall may last up to 1 s."""
-PERIODS_MS = 200
-"""One state period (100 ms) and one carrying-sensor period (10 Hz)."""
+PERIODS_MS = STATE_PERIOD_MS + SENSOR_PERIOD_MS
+"""One state period and one carrying-sensor period."""
 PUT_DOWN_WITHIN = 5.0
 """m of the yard's point: a put-down hovers there on GPS (metres of error)."""
 
