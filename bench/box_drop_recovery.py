@@ -1,7 +1,7 @@
 """A box lost in flight on the whole node chain, N runs (issue 15 "done when", chapter 9.3).
 
 Each run is ``hdrc3 tst run examples/tst/delivery_box_drop.tst --launch --fault
-uav0:hook:release@d/3+10`` (at ``--speed max``, one ROS domain per run) and is read back from
+uav0:hook:release@fly-to#2+10`` (at ``--speed max``, one ROS domain per run) and is read back from
 its MCAP (:mod:`hdrc3.recovery_record`). Prints per run: whether the mission succeeded, the
 detection latency (violation stamp minus the ground-truth release, both in sim time), the
 manager's reaction (first recovery step minus the release), the recovery steps, sim time from
@@ -26,7 +26,7 @@ from hdrc3.recovery_record import read_lost_load, stamp_ms
 
 ROOT = Path(__file__).resolve().parents[1]
 HDRC3 = str(Path(sys.executable).parent / "hdrc3")
-FAULT = "uav0:hook:release@d/3+10"
+FAULT = "uav0:hook:release@fly-to#2+10"
 HOVER = 4
 """PfcState.MODE_HOVER."""
 

@@ -1,7 +1,7 @@
 """What a recording says about a load lost or not lifted, and its recovery (section 9.3).
 
 Reads an MCAP of a run such as ``hdrc3 tst run examples/tst/delivery_box_drop.tst --launch
---fault uav0:hook:release@d/3+10 --out DIR`` (:func:`read_lost_load`): when the load left the
+--fault uav0:hook:release@fly-to#2+10 --out DIR`` (:func:`read_lost_load`): when the load left the
 hook in the simulator's ground truth (``/world_sim/objects``), when the agent's carrying sensor
 stopped reporting it, the execution monitor's violation, the TST manager's recovery steps with
 the new plan, the flight control's modes in between, and where the load finally lies. Or of

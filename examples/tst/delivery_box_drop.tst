@@ -2,7 +2,7 @@
 # by TALplanner: fly to the supply depot, pick up box1, carry it to the west field, drop it
 # there (d/1 .. d/4). Run with a fault that releases the box in flight:
 #
-#   hdrc3 tst run examples/tst/delivery_box_drop.tst --launch --fault uav0:hook:release@d/3+10
+#   hdrc3 tst run examples/tst/delivery_box_drop.tst --launch --fault uav0:hook:release@fly-to#2+10
 #
 # The execution monitor's box_held formula (hdrc3_deliberative/default.monitors, Example 9.4 on
 # the hook's carrying sensor) is violated when the sensor stops reporting box1; the TST manager

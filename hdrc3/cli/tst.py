@@ -87,8 +87,9 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         action="append",
         default=[],
         metavar="AGENT:SENSOR:MODE@NODE+S",
-        help="inject a world_sim fault S sim seconds after NODE started running, e.g."
-        " uav0:hook:release@d/3+6 (repeatable)",
+        help="inject a world_sim fault S sim seconds after NODE (a node id, or ACTION#N: the N-th"
+        " node of that action on AGENT) started running, e.g. uav0:hook:release@fly-to#2+6"
+        " (repeatable)",
     )
     run.set_defaults(handler=_run)
 
@@ -251,7 +252,7 @@ def _execute(
         if flown.outcome is Outcome.REFUSED:
             return EXIT_REFUSED
         for fault in trigger.not_injected():
-            console.print(f"fault: {fault} was never injected (node {fault.node_id} never ran)")
+            console.print(f"fault: {fault} was never injected (its node never ran long enough)")
         if hand_over_first:
             settle(process, client)
         latest = client.latest(mission)

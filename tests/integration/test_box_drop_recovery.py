@@ -1,6 +1,6 @@
 """A box lost in flight is detected, recovered from and delivered (issue 15, chapter 9.3).
 
-``hdrc3 tst run examples/tst/delivery_box_drop.tst --launch --fault uav0:hook:release@d/3+10``
+``hdrc3 tst run examples/tst/delivery_box_drop.tst --launch --fault uav0:hook:release@fly-to#2+10``
 flies the whole chain (world_sim with the MuJoCo payload, control_kernel, platform_server,
 tst_manager, task_planner, path_planner, execution_monitor): the goal node is planned by
 TALplanner (fly-to, pick-up-box, fly-to, drop-box); ten seconds into the carrying flight the
@@ -35,7 +35,7 @@ from tests.integration.test_tst_run import SEED
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tst"
-FAULT = "uav0:hook:release@d/3+10"
+FAULT = "uav0:hook:release@fly-to#2+10"
 STATE_PERIOD_MS = MonitorSpecParser().parse_file(DEFAULT_SPEC).settings.period_ms
 """default.monitors' state period."""
 SENSOR_PERIOD_MS = PAYLOAD_EVERY * 1000 // TICK_RATE_HZ
