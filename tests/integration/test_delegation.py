@@ -118,6 +118,7 @@ def publish(rig: Rig, messages: Sequence[Any]) -> None:
         publisher.publish(to_msg(msg) if not isinstance(msg, AclMessageMsg) else msg)
 
 
+@pytest.mark.timeout(900)  # above its own bounded waits: launch 180 s, two flights 240 s each, ...
 def test_gateways_refuse_bad_speech_acts_then_delegate_and_reallocate_around_a_partition(
     rig: tuple[Rig, Any],
 ) -> None:
