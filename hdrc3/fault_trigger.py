@@ -27,14 +27,13 @@ from rosgraph_msgs.msg import Clock
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.stamps import stamp_s
 from hdrc3_interfaces.srv import SimInjectFault
+from hdrc3_tst.model import NodeState
 
 _FAULT = re.compile(
     r"^(?P<agent>[^:@]+):(?P<sensor>[^:@]+):(?P<mode>[^:@]+)@(?P<node>[^@]+)\+(?P<s>[^+]+)$"
 )
 _NTH = re.compile(r"^(?P<kind>[^#]+)#(?P<n>[0-9]+)$")
 INJECT_SERVICE = "/world_sim/inject_fault"
-RUNNING = "running"
-"""``TstNodeStatus.state`` of a node that runs (``hdrc3_tst.model.NodeState.RUNNING``)."""
 
 
 def fault_modes() -> dict[str, int]:
@@ -112,7 +111,7 @@ class FaultSchedule:
 
         ``start`` is the node's T_S (NaN while a running node waits to begin).
         """
-        if state != RUNNING or not (math.isfinite(start) and math.isfinite(now)):
+        if state != NodeState.RUNNING.value or not (math.isfinite(start) and math.isfinite(now)):
             return
         runs = self._started.setdefault((agent, kind), set())
         if node_id in runs:
