@@ -223,8 +223,8 @@ def test_a_good_barometer_is_kept_through_climbs_and_descents(
     record: list[tuple[float, np.ndarray, np.ndarray]] = []
     sc.run(90.0, record)
     assert sc.est.baro_fault is None
-    _, truth, x, _ = record[-1]  # type: ignore[misc]
-    assert abs(x[2] - truth[2]) < 1.0
+    # the filter follows the climbs on its inertial data (a wrong-signed one is metres off)
+    assert max(abs(x[2] - truth[2]) for t, truth, x, _ in record if t > 40.0) < 0.5  # type: ignore[misc]
 
 
 def _error(record: list[tuple[float, np.ndarray, np.ndarray]], at: float) -> float:
