@@ -25,8 +25,8 @@ Barometer monitor: the filter's bias state follows slow weather drift, so a baro
 fast (a blocked static port, a heating sensor) would carry the height away unnoticed (GPS height
 is too poor, 3 m correlated, to veto it). GPS Doppler velocity is not: integrated, its vertical
 component gives the climb to 0.2 m over half a minute. The monitor compares the barometer's height
-change with that integral, both through the same 1 s low-pass (which alone would lag a 3 m/s
-climb by 3 m), over the last ``baro_window``; a difference above
+change with that integral over the last ``baro_window``, their difference low-passed (1 s; the
+barometer alone low-passed would lag a 3 m/s climb by 3 m); a difference above
 ``baro_drift_limit`` excludes the barometer for the rest of the filter's life. The height then
 goes back to the filter's height at the start of the window plus the GPS climb since, and GPS
 velocity (with the GPS height, weakly) carries it on. :attr:`StateEstimator.baro_fault` says why.
@@ -213,9 +213,8 @@ class StateEstimator:
         """Why the barometer is excluded (the monitor found it drifting), or None."""
         self._gps_climb = 0.0
         self._gps_velocity: tuple[float, float] | None = None
-        self._baro_low: float | None = None
-        self._climb_low = 0.0
-        """The GPS climb through the barometer's low-pass."""
+        self._offset_low: float | None = None
+        """Barometer height minus GPS climb, low-passed (1 s)."""
         self._baro_history: deque[tuple[float, float, float, float | None]] = deque()
         """(time, barometer height minus GPS climb, GPS climb, filter height) once a second."""
 
@@ -402,14 +401,13 @@ class StateEstimator:
         gps = self._gps_velocity
         if self.baro_fault is not None or gps is None or meas.time - gps[0] > 0.5:
             return
-        low, climb_low = self._baro_low, self._climb_low
+        offset = meas.height - self._gps_climb
+        low = self._offset_low
         if low is None or not self._baro_history:
-            low, climb_low = meas.height, self._gps_climb
-        # both through the same 1 s low-pass (at 25 Hz): it lags a climb by the climb rate
-        # times 1 s, which must not count as a difference
-        self._baro_low = low = low + 0.04 * (meas.height - low)
-        self._climb_low = climb_low = climb_low + 0.04 * (self._gps_climb - climb_low)
-        offset = low - climb_low
+            low = offset
+        # the difference is low-passed (1 s at 25 Hz), not the barometer alone: a low-pass lags
+        # a climb by the climb rate times 1 s, which must not count as drift
+        self._offset_low = offset = low + 0.04 * (offset - low)
         history = self._baro_history
         while history and meas.time - history[0][0] > c.baro_window:
             history.popleft()
