@@ -23,6 +23,7 @@ from hdrc3_base.ros_env import DISCOVERY_RANGES, MAX_DOMAIN_ID
 RECORDER = "recorder"
 LIVE_VIEW = "live_view"
 EXECUTION_MONITOR = "execution_monitor"
+LASER_MAPPER = "laser_mapper"
 GATEWAY = "gateway"
 
 
@@ -117,6 +118,14 @@ CATALOG: tuple[NodeKind, ...] = (
         default=False,
     ),
     NodeKind(
+        LASER_MAPPER,
+        "hdrc3-laser-mapper",
+        Scope.AGENT,
+        "elevation map from the laser while the PPC collects, stored in the planner's GIS (11.2)",
+        world_params=True,
+        default=False,
+    ),
+    NodeKind(
         "tst_manager",
         "hdrc3-tst-manager",
         Scope.AGENT,
@@ -174,6 +183,8 @@ CATALOG: tuple[NodeKind, ...] = (
 )
 ALWAYS_STARTED = frozenset({"system_monitor"})
 CAMERA_NODES = ("world_render", "saliency", "pad_pose")
+SIMULATED = ("world_sim", "world_render")
+"""The nodes that make a world real (``--sim-world``); every other node holds it as a model."""
 """Started by ``--cameras`` in addition to the chosen nodes: the images and their pipelines."""
 
 
@@ -206,6 +217,10 @@ class LaunchOptions:
     """Discovery range of that domain only ("": the environment's, loopback by default)."""
     record_exclude: str = ""
     """Regular expression of topics the recording leaves out ("": none)."""
+    sim_world: str | None = None
+    """The world the simulator (and its renderer) make real, when it is not the one the stack's
+    nodes hold as their model (``world``): a stale map, as the laser's elevation map finds it
+    (section 11.2). None: the same world."""
 
 
 def parse_nodes(
@@ -390,7 +405,10 @@ def build_plan(options: LaunchOptions, catalog: Sequence[NodeKind] = CATALOG) ->
         if kind.world_params:
             agents = ",".join(f"'{a}'" for a in options.agents)
             speed = "0.0" if math.isinf(options.speed) else repr(options.speed)
-            args += ["-p", f"agents:=[{agents}]", "-p", f"world:={options.world}"]
+            world = options.world
+            if options.sim_world is not None and kind.name in SIMULATED:
+                world = options.sim_world
+            args += ["-p", f"agents:=[{agents}]", "-p", f"world:={world}"]
             args += ["-p", f"speed:={speed}"]
         if kind.seeded:
             args += ["-p", f"seed:={options.seed}"]

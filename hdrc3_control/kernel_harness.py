@@ -105,8 +105,9 @@ class KernelFlight:
         agent: str = "uav0",
         payload: float = 0.0,
         wind: WindSettings | None = None,
+        world: str = "revinge",
     ) -> None:
-        self.world = load_world("revinge")
+        self.world = load_world(world)
         settings = wind or WindSettings()
         self.sim = WorldSim(SimConfig(self.world, (agent,), seed, settings, payload=payload))
         self.agent = agent
@@ -123,6 +124,8 @@ class KernelFlight:
         )
         self.replies: list[WireEvent] = []
         self.results: list[TickResult] = []
+        self.readings: list[SensorReadings] = []
+        """The sensor samples the last tick fed the kernel (the payload's too)."""
         self._ids = itertools.count(1)
 
     @property
@@ -133,7 +136,8 @@ class KernelFlight:
     def tick(self) -> TickResult:
         """One lockstep tick: readings -> kernel -> command -> world advances."""
         sim = self.sim
-        feed_readings(self.kernel, sim.take_readings()[self.agent], self.world.origin.altitude)
+        self.readings = sim.take_readings()[self.agent]
+        feed_readings(self.kernel, self.readings, self.world.origin.altitude)
         st = sim.status(self.agent)
         self.kernel.feed_status(
             PlatformStatus(

@@ -64,7 +64,7 @@ class PerceptionKernelNode(Node):
         self.zooms: dict[int, float] = {}
         self.ptu_pub = self.create_publisher(PtuCommand, "ptu/command", QOS)
         self.camera_pub = self.create_publisher(CameraCommand, "camera/command", QOS)
-        self.laser_pub = self.create_publisher(LaserCommand, "laser/command", QOS)
+        self.laser_pub = self.create_publisher(LaserCommand, "laser/command", LATCHED)
         self.state_pub = self.create_publisher(CameraState, "ppc/camera_state", QOS)
         self.ip_pub = self.create_publisher(UInt8, IMAGE_PROCESSING_TOPIC, LATCHED)
         self._publish_ip(self.kernel.image_processing)

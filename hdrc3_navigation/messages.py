@@ -1,19 +1,25 @@
 """Navigation values <-> ``hdrc3_interfaces`` messages: one converter per layout.
 
 The path planner node, the TST's navigation port and the demo mission all convert through
-here, so a segment or a runtime world model crosses the wire in exactly one way.
+here, so a segment, a runtime world model or an elevation map crosses the wire in exactly one
+way.
 """
 
 from __future__ import annotations
 
+import array
 import math
 from typing import Any
 
+import numpy as np
 from geometry_msgs.msg import Point, Vector3
 
+from hdrc3_base.errors import Hdrc3Error
 from hdrc3_control.path_segment import PathSegment
+from hdrc3_interfaces.msg import ElevationMap as ElevationMapMsg
 from hdrc3_interfaces.msg import GisState, GisZone
 from hdrc3_interfaces.msg import PathSegment as PathSegmentMsg
+from hdrc3_navigation.elevation_map import MAX_CELLS, ElevationMap
 from hdrc3_navigation.gis import Zone
 from hdrc3_navigation.runtime_world import RuntimeWorld
 
@@ -82,6 +88,7 @@ def world_to_msg(world: RuntimeWorld) -> GisState:
         margin=world.margin,
         no_fly_zones=[_zone_msg(z) for z in world.no_fly_zones],
         obstacles=[_zone_msg(z) for z in world.obstacles],
+        elevation_maps=list(world.elevation_maps),
     )
 
 
@@ -93,4 +100,61 @@ def world_from_msg(msg: Any) -> RuntimeWorld:
         margin if math.isfinite(margin) and margin >= 0.0 else 0.0,
         tuple(_zone(z) for z in msg.no_fly_zones if len(z.polygon_east) >= 3),
         tuple(_zone(z) for z in msg.obstacles if len(z.polygon_east) >= 3),
+        tuple(str(name) for name in msg.elevation_maps),
     )
+
+
+def elevation_map_to_msg(elevation_map: ElevationMap) -> ElevationMapMsg:
+    """An elevation map as ``hdrc3_interfaces/ElevationMap`` (heights as float32, row-major)."""
+    m = elevation_map
+    returns = m.returns.astype(np.uint32) if m.returns.size else np.zeros(0, dtype=np.uint32)
+    return ElevationMapMsg(
+        name=m.name,
+        east0=float(m.east0),
+        north0=float(m.north0),
+        resolution=float(m.resolution),
+        columns=m.columns,
+        rows=m.rows,
+        heights=array.array("f", m.heights.astype(np.float32).tobytes()),
+        returns=array.array("I", returns.tobytes()),
+    )
+
+
+def elevation_map_from_msg(msg: Any) -> ElevationMap | str:
+    """``hdrc3_interfaces/ElevationMap`` as an elevation map, or the reason it is malformed.
+
+    Never raises: a wrong number of heights or returns, an empty or oversized grid, a bad
+    resolution, origin or name, infinite heights are answered with a readable reason.
+    """
+    name = "?"
+    try:
+        name = str(msg.name)
+        rows, columns = int(msg.rows), int(msg.columns)
+        if rows <= 0 or columns <= 0:
+            return f"elevation map {name!r}: {rows} rows x {columns} columns, both must be > 0"
+        cells = rows * columns
+        if cells > MAX_CELLS:
+            return f"elevation map {name!r}: {cells} cells, more than {MAX_CELLS}"
+        if len(msg.heights) != cells:
+            return (
+                f"elevation map {name!r}: {len(msg.heights)} heights for {rows} rows x "
+                f"{columns} columns ({cells} expected)"
+            )
+        if len(msg.returns) not in (0, cells):
+            return f"elevation map {name!r}: {len(msg.returns)} returns, expected 0 or {cells}"
+        heights = np.asarray(msg.heights, dtype=np.float64).reshape(rows, columns)
+        returns = np.asarray(msg.returns, dtype=np.int64)
+        if returns.size:
+            returns = returns.reshape(rows, columns)
+        else:
+            returns = np.zeros((0, 0), dtype=np.int64)
+        return ElevationMap(
+            name,
+            float(msg.east0),
+            float(msg.north0),
+            float(msg.resolution),
+            heights,
+            returns,
+        )
+    except (Hdrc3Error, ValueError, TypeError, OverflowError, AttributeError) as exc:
+        return f"elevation map {name!r}: {exc}"

@@ -4,10 +4,13 @@ Services (private names, e.g. ``/uav1/path_planner/plan``):
 
 - ``~/plan`` (``PlanPath``): a segmented cubic path or a status with a reason;
 - ``~/motion_plan_info`` (``MotionPlanInfo``): feasibility, length, duration, energy (§9.2);
-- ``~/gis_update`` (``GisUpdate``): add/remove a no-fly zone or an obstacle at runtime.
+- ``~/gis_update`` (``GisUpdate``): add/remove a no-fly zone or an obstacle at runtime;
+- ``~/gis_elevation_map`` (``GisElevationMap``): store a laser elevation map (§11.2) in the GIS
+  (replacing a map of the same name); later plans keep the margin from its surface.
 
-Topic ``~/gis_state`` (``GisState``, reliable, transient local): what changed at runtime, after
-every update, so that a fly-to executor can tell whether the path it flies is still valid (§7).
+Topic ``~/gis_state`` (``GisState``, reliable, transient local): what changed at runtime (and
+the names of the elevation maps stored), after every update, so that a fly-to executor can tell
+whether the path it flies is still valid (§7).
 
 Parameters: ``world`` (shipped name or .toml path), ``margin`` (m), ``cache_dir`` (roadmap cache,
 "" = default), ``roadmap_nodes``, ``max_timeout`` (s). The roadmap is loaded (or built) at start.
@@ -28,11 +31,16 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from hdrc3_base.errors import Hdrc3Error
 from hdrc3_base.ros_runtime import run_node
 from hdrc3_interfaces.msg import GisState
-from hdrc3_interfaces.srv import GisUpdate, MotionPlanInfo, PlanPath
+from hdrc3_interfaces.srv import GisElevationMap, GisUpdate, MotionPlanInfo, PlanPath
 from hdrc3_navigation.constraints import Constraints
 from hdrc3_navigation.cost import Criterion
 from hdrc3_navigation.gis import DEFAULT_MARGIN, Zone
-from hdrc3_navigation.messages import segment_to_msg, triple, world_to_msg
+from hdrc3_navigation.messages import (
+    elevation_map_from_msg,
+    segment_to_msg,
+    triple,
+    world_to_msg,
+)
 from hdrc3_navigation.planner import PathPlanner, PlannerKind, PlanRequest, PlanResult, PlanStatus
 from hdrc3_navigation.runtime_world import RuntimeWorld
 from sim.world_loader import load_world
@@ -132,6 +140,7 @@ class PathPlannerNode(Node):
         self.create_service(PlanPath, "~/plan", self._on_plan)
         self.create_service(MotionPlanInfo, "~/motion_plan_info", self._on_info)
         self.create_service(GisUpdate, "~/gis_update", self._on_gis_update)
+        self.create_service(GisElevationMap, "~/gis_elevation_map", self._on_gis_elevation_map)
         self._gis_pub = self.create_publisher(GisState, "~/gis_state", GIS_STATE_QOS)
         self._gis_pub.publish(world_to_msg(RuntimeWorld.of(planner.gis)))
 
@@ -205,6 +214,30 @@ class PathPlannerNode(Node):
             return response
         response.success = True
         response.reason = f"GIS revision {gis.revision}"
+        self._gis_pub.publish(world_to_msg(RuntimeWorld.of(gis)))
+        return response
+
+    def _on_gis_elevation_map(self, request: Any, response: Any) -> Any:
+        gis = self.planner.gis
+        parsed = elevation_map_from_msg(request.map)
+        try:
+            if isinstance(parsed, str):
+                raise ValueError(parsed)
+            triangles = gis.add_elevation_map(parsed)
+        except (ValueError, Hdrc3Error) as exc:
+            self.get_logger().warning(f"elevation map refused: {exc}")
+            response.success = False
+            response.reason = str(exc)
+            response.triangles = 0
+            response.revision = gis.revision
+            return response
+        response.success = True
+        response.reason = (
+            f"elevation map {parsed.name!r}: {triangles} triangles, GIS revision {gis.revision}"
+        )
+        response.triangles = triangles
+        response.revision = gis.revision
+        self.get_logger().info(response.reason)
         self._gis_pub.publish(world_to_msg(RuntimeWorld.of(gis)))
         return response
 

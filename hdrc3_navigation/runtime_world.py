@@ -7,6 +7,11 @@ executor asks it whether the part of its path not yet flown enters any of those 
 by the planner's safety margin, and replans if so. The check is shapely on sampled points, not
 the planner's FCL geometry: it only has to say "this path is no longer valid", the new plan is
 the planner's.
+
+Elevation maps (§11.2) are listed by name only (``elevation_maps``): :meth:`first_conflict`
+checks a path against the no-fly zones and obstacles alone, so storing a map does not make an
+executor replan a path in flight (it bumps the revision, so the path is checked again against
+the zones and obstacles); plans made after the map is stored respect it.
 """
 
 from __future__ import annotations
@@ -45,12 +50,14 @@ class RuntimeWorld:
     margin: float = 0.0
     no_fly_zones: tuple[Zone, ...] = ()
     obstacles: tuple[Zone, ...] = ()
+    elevation_maps: tuple[str, ...] = ()
+    """Names of the elevation maps stored in the GIS (not checked by :meth:`first_conflict`)."""
 
     @classmethod
     def of(cls, gis: Gis) -> RuntimeWorld:
         """The runtime regions of a GIS now."""
         zones, obstacles = gis.runtime_regions()
-        return cls(gis.revision, gis.margin, zones, obstacles)
+        return cls(gis.revision, gis.margin, zones, obstacles, gis.elevation_map_names)
 
     def _regions(self) -> list[tuple[str, Polygon, float, float]]:
         m = self.margin

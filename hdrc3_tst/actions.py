@@ -62,6 +62,7 @@ class Capability(enum.Enum):
     PTU = "ptu"
     HOOK = "hook"
     RADIATION = "radiation"
+    LASER = "laser"
 
 
 _FLY = frozenset({Capability.FLIGHT})
@@ -146,6 +147,23 @@ ACTIONS: Mapping[str, ActionSpec] = MappingProxyType(
                 None,
                 "traj3d",
                 frozenset({Capability.FLIGHT, Capability.CAMERA, Capability.PTU}),
+            ),
+            ActionSpec(
+                "laser-map-area",
+                "an elevation map of a polygon with the rotating laser range finder (11.2): set"
+                " its resolutions and rotation speed, collect while flying a coverage pattern at"
+                " an altitude, stop (the laser_mapper stores the map in the path planner's GIS)",
+                (
+                    _SPEED,
+                    ParamSpec("area", ParamType.AREA, "area"),
+                    _ALT,
+                    ParamSpec(
+                        "rotation", ParamType.NUMBER, "rad/s of the mechanism", 3.0, 0.1, 3.1
+                    ),
+                ),
+                None,
+                "ppcl laser_* + traj3d",
+                frozenset({Capability.FLIGHT, Capability.LASER}),
             ),
             ActionSpec(
                 "look-at",

@@ -18,7 +18,13 @@ from collections.abc import Mapping
 from types import MappingProxyType
 
 from hdrc3_control.path_segment import PathSegment
-from hdrc3_navigation.coverage import CoverageStatus, Platform, pair_footprint_width, plan_part
+from hdrc3_navigation.coverage import (
+    OVERLAP,
+    CoverageStatus,
+    Platform,
+    pair_footprint_width,
+    plan_part,
+)
 from hdrc3_platform_server.codes import FclCommand, PpclCommand
 from hdrc3_tst.executor import (
     SUCCEEDED,
@@ -42,6 +48,9 @@ NADIR_TILT = math.pi / 2
 """rad: the PTU's tilt that points the cameras straight down (positive tilt looks down)."""
 TURN_SPEED = 3.0
 """m/s on the U-turns of a coverage pattern (the path follower may slow further)."""
+LRF_REACH = 40.0
+"""m: the slant range within which the laser maps well (its returns go to 80 m; the attitude
+error grows their height error with range)."""
 LANDING_SPEED = 1.0
 """m/s, the order of the RMAX's final descent (for the bound of a landing)."""
 
@@ -189,29 +198,96 @@ class ScanArea(ActionExecutor):
 
     @staticmethod
     def _pattern(ctx: ActionContext) -> list[PathSegment] | str:
-        corners = ctx.place("area")
-        altitude, speed = ctx.number("altitude"), ctx.number("speed")
+        altitude = ctx.number("altitude")
         part, parts = ctx.number("part"), ctx.number("parts")
-        if not (part.is_integer() and parts.is_integer() and 1 <= part <= parts):
-            return f"part {part:g} of {parts:g}: parts are numbered 1..parts"
-        if SCAN_START[0] not in ctx.memory:  # a resumed scan keeps its pattern (and entry corner)
-            state = ctx.state()
-            here = (state.east, state.north) if state is not None else corners[0][:2]
-            ctx.memory.update(zip(SCAN_START, here, strict=True))
-        start = (ctx.memory[SCAN_START[0]], ctx.memory[SCAN_START[1]])
-        ground = max(ctx.frame.ground_up(c[0], c[1]) for c in corners)
-        me = Platform(ctx.agent, pair_footprint_width(altitude), speed, (start[0], start[1]))
-        plan = plan_part(
-            [c[:2] for c in corners],
-            int(part),
-            int(parts),
-            me,
-            ground + altitude,
-            min(TURN_SPEED, speed),
-        )
-        if plan.status is not CoverageStatus.PLANNED:
-            return f"scan-area: {plan.reason}"
-        return list(plan.assignments[0].segments)
+        return coverage(ctx, pair_footprint_width(altitude), part, parts)
+
+
+def coverage(
+    ctx: ActionContext, width: float, part: float = 1.0, parts: float = 1.0
+) -> list[PathSegment] | str:
+    """The coverage pattern of band ``part`` of ``parts`` of the node's area.
+
+    Strips are ``width`` wide, flown at the node's altitude above the area's highest corner and
+    entered at the corner nearest where the aircraft was when the node first planned it (a
+    resumed node keeps its pattern).
+    """
+    corners = ctx.place("area")
+    altitude, speed = ctx.number("altitude"), ctx.number("speed")
+    if not (part.is_integer() and parts.is_integer() and 1 <= part <= parts):
+        return f"part {part:g} of {parts:g}: parts are numbered 1..parts"
+    if SCAN_START[0] not in ctx.memory:
+        state = ctx.state()
+        here = (state.east, state.north) if state is not None else corners[0][:2]
+        ctx.memory.update(zip(SCAN_START, here, strict=True))
+    start = (ctx.memory[SCAN_START[0]], ctx.memory[SCAN_START[1]])
+    ground = max(ctx.frame.ground_up(c[0], c[1]) for c in corners)
+    me = Platform(ctx.agent, width, speed, (start[0], start[1]))
+    plan = plan_part(
+        [c[:2] for c in corners],
+        int(part),
+        int(parts),
+        me,
+        ground + altitude,
+        min(TURN_SPEED, speed),
+    )
+    if plan.status is not CoverageStatus.PLANNED:
+        return f"{ctx.spec.name}: {plan.reason}"
+    return list(plan.assignments[0].segments)
+
+
+def laser_swath_width(altitude: float, reach: float = LRF_REACH) -> float:
+    """Width (m) of the ground the rotating laser maps well from ``altitude`` m.
+
+    The chord of the circle where its ``reach`` meets the ground: the scan plane turns about the
+    forward axis, so the half sphere in front reaches as far to the sides as ahead.
+    """
+    return 2.0 * math.sqrt(max(reach * reach - altitude * altitude, 0.0))
+
+
+class LaserMapArea(ActionExecutor):
+    """``laser-map-area(speed, area, altitude, rotation)``: an elevation map (§11.2).
+
+    As the chapter's mapping TST node: PPCL sets the laser's angular (1 deg) and distance (1 cm,
+    80 m) resolutions and a constant rotation speed, starts data collection, the aircraft flies a
+    coverage pattern with strips as wide as the laser maps well (:func:`laser_swath_width`),
+    and data collection stops however the flight ended. The ``laser_mapper`` node builds the map
+    while the PPC collects and stores it in the path planner's GIS when collection stops.
+    """
+
+    def run(self, ctx: ActionContext) -> Steps:
+        """Take off if needed, start the laser, fly the pattern, stop the laser."""
+        outcome = yield from airborne(ctx)
+        if outcome.progress is not Progress.SUCCEEDED:
+            return outcome
+        altitude = ctx.number("altitude")
+        width = laser_swath_width(altitude)
+        if width < 2.0 * altitude * OVERLAP:
+            return failed(
+                f"altitude {altitude:g} m: the laser maps well only within {LRF_REACH:g} m"
+            )
+        segments = coverage(ctx, width)
+        if isinstance(segments, str):
+            return failed(segments)
+        for command, args in (
+            (PpclCommand.LASER_ANGULAR_RESOLUTION, {"angular_resolution": 1.0}),
+            (PpclCommand.LASER_DISTANCE_RESOLUTION, {"distance_resolution": 0.01}),
+            (PpclCommand.LASER_ROTATION_SPEED, {"rotation_speed": ctx.number("rotation")}),
+        ):
+            outcome = yield from finish(ctx, ctx.send(command, **args))
+            if outcome.progress is not Progress.SUCCEEDED:
+                return outcome
+        try:
+            outcome = yield from finish(ctx, ctx.send(PpclCommand.LASER_START_DATA_COLLECTION))
+            if outcome.progress is Progress.SUCCEEDED:
+                outcome = yield from stream(ctx, resumed(ctx, segments))
+        except GeneratorExit:  # aborted or paused: stop collecting (the map is stored), no wait
+            ctx.send(PpclCommand.LASER_STOP_DATA_COLLECTION)
+            raise
+        stopped = yield from finish(ctx, ctx.send(PpclCommand.LASER_STOP_DATA_COLLECTION))
+        if outcome.progress is Progress.SUCCEEDED and stopped.progress is not Progress.SUCCEEDED:
+            return stopped
+        return outcome
 
 
 class LookAt(ActionExecutor):
@@ -257,6 +333,7 @@ RMAX_EXECUTORS: Mapping[str, type[ActionExecutor]] = MappingProxyType(
         "fly-to": FlyTo,
         "fly-path": FlyPath,
         "scan-area": ScanArea,
+        "laser-map-area": LaserMapArea,
         "look-at": LookAt,
         "ptu-turn-to": PtuTurnTo,
         "camera-zoom": CameraZoom,

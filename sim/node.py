@@ -275,6 +275,7 @@ class WorldSimNode(SteppedNode):
                     msg.rotation_speed,
                     msg.hold_angle,
                     msg.rotation_angle,
+                    power=msg.collect,
                 )
             )
 

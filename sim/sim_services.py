@@ -418,11 +418,13 @@ class SimServices:
         rotation_speed: float,
         hold_angle: bool,
         rotation_angle: float,
+        power: bool | None = None,
     ) -> SimResult:
         """Scan configuration and rotation of the laser range finder.
 
         The field of view follows the angular resolution (0.25 deg is only available with
-        100 deg); holding an angle moves the mechanism there at once.
+        100 deg); holding an angle moves the mechanism there at once. ``power`` (the PPC's data
+        collection flag) switches the unit on or off; None leaves it as it is.
         """
         problem = self._agent(agent)
         if problem is not None:
@@ -450,4 +452,6 @@ class SimServices:
         laser.set_rotation_speed(0.0 if hold_angle else rotation_speed)
         if hold_angle:
             laser.rotation_angle = rotation_angle % math.tau
+        if power is not None:
+            self.sim.agents[agent].sensors.power.switch(PowerDevice.LASER, power)
         return OK

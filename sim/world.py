@@ -12,6 +12,11 @@ import enum
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from shapely.geometry import Polygon
+
 from sim.geodesy import GeodeticOrigin
 from sim.terrain import Terrain
 
@@ -196,6 +201,29 @@ class World:
     def bounds(self) -> tuple[float, float, float, float]:
         """(east_min, north_min, east_max, north_max): the terrain grid's extent."""
         return self.terrain.bounds
+
+    def vegetation_top(self, vegetation: Vegetation) -> tuple[float, float]:
+        """Base and canopy top of a vegetation area, m: the ground at its centroid + height."""
+        centroid = Polygon(vegetation.polygon).centroid
+        base = self.terrain.height(centroid.x, centroid.y)
+        return base, base + vegetation.height
+
+    def surface_heights(
+        self, east: NDArray[np.float64], north: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """Top of whatever stands at each point (terrain, a roof, a canopy), m local up.
+
+        The surface a laser sees from above and an elevation map is compared with (section
+        11.2). Vectorised over points of any shape.
+        """
+        e, n = np.asarray(east, dtype=np.float64), np.asarray(north, dtype=np.float64)
+        top = np.asarray(self.terrain.heights_at(e.ravel(), n.ravel()), dtype=np.float64)
+        solids = [(Polygon(b.footprint), b.top) for b in self.buildings]
+        solids += [(Polygon(v.polygon), self.vegetation_top(v)[1]) for v in self.vegetation]
+        for polygon, height in solids:
+            inside = shapely.contains_xy(polygon, e.ravel(), n.ravel())
+            top[inside] = np.maximum(top[inside], height)
+        return top.reshape(e.shape)
 
     def pad(self, name: str) -> LandingPad:
         """Return the landing pad called ``name`` (KeyError if none)."""

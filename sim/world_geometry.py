@@ -65,10 +65,8 @@ class WorldGeometry:
             for b in world.buildings
         ]
         for v in world.vegetation:
-            polygon = Polygon(v.polygon)
-            centroid = polygon.centroid
-            base = world.terrain.height(centroid.x, centroid.y)
-            prisms.append(_Prism(v.name, HitKind.VEGETATION, polygon, base, base + v.height))
+            base, top = world.vegetation_top(v)
+            prisms.append(_Prism(v.name, HitKind.VEGETATION, Polygon(v.polygon), base, top))
         self._prisms = tuple(prisms)
         self._tree = STRtree([p.polygon for p in prisms])
 

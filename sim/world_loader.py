@@ -2,7 +2,8 @@
 
 One loader for every consumer (simulator, GIS / path planner, renderer). Any syntax or semantic
 problem raises :class:`WorldError` naming ``file:line`` and the reason; all problems found in one
-pass are listed, the first one leads the message.
+pass are listed, the first one leads the message. A world may ``extends`` a base world: it then
+lists only what it adds, and the merged world is validated as a whole.
 """
 
 from __future__ import annotations
@@ -56,7 +57,7 @@ DEFAULT_SIZES: dict[ObjectKind, tuple[float, float, float]] = {
 """Default object dimensions (length, width, height), m, when the file gives no ``size``."""
 
 _TABLE_KEYS: dict[str, frozenset[str]] = {
-    "world": frozenset({"name", "description", "radiation_background"}),
+    "world": frozenset({"name", "description", "radiation_background", "extends"}),
     "origin": frozenset({"latitude", "longitude", "altitude"}),
     "terrain": frozenset({"east0", "north0", "spacing", "heights"}),
 }
@@ -84,7 +85,21 @@ _ARRAY_KEYS: dict[str, frozenset[str]] = {
         }
     ),
 }
+_ARRAY_FIELDS: dict[str, str] = {
+    "building": "buildings",
+    "road": "roads",
+    "vegetation": "vegetation",
+    "no_fly_zone": "no_fly_zones",
+    "place": "places",
+    "radiation_source": "radiation_sources",
+    "pad": "pads",
+    "depot": "depots",
+    "object": "objects",
+}
+"""Array section -> the :class:`World` field holding its entries."""
 _REQUIRED_TABLES = ("world", "origin", "terrain")
+MAX_EXTENDS = 8
+"""Most base worlds one world may stack up through ``extends``."""
 _TOML_POSITION = re.compile(r"\(at (?:line (\d+), column (\d+)|end of document)\)")
 
 
@@ -128,7 +143,19 @@ def world_path(name_or_path: str | Path) -> Path:
     candidate = Path(name_or_path)
     if candidate.suffix == ".toml" or candidate.exists():
         return candidate
-    return Path(str(resources.files("sim.worlds").joinpath(f"{name_or_path}.toml")))
+    return _shipped_path(str(name_or_path))
+
+
+def _shipped_path(name: str) -> Path:
+    return Path(str(resources.files("sim.worlds").joinpath(f"{name}.toml")))
+
+
+def _base_path(extends: str, source: Path | None) -> Path:
+    """Resolve ``extends`` like :func:`world_path`; a relative path is from ``source``'s folder."""
+    candidate = Path(extends) if source is None else source.parent / extends
+    if candidate.suffix == ".toml" or candidate.exists():
+        return candidate
+    return _shipped_path(extends)
 
 
 def shipped_worlds() -> tuple[str, ...]:
@@ -144,18 +171,46 @@ def load_world(name_or_path: str | Path) -> World:
         WorldError: the file is missing, unreadable, or has a syntax or semantic error.
 
     """
-    path = world_path(name_or_path)
+    return _with_bases(_load(world_path(name_or_path), ()).world)
+
+
+def parse_world(text: str, label: str, source: Path | None = None) -> World:
+    """Parse and validate world-file text; ``label`` names it in error messages."""
+    return _with_bases(_parse(text, label, source, ()).world)
+
+
+@dataclass(frozen=True, slots=True)
+class _Parsed:
+    """A validated world (building bases not yet filled in) and where its entries are written."""
+
+    world: World
+    label: str
+    index: LineIndex
+    base: _Parsed | None
+
+    def locate(self, table: str, entry: int, key: str | None) -> tuple[_Parsed, int]:
+        """The file (this or a base) and line of ``key`` of the ``entry``-th ``table`` entry."""
+        if self.base is not None:
+            inherited = len(getattr(self.base.world, _ARRAY_FIELDS[table]))
+            if entry < inherited:
+                return self.base.locate(table, entry, key)
+            entry -= inherited
+        return self, self.index.line(table, entry, key)
+
+
+def _load(path: Path, chain: tuple[Path, ...]) -> _Parsed:
+    """Read and parse the world file ``path``; ``chain`` holds the files extending it."""
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise WorldError(
             [WorldIssue(str(path), 0, None, f"cannot read world file: {exc}")]
         ) from exc
-    return parse_world(text, str(path), source=path)
+    return _parse(text, str(path), path, chain)
 
 
-def parse_world(text: str, label: str, source: Path | None = None) -> World:
-    """Parse and validate world-file text; ``label`` names it in error messages."""
+def _parse(text: str, label: str, source: Path | None, chain: tuple[Path, ...]) -> _Parsed:
+    """Parse and validate world-file text, merged with its base world if it extends one."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -168,18 +223,22 @@ def parse_world(text: str, label: str, source: Path | None = None) -> World:
             line, col = len(lines), len(lines[-1]) + 1
         reason = _TOML_POSITION.sub("", message).strip()
         raise WorldError([WorldIssue(label, line, col, f"syntax error: {reason}")]) from exc
-    reader = _Reader(label, LineIndex.of(text))
-    world = reader.world(data, source)
+    if source is not None:
+        chain = (*chain, source.resolve())
+    reader = _Reader(label, LineIndex.of(text), chain)
+    parsed = reader.world(data, source)
     # Validation reports entries by index, which only matches the file when every entry was read.
-    if world is not None and not reader.issues:
-        reader.issues.extend(
-            WorldIssue(label, reader.index.line(table, entry, key), None, reason)
-            for table, entry, key, reason in validate_world(world)
-        )
+    if parsed is not None and not reader.issues:
+        for table, entry, key, reason in validate_world(parsed.world):
+            owner, line = parsed.locate(table, entry, key)
+            if owner is not parsed:  # a base entry clashing with this file's additions
+                reason = f"{reason} (base world entry at {owner.label}:{line})"
+                line = reader.index.line("world", 0, "extends")
+            reader.issues.append(WorldIssue(label, line, None, reason))
     if reader.issues:
         raise WorldError(sorted(reader.issues, key=lambda i: i.line))
-    assert world is not None  # no issues implies every part was read
-    return world
+    assert parsed is not None  # no issues implies every part was read
+    return parsed
 
 
 class _Skip(Exception):
@@ -189,9 +248,10 @@ class _Skip(Exception):
 class _Reader:
     """Turns parsed TOML into world dataclasses, recording issues with their lines."""
 
-    def __init__(self, label: str, index: LineIndex) -> None:
+    def __init__(self, label: str, index: LineIndex, chain: tuple[Path, ...]) -> None:
         self.label = label
         self.index = index
+        self.chain = chain
         self.issues: list[WorldIssue] = []
 
     def fail(self, table: str | None, entry: int, key: str | None, reason: str) -> _Skip:
@@ -199,16 +259,19 @@ class _Reader:
         self.issues.append(WorldIssue(self.label, self.index.line(table, entry, key), None, reason))
         return _Skip()
 
-    def world(self, data: dict[str, Any], source: Path | None) -> World | None:
-        """Read the whole document; None if a required part is unusable."""
+    def world(self, data: dict[str, Any], source: Path | None) -> _Parsed | None:
+        """Read the whole document, merged with its base; None if a required part is unusable."""
         for key in data:
             if key not in _TABLE_KEYS and key not in _ARRAY_KEYS:
                 known = ", ".join(sorted([*_TABLE_KEYS, *_ARRAY_KEYS]))
                 self.fail(key, 0, None, f"unknown section '{key}' (expected one of: {known})")
+        head: dict[str, Any] = data["world"] if isinstance(data.get("world"), dict) else {}
+        extends = "extends" in head
+        base = self._guard(lambda: self._base(head["extends"], source)) if extends else None
         parts: dict[str, Any] = {}
         for table in _REQUIRED_TABLES:
-            try:
-                parts[table] = self._table(data, table)
+            try:  # with a base, a missing [origin] or [terrain] is inherited
+                parts[table] = self._table(data, table) if table in data or not extends else None
             except _Skip:
                 parts[table] = None
         origin = self._guard(lambda: self._origin(parts["origin"]))
@@ -219,36 +282,65 @@ class _Reader:
         )
         background = self._guard(
             lambda: self._number(
-                parts["world"], "world", 0, "radiation_background", DEFAULT_BACKGROUND, 0.0
+                parts["world"],
+                "world",
+                0,
+                "radiation_background",
+                base.world.radiation_background if base else DEFAULT_BACKGROUND,
+                0.0,
             )
         )
-        objects = tuple(self._entries(data, "object", self._object))
-        world = (
-            World(
-                name=name,
-                origin=origin,
-                terrain=terrain,
-                buildings=tuple(self._entries(data, "building", self._building)),
-                roads=tuple(self._entries(data, "road", self._road)),
-                vegetation=tuple(self._entries(data, "vegetation", self._vegetation)),
-                no_fly_zones=tuple(self._entries(data, "no_fly_zone", self._no_fly_zone)),
-                places=tuple(self._entries(data, "place", self._place)),
-                pads=tuple(self._entries(data, "pad", self._pad)),
-                depots=tuple(self._entries(data, "depot", self._depot)),
-                objects=objects,
-                radiation_sources=tuple(
-                    self._entries(data, "radiation_source", self._radiation_source)
-                ),
-                radiation_background=DEFAULT_BACKGROUND if background is None else background,
-                description=description or "",
-                source=source,
-            )
-            if origin is not None and terrain is not None and name is not None
-            else None
+        readers: dict[str, Callable[[dict[str, Any], int], Any]] = {
+            "building": self._building,
+            "road": self._road,
+            "vegetation": self._vegetation,
+            "no_fly_zone": self._no_fly_zone,
+            "place": self._place,
+            "radiation_source": self._radiation_source,
+            "pad": self._pad,
+            "depot": self._depot,
+            "object": self._object,
+        }
+        entries: dict[str, Any] = {
+            field: (getattr(base.world, field) if base else ())
+            + tuple(self._entries(data, table, readers[table]))
+            for table, field in _ARRAY_FIELDS.items()
+        }
+        if base is not None:
+            origin = origin if "origin" in data else base.world.origin
+            terrain = terrain if "terrain" in data else base.world.terrain
+            description = description if "description" in head else base.world.description
+        if origin is None or terrain is None or name is None:
+            return None
+        world = World(
+            name=name,
+            origin=origin,
+            terrain=terrain,
+            **entries,
+            radiation_background=DEFAULT_BACKGROUND if background is None else background,
+            description=description or "",
+            source=source,
         )
-        if world is not None and terrain is not None:
-            world = _with_bases(world, terrain)
-        return world
+        return _Parsed(world, self.label, self.index, base)
+
+    def _base(self, extends: object, source: Path | None) -> _Parsed:
+        """Load the base world named by ``[world] extends``."""
+        if not isinstance(extends, str) or not extends.strip():
+            raise self.fail("world", 0, "extends", "world extends must be a world name or path")
+        path = _base_path(extends, source)
+        if path.resolve() in self.chain:
+            cycle = " -> ".join(p.name for p in (*self.chain, path.resolve()))
+            raise self.fail("world", 0, "extends", f"world extends itself: {cycle}")
+        if len(self.chain) > MAX_EXTENDS:
+            raise self.fail(
+                "world", 0, "extends", f"more than {MAX_EXTENDS} nested base worlds (extends)"
+            )
+        try:
+            return _load(path, self.chain)
+        except WorldError as exc:
+            raise self.fail(
+                "world", 0, "extends", f"cannot load base world {extends!r}: {exc}"
+            ) from None
 
     def _guard(self, read: Callable[[], _E]) -> _E | None:
         try:
@@ -594,12 +686,12 @@ def _is_point(raw: object) -> bool:
     return isinstance(raw, list) and len(raw) == 2 and all(_is_number(v) for v in raw)
 
 
-def _with_bases(world: World, terrain: Terrain) -> World:
+def _with_bases(world: World) -> World:
     """Fill in missing building bases with the lowest terrain height under the footprint."""
     buildings = tuple(
         b
         if math.isfinite(b.base)
-        else replace(b, base=min(terrain.height(e, n) for e, n in b.footprint))
+        else replace(b, base=min(world.terrain.height(e, n) for e, n in b.footprint))
         for b in world.buildings
     )
     return replace(world, buildings=buildings)

@@ -51,6 +51,13 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     )
     parser.add_argument("--agents", default="uav0", help="comma-separated agents (default uav0)")
     parser.add_argument("--world", default="revinge", help="world to simulate (default revinge)")
+    parser.add_argument(
+        "--sim-world",
+        metavar="WORLD",
+        default=None,
+        help="the world world_sim and world_render simulate when it differs from --world, the "
+        "model the stack's nodes hold (e.g. revinge_changed: a stale map)",
+    )
     parser.add_argument("--speed", default="1", help="real-time factor, or 'max' (default 1)")
     parser.add_argument("--record", metavar="FILE.mcap", help="record every topic to MCAP")
     parser.add_argument(
@@ -119,6 +126,7 @@ def options_from(args: argparse.Namespace) -> LaunchOptions:
         agents=parse_agents(args.agents),
         nodes=parse_nodes(args.nodes, extra=_extra_nodes(args)),
         world=check_world(args.world),
+        sim_world=None if args.sim_world is None else check_world(args.sim_world),
         speed=parse_speed(args.speed),
         record=check_record_path(args.record),
         domain_id=check_domain_id(args.domain_id),

@@ -24,7 +24,7 @@ from typing import Any
 from rich.console import Console
 
 from hdrc3.fault_trigger import FaultTrigger, TimedFault, parse_fault
-from hdrc3.launch_plan import CAMERA_NODES, CATALOG, EXECUTION_MONITOR
+from hdrc3.launch_plan import CAMERA_NODES, CATALOG, EXECUTION_MONITOR, LASER_MAPPER
 from hdrc3.launched_system import LaunchedSystem
 from hdrc3.mission_run import Outcome, fly, replies_ok, settle, status_line, write_timeline
 from hdrc3.safety_pilot import hand_over
@@ -69,6 +69,13 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     run.add_argument("--mission", default=None, help="mission id (default: FILE stem + time)")
     run.add_argument("--launch", action="store_true", help="start the system first")
     run.add_argument("--world", default=None, help="with --launch: world (default: the file's)")
+    run.add_argument(
+        "--sim-world",
+        default=None,
+        metavar="WORLD",
+        help="with --launch: the world the simulator makes real when the stack's model (--world)"
+        " is stale, e.g. revinge_changed (what a laser-map-area node then finds)",
+    )
     run.add_argument("--speed", default="max", help="with --launch: real-time factor or 'max'")
     run.add_argument("--domain-id", type=int, default=43, help="with --launch: ROS domain")
     run.add_argument(
@@ -198,9 +205,12 @@ def _run(args: argparse.Namespace) -> int:
     scans = any(node.action == "scan-area" for node in check.tst.tree.nodes.values())
     if scans:
         nodes += CAMERA_NODES  # a scan builds the saliency map from rendered images
+    if any(node.action == "laser-map-area" for node in check.tst.tree.nodes.values()):
+        nodes.append(LASER_MAPPER)  # the elevation map goes to the path planner's GIS (11.2)
     record = out / "run.mcap" if out is not None else None
+    extra = ["--sim-world", args.sim_world] if args.sim_world else []
     system = LaunchedSystem(
-        agents, world, args.speed, args.domain_id, record, nodes, console.print, args.seed
+        agents, world, args.speed, args.domain_id, record, nodes, console.print, args.seed, extra
     )
     scanned = world if scans else None
     with system:

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from sim.airframe import LRF_MOUNT_FRD, LRF_MOUNT_TILT, scan_rays
 from sim.sensors.errors import SensorError
-from sim.sensors.frames import body_to_enu, rot_y
 from sim.sensors.power import PowerDevice, PowerManager
 from sim.sensors.sensor import Sensor
 from sim.truth_state import TruthState
@@ -84,9 +84,9 @@ class LaserConfig:
 class LaserParams:
     """Mounting and error model."""
 
-    mount_offset: tuple[float, float, float] = (1.4, 0.0, 0.3)
+    mount_offset: tuple[float, float, float] = LRF_MOUNT_FRD
     """Sensor centre relative to the centre of gravity, body FRD, m (front of the fuselage)."""
-    mount_tilt: float = 0.0
+    mount_tilt: float = LRF_MOUNT_TILT
     """Rotation axis (middle beam) below the body x axis, rad."""
     max_rotation_speed: float = math.pi
     """rad/s of the rotation mechanism (assumed)."""
@@ -161,15 +161,14 @@ class LaserRangeFinder(Sensor[LaserScan]):
         self, truth: TruthState, rotation_angle: float
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Sensor origin (ENU) and unit beam directions (N x 3, ENU) for a rotation angle."""
-        alpha = self.config.beam_angles()
-        c, s = math.cos(rotation_angle), math.sin(rotation_angle)
-        # Scan plane spanned by the middle beam (x) and the rotated sensor y axis.
-        local = np.stack([np.cos(alpha), np.sin(alpha) * c, np.sin(alpha) * s], axis=1)
-        body = body_to_enu(truth.roll, truth.pitch, truth.heading)
-        to_enu = body @ rot_y(-self.params.mount_tilt)
-        origin = np.asarray(truth.position_enu) + body @ np.asarray(self.params.mount_offset)
-        directions: NDArray[np.float64] = local @ to_enu.T
-        return origin, directions
+        return scan_rays(
+            truth.position_enu,
+            (truth.roll, truth.pitch, truth.heading),
+            rotation_angle,
+            self.config.beam_angles(),
+            self.params.mount_offset,
+            self.params.mount_tilt,
+        )
 
     def _bias_mask(self, size: int) -> NDArray[np.float64]:
         mask = np.ones(size)

@@ -1,4 +1,5 @@
-"""A launched path_planner node answers plan, motion_plan_info and gis_update over real DDS."""
+"""A launched path_planner node answers plan, motion_plan_info, gis_update and gis_elevation_map
+over real DDS."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 from tests.integration.ros_wait import answer
@@ -59,9 +61,10 @@ def test_plan_service_of_a_launched_node(
     from rclpy.node import Node
 
     from hdrc3_interfaces.msg import GisState
-    from hdrc3_interfaces.srv import GisUpdate, MotionPlanInfo, PlanPath
+    from hdrc3_interfaces.srv import GisElevationMap, GisUpdate, MotionPlanInfo, PlanPath
     from hdrc3_navigation.audit import WorldAudit
-    from hdrc3_navigation.messages import segment_from_msg, world_from_msg
+    from hdrc3_navigation.elevation_map import ElevationMap
+    from hdrc3_navigation.messages import elevation_map_to_msg, segment_from_msg, world_from_msg
     from hdrc3_navigation.node import GIS_STATE_QOS
     from sim.world_loader import load_world
 
@@ -128,6 +131,24 @@ def test_plan_service_of_a_launched_node(
             operation=GisUpdate.Request.REMOVE_OBSTACLE, name="nothing",
         )  # fmt: skip
         assert not bad_zone.success and "nothing" in bad_zone.reason
+
+        # a laser elevation map (§11.2) is stored in the GIS and named on gis_state; a malformed
+        # one is refused with the reason
+        heights = np.zeros((30, 30))  # east -95..-65, north 20..50, a 10 m block in it
+        heights[10:15, 10:15] = 10.0
+        scan = elevation_map_to_msg(ElevationMap("scan", -95.0, 20.0, 1.0, heights))
+        before = worlds[-1].revision
+        stored = _call(node, executor, GisElevationMap, "gis_elevation_map", map=scan)
+        assert stored.success, stored.reason
+        assert stored.triangles == 2 * 29 * 29 and stored.revision > before
+        deadline = time.monotonic() + WAIT_S
+        while "scan" not in worlds[-1].elevation_maps:
+            assert time.monotonic() < deadline, "no gis_state with the elevation map"
+            executor.spin_once(timeout_sec=0.2)
+        scan.heights = scan.heights[:-1]
+        refused = _call(node, executor, GisElevationMap, "gis_elevation_map", map=scan)
+        assert not refused.success and "899 heights" in refused.reason
+        assert refused.triangles == 0 and refused.revision >= stored.revision
         again = _call(node, executor, PlanPath, "plan", **_plan_fields(west, (80.0, 20.0, 15.0)))
         assert again.status == PlanPath.Response.STATUS_SOLVED, again.reason
     finally:

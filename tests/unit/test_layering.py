@@ -20,9 +20,9 @@ LAYERS: dict[str, int] = {
     "hdrc3_dyknow": 1,
     "sim": 1,
     "hdrc3_control": 2,
-    "hdrc3_perception": 3,  # Algorithm 4 (§11.1.1), engaged by the PPC's image processing mode
     "hdrc3_platform_server": 3,
     "hdrc3_navigation": 3,  # path planning needs the PFC's segment type and limits (layer 2)
+    "hdrc3_perception": 4,  # Algorithm 4 (§11.1.1); laser maps (§11.2) are the GIS's map type
     "hdrc3_deliberative": 4,
     "hdrc3_tst": 5,  # executors call the Platform Server; goal nodes use TALplanner's domains
     "hdrc3_delegation": 6,  # contractors price TST nodes and hand them to the TST manager

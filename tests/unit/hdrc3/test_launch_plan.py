@@ -122,6 +122,34 @@ def test_plan_namespaces_agent_nodes_and_passes_world_params(tmp_path: Path) -> 
     assert specs[4].argv[1:] == ("record", str(tmp_path / "run.mcap"), "--all")
 
 
+@pytest.mark.parametrize(
+    ("sim_world", "simulated", "model"),
+    [(None, "revinge", "revinge"), ("revinge_changed", "revinge_changed", "revinge")],
+)
+def test_a_sim_world_goes_to_the_simulator_only(
+    sim_world: str | None, simulated: str, model: str
+) -> None:
+    options = LaunchOptions(
+        agents=("uav0",),
+        nodes=("world_sim", "world_render", "path_planner", "laser_mapper"),
+        world="revinge",
+        speed=1.0,
+        record=None,
+        domain_id=None,
+        sim_world=sim_world,
+    )
+    worlds = {
+        s.name: next(a for a in s.argv if a.startswith("world:="))
+        for s in build_plan(options, launch_plan.CATALOG)
+    }
+    assert worlds == {
+        "world_sim": f"world:={simulated}",
+        "world_render": f"world:={simulated}",
+        "uav0/path_planner": f"world:={model}",
+        "uav0/laser_mapper": f"world:={model}",
+    }
+
+
 @pytest.mark.parametrize(("port", "args"), [(None, []), (9123, ["port:=9123"])])
 def test_the_live_view_is_global_and_gets_its_port(port: int | None, args: list[str]) -> None:
     options = LaunchOptions(

@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from hdrc3_base.errors import ConfigError
+from hdrc3_base.errors import ConfigError, DataError
+from hdrc3_navigation.elevation_map import ElevationMap
 from hdrc3_navigation.gis import Gis, Zone
 from sim.world import World
 
@@ -105,3 +106,130 @@ def test_margin_and_volume(small_world: World) -> None:
     assert (e0, n0, e1, n1) == (-100.0, -100.0, 100.0, 100.0)
     assert z0 == 0.0 and z1 == pytest.approx(max(b.top for b in small_world.buildings) + 40.0)
     assert gis.static_key() != Gis(small_world, margin=5.0).static_key()
+
+
+# --- elevation maps (§11.2) ---------------------------------------------------------------------
+
+BLOCK_TOP = 10.0
+"""A 20 m x 20 m block (east -80..-60, north -40..-20), 10 m high, on a flat 40 m x 40 m map."""
+
+
+def block_map(name: str = "scan", top: float = BLOCK_TOP, east0: float = -95.0) -> ElevationMap:
+    heights = np.zeros((40, 40))
+    heights[10:30, 15:35] = top  # cells: east -95 + 15..35, north -50 + 10..30
+    heights[0, 0] = np.nan  # an unmapped corner
+    return ElevationMap(name, east0, -50.0, 1.0, heights)
+
+
+MAP_POINTS = [
+    # (point, static world too, free)
+    ((-70.0, -30.0, 14.0), True, False),  # 4 m above the block: within the margin
+    ((-70.0, -30.0, 17.0), True, True),  # 7 m above it
+    ((-70.0, -30.0, 3.0), False, False),  # inside: below the surface, 7 m from it
+    ((-70.0, -30.0, 3.0), True, False),
+    ((-70.0, -47.0, 8.0), True, True),  # 7 m south of it, 8 m above the ground
+    ((-70.0, -44.0, 8.0), True, False),  # 4 m south of its cells
+    ((-70.0, -10.0, 3.0), False, False),  # 3 m above the map's own ground
+    ((-70.0, -10.0, 8.0), False, True),
+    ((-94.8, -49.8, -20.0), False, True),  # below the unmapped corner: no verdict
+    ((-90.0, -45.0, -20.0), False, False),  # below a mapped cell
+    ((-20.0, -30.0, 3.0), False, True),  # outside the map
+]
+
+
+@pytest.mark.parametrize(("p", "static", "free"), MAP_POINTS)
+def test_points_near_or_under_an_elevation_map(
+    gis: Gis, p: tuple[float, float, float], static: bool, free: bool
+) -> None:
+    gis.add_elevation_map(block_map())
+    assert gis.point_free(p, static=static) is free
+
+
+MAP_SEGMENTS = [
+    # (a, b, static world too, free)
+    ((-90.0, -30.0, 8.0), (-50.0, -30.0, 8.0), False, False),  # through the block
+    ((-90.0, -30.0, 20.0), (-50.0, -30.0, 20.0), False, True),  # 10 m over it
+    ((-90.0, -30.0, 14.0), (-50.0, -30.0, 14.0), False, False),  # 4 m over it
+    ((-72.0, -30.0, 3.0), (-68.0, -30.0, 3.0), False, False),  # inside it, far from the surface
+    ((-72.0, -30.0, 3.0), (-72.0, -30.0, 3.0), False, False),  # a point inside
+    ((-90.0, -47.0, 8.0), (-50.0, -47.0, 8.0), True, True),  # 7 m south of it
+    ((-70.0, -10.0, 8.0), (-70.0, -60.0, 30.0), True, False),  # climbing through its corner
+]
+
+
+@pytest.mark.parametrize(("a", "b", "static", "free"), MAP_SEGMENTS)
+def test_segments_near_or_through_an_elevation_map(
+    gis: Gis,
+    a: tuple[float, float, float],
+    b: tuple[float, float, float],
+    static: bool,
+    free: bool,
+) -> None:
+    gis.add_elevation_map(block_map())
+    assert gis.segment_free(a, b, static=static) is free
+    assert gis.segment_free(b, a, static=static) is free
+
+
+def test_polyline_under_a_map_surface_is_not_free(gis: Gis) -> None:
+    gis.add_elevation_map(block_map())
+    inside = np.stack([np.linspace(-73.0, -67.0, 7), np.full(7, -30.0), np.full(7, 3.0)], axis=1)
+    assert not gis.polyline_free(inside)
+    above = inside + np.array([0.0, 0.0, 14.0])
+    assert gis.polyline_free(above)
+
+
+def test_elevation_maps_are_replaced_and_removed_by_name(gis: Gis) -> None:
+    rev = gis.revision
+    inside = (-70.0, -30.0, 3.0)
+    assert gis.add_elevation_map(block_map()) == 2 * 39 * 39 - 2  # less the unmapped corner
+    assert gis.elevation_map_names == ("scan",) and gis.revision == rev + 1
+    assert not gis.point_free(inside, static=False)
+    assert gis.runtime_boxes().tolist() == [[-95.0, -50.0, 0.0, -55.0, -10.0, BLOCK_TOP]]
+    assert gis.obstacle_names == () and gis.runtime_regions() == ((), ())
+    gis.add_elevation_map(block_map("other", east0=50.0))
+    assert gis.elevation_map_names == ("scan", "other") and len(gis.runtime_boxes()) == 2
+    gis.add_elevation_map(block_map(top=-10.0))  # "scan" again, a pit instead: replaced
+    assert gis.elevation_map_names == ("scan", "other") and gis.revision == rev + 3
+    assert gis.point_free(inside, static=False)
+    gis.remove_elevation_map("scan")
+    gis.remove_elevation_map("other")
+    assert gis.elevation_map_names == () and gis.revision == rev + 5
+    assert len(gis.runtime_boxes()) == 0
+    assert gis.segment_free((-90.0, -30.0, 8.0), (-50.0, -30.0, 8.0), static=False)
+
+
+def test_obstacles_and_maps_share_the_runtime_checks(gis: Gis) -> None:
+    square = ((-65.0, 30.0), (-55.0, 30.0), (-55.0, 40.0), (-65.0, 40.0))
+    gis.add_obstacle("crane", square, 0.0, 40.0)
+    gis.add_elevation_map(block_map())
+    gis.remove_obstacle("crane")  # the map stays checked with no obstacle left
+    assert not gis.point_free((-70.0, -30.0, 3.0), static=False)
+    assert gis.point_free((-60.0, 35.0, 20.0), static=False)
+    gis.add_obstacle("crane", square, 0.0, 40.0)
+    gis.remove_elevation_map("scan")  # and the obstacle with no map left
+    assert not gis.point_free((-60.0, 35.0, 20.0), static=False)
+    assert gis.point_free((-70.0, -30.0, 3.0), static=False)
+
+
+@pytest.mark.parametrize(
+    ("call", "error"),
+    [
+        (lambda g: g.remove_elevation_map("nope"), ConfigError),
+        (lambda g: g.add_elevation_map("not a map"), ConfigError),
+        (
+            lambda g: g.add_elevation_map(ElevationMap("x", 0.0, 0.0, 1.0, np.zeros((1, 9)))),
+            DataError,
+        ),
+        (
+            lambda g: g.add_elevation_map(
+                ElevationMap("x", 0.0, 0.0, 1.0, np.array([[0.0, np.nan], [np.nan, 0.0]]))
+            ),
+            DataError,
+        ),
+    ],
+)
+def test_bad_elevation_maps_are_refused(gis: Gis, call, error) -> None:  # type: ignore[no-untyped-def]
+    rev = gis.revision
+    with pytest.raises(error):
+        call(gis)
+    assert gis.revision == rev and gis.elevation_map_names == ()

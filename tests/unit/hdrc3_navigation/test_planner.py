@@ -10,6 +10,7 @@ from shapely.geometry import Point, Polygon
 from hdrc3_navigation.audit import WorldAudit
 from hdrc3_navigation.constraints import Constraints
 from hdrc3_navigation.cost import Criterion
+from hdrc3_navigation.elevation_map import ElevationMap
 from hdrc3_navigation.planner import PathPlanner, PlannerKind, PlanRequest, PlanStatus
 from hdrc3_navigation.roadmap import Roadmap
 from sim.world import World
@@ -97,6 +98,46 @@ def test_runtime_obstacle_and_no_fly_zone_change_the_answer(
     assert min(clearance) >= MARGIN - 0.05
     planner.gis.remove_obstacle("truck")
     again = planner.plan(PlanRequest(a, b, 8.0, timeout=5.0))
+    assert again.ok and len(again.segments) == 1
+
+
+WALL_TOP = 30.0
+WALL_CELLS = (slice(23, 27), slice(5, 65))
+"""A laser-mapped wall 4 m thick, 30 m high: east -90..-30, north -22..-18 (map cells)."""
+
+
+def walled_map() -> ElevationMap:
+    heights = np.zeros((40, 70))  # east -95..-25, north -45..-5, 1 m cells
+    heights[WALL_CELLS] = WALL_TOP
+    return ElevationMap("scan", -95.0, -45.0, 1.0, heights)
+
+
+@pytest.mark.parametrize("kind", [PlannerKind.PRM_RRT, PlannerKind.RRT])
+def test_a_stored_elevation_map_changes_the_answer(
+    planner: PathPlanner, small_world: World, kind: PlannerKind
+) -> None:
+    a, b = (-60.0, -80.0, 12.0), (-60.0, 40.0, 12.0)
+    straight = planner.plan(PlanRequest(a, b, 8.0, planner=kind, timeout=5.0))
+    assert straight.ok and len(straight.segments) == 1, straight.reason
+    m = walled_map()
+    planner.gis.add_elevation_map(m)
+    around = planner.plan(PlanRequest(a, b, 8.0, planner=kind, timeout=10.0))
+    assert around.ok, around.reason
+    assert len(around.segments) > 1 and around.length > straight.length + 1.0
+    assert WorldAudit(small_world).check_segments(around.segments, MARGIN - 0.05) == []
+    pts = np.array([seg.position(s) for seg in around.segments for s in np.linspace(0, 1, 201)])
+    # 3D distance to the box of the wall's cells; the surface joins cell centres, so a path may
+    # come half a cell closer to a cell's outer edge than the margin
+    r = m.resolution
+    rows, cols = WALL_CELLS
+    lo = np.array([m.east0 + cols.start * r, m.north0 + rows.start * r, -np.inf])
+    hi = np.array([m.east0 + cols.stop * r, m.north0 + rows.stop * r, WALL_TOP])
+    clearance = np.linalg.norm(np.maximum(0.0, np.maximum(lo - pts, pts - hi)), axis=1)
+    assert clearance.min() >= MARGIN - r / 2.0 - 0.05
+    ground = m.heights_at(pts[:, 0], pts[:, 1])
+    assert not np.any(pts[:, 2] < np.nan_to_num(ground, nan=-np.inf) + MARGIN - 0.05)
+    planner.gis.remove_elevation_map("scan")
+    again = planner.plan(PlanRequest(a, b, 8.0, planner=kind, timeout=5.0))
     assert again.ok and len(again.segments) == 1
 
 

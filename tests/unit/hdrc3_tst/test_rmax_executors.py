@@ -169,3 +169,60 @@ def test_a_command_without_outcome_is_stopped_at_its_bound(
     assert status.progress is Progress.FAILED
     assert status.reason.endswith(f"no outcome in {bound:.0f} s")
     assert [c for c, _ in platform.stopped] == platform.sent
+
+
+LASER_SETUP = (
+    (PpclCommand.LASER_ANGULAR_RESOLUTION, {"angular_resolution": 1.0}),
+    (PpclCommand.LASER_DISTANCE_RESOLUTION, {"distance_resolution": 0.01}),
+    (PpclCommand.LASER_ROTATION_SPEED, {"rotation_speed": 3.0}),
+    (PpclCommand.LASER_START_DATA_COLLECTION, {}),
+)
+
+
+@pytest.mark.parametrize("ending", ["flown", "aborted"])
+def test_laser_mapping_collects_only_while_it_flies_its_pattern(ending: str) -> None:
+    platform = FakePlatform(sample=FLYING)
+    stepper = step("laser-map-area", {"speed": 5.0, "area": "A", "altitude": 30.0}, platform)
+    stepper.ctx.points = {"A": ((0.0, 0.0), (100.0, 0.0), (100.0, 150.0), (0.0, 150.0))}
+    for t, (command, args) in enumerate(LASER_SETUP):
+        stepper.step(t / 10.0)
+        assert (platform.sent[-1].command, platform.sent[-1].args) == (command, args)
+        platform.complete(platform.sent[-1])
+    stepper.step(1.0)
+    assert platform.sent[-1].command is FclCommand.TRAJ3D_FLYTO  # to the first strip
+    if ending == "aborted":
+        stepper.close()
+        assert platform.sent[-1].command is PpclCommand.LASER_STOP_DATA_COLLECTION
+        return
+    platform.complete(platform.sent[-1])
+    for t in range(2, 30):  # each segment asks for the next at once
+        stepper.step(float(t))
+        platform.sent[-1].segment_requested = True
+    strips = [c for c in platform.sent if c.command is FclCommand.TRAJ3D]
+    platform.complete(strips[-1])
+    assert stepper.step(30.0).progress is Progress.RUNNING
+    assert platform.sent[-1].command is PpclCommand.LASER_STOP_DATA_COLLECTION
+    platform.complete(platform.sent[-1])
+    assert stepper.step(31.0).progress is Progress.SUCCEEDED
+    # legs along the 150 m side; 100 m across with strips 52.9 m wide (less the overlap): three
+    # legs joined by two turns
+    assert len(strips) == 5
+    assert {round(c.args["start_x"] - c.args["end_x"]) for c in strips[::2]} == {0}
+
+
+@pytest.mark.parametrize(("altitude", "width"), [(30.0, 52.915), (0.0, 80.0), (45.0, 0.0)])
+def test_the_laser_swath_is_the_chord_its_reach_cuts_on_the_ground(
+    altitude: float, width: float
+) -> None:
+    from hdrc3_tst.rmax_executors import laser_swath_width
+
+    assert laser_swath_width(altitude) == pytest.approx(width, abs=1e-3)
+
+
+def test_laser_mapping_above_the_lasers_reach_fails_before_sending_anything() -> None:
+    platform = FakePlatform(sample=FLYING)
+    stepper = step("laser-map-area", {"speed": 5.0, "area": "A", "altitude": 45.0}, platform)
+    stepper.ctx.points = {"A": ((0.0, 0.0), (100.0, 0.0), (100.0, 150.0), (0.0, 150.0))}
+    outcome = stepper.step(0.0)
+    assert outcome == Status(Progress.FAILED, "altitude 45 m: the laser maps well only within 40 m")
+    assert not platform.sent

@@ -210,6 +210,10 @@ def test_payload_commands_drive_ptu_zoom_and_laser(services: SimServices) -> Non
     assert laser.rotation_speed == 1.0 and laser.rate_hz == pytest.approx(1 / 0.053)
     assert services.laser_command("uav1", 1.0, 0.01, 1.0, True, -1.0).ok
     assert laser.rotation_speed == 0.0 and laser.rotation_angle == pytest.approx(2 * math.pi - 1.0)
+    assert not sensors.power.is_on(PowerDevice.LASER)  # off at start, a command leaves it off
+    for collect in (True, False):  # the PPC's data collection flag switches the unit
+        assert services.laser_command("uav1", 1.0, 0.01, 1.0, False, 0.0, power=collect).ok
+        assert sensors.power.is_on(PowerDevice.LASER) is collect
     sensors.power.switch(PowerDevice.PTU, False)
     assert services.ptu_command("uav1", 0.0, 0.0).code is SimCode.WRONG_STATE
 

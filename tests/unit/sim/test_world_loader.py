@@ -357,3 +357,159 @@ def test_a_box_may_rest_on_a_carrier_from_the_start() -> None:
     )
     carrier, box = parse_world(text, "loaded").objects
     assert (carrier.on, box.on) == (None, "c1")
+
+
+BASE_WORLD = (
+    BASE.replace(
+        'name = "test"', 'name = "base"\ndescription = "the base"\nradiation_background = 0.2'
+    )
+    + BUILDING
+    + '\n[[pad]]\nname = "H1"\nposition = [-50.0, -50.0]\nradius = 5.0\n'
+)
+VARIANT = '[world]\nname = "variant"\nextends = "../base.toml"\n'
+B2 = BUILDING.replace('"B1"', '"B2"').replace("0.0, 0.0], [10.0, 0.0", "0.0, 20.0], [10.0, 20.0")
+FLAT_TERRAIN = """
+[terrain]
+east0 = -100.0
+north0 = -100.0
+spacing = 200.0
+heights = [[5.0, 5.0], [5.0, 5.0]]
+"""
+
+
+def _variant(tmp_path: Path, text: str, others: dict[str, str] | None = None) -> Path:
+    """Write base.toml, and the variant (and any ``others``) into a subfolder; the variant path."""
+    (tmp_path / "base.toml").write_text(BASE_WORLD)
+    folder = tmp_path / "variants"
+    folder.mkdir()
+    for name, other in (others or {}).items():
+        (folder / name).write_text(other)
+    path = folder / "variant.toml"
+    path.write_text(text)
+    return path
+
+
+def test_variant_appends_to_and_inherits_from_its_base(tmp_path: Path) -> None:
+    path = _variant(tmp_path, VARIANT + B2 + '[[place]]\nname = "spot"\nposition = [50.0, 50.0]\n')
+    world, base = load_world(path), load_world(tmp_path / "base.toml")
+    assert (world.name, world.source) == ("variant", path)
+    assert [b.name for b in world.buildings] == ["B1", "B2"]
+    assert [p.name for p in world.places] == ["spot"] and world.pads == base.pads
+    assert (world.origin, world.terrain) == (base.origin, base.terrain)
+    assert (world.description, world.radiation_background) == ("the base", 0.2)
+
+
+def test_variant_overrides_what_it_gives(tmp_path: Path) -> None:
+    text = (
+        VARIANT
+        + 'description = "mine"\nradiation_background = 0.5\n'
+        + "[origin]\nlatitude = 58.4\nlongitude = 15.6\naltitude = 100.0\n"
+        + FLAT_TERRAIN
+    )
+    world = load_world(_variant(tmp_path, text))
+    assert (world.origin.latitude, world.description, world.radiation_background) == (
+        58.4, "mine", 0.5
+    )  # fmt: skip
+    # The base's building stands on the variant's (flat, 5 m) terrain.
+    assert world.terrain.height(0.0, 0.0) == 5.0 and world.buildings[0].base == 5.0
+
+
+def test_variant_of_a_shipped_world_by_name() -> None:
+    world = parse_world('[world]\nname = "v"\nextends = "revinge"\n', "v.toml")
+    assert world.name == "v" and world.buildings == load_world("revinge").buildings
+
+
+# Each bad variant marks the offending line of variant.toml with "# <-- error".
+BAD_VARIANTS: dict[str, tuple[str, dict[str, str], str]] = {
+    "unknown base file": (
+        VARIANT.replace('"../base.toml"', '"nowhere.toml"  # <-- error'),
+        {},
+        "cannot load base world 'nowhere.toml'",
+    ),
+    "unknown shipped world": (
+        VARIANT.replace('"../base.toml"', '"atlantis"  # <-- error'),
+        {},
+        "cannot load base world 'atlantis'",
+    ),
+    "extends not a string": (
+        VARIANT.replace('"../base.toml"', "3  # <-- error"),
+        {},
+        "world extends must be a world name or path",
+    ),
+    "extends itself": (
+        VARIANT.replace('"../base.toml"', '"variant.toml"  # <-- error'),
+        {},
+        "world extends itself: variant.toml -> variant.toml",
+    ),
+    "cycle": (
+        VARIANT.replace('"../base.toml"', '"a.toml"  # <-- error'),
+        {"a.toml": '[world]\nname = "a"\nextends = "variant.toml"\n'},
+        "world extends itself: variant.toml -> a.toml -> variant.toml",
+    ),
+    "invalid base": (
+        VARIANT.replace('"../base.toml"', '"bad.toml"  # <-- error'),
+        {"bad.toml": BASE + BUILDING.replace("height = 8.0", "height = 0.0")},
+        "bad.toml:18: building 'B1': height must be > 0.0",
+    ),
+    "no name": (
+        VARIANT.replace("[world]", "[world]  # <-- error").replace('name = "variant"\n', ""),
+        {},
+        "world has no name",
+    ),
+    "error in the variant": (
+        VARIANT + B2.replace("height = 8.0", "height = 0.0  # <-- error"),
+        {},
+        "building 'B2': height must be > 0.0",
+    ),
+    "duplicate name with the base": (
+        VARIANT + '[[place]]\nname = "B1"  # <-- error\nposition = [50.0, 50.0]\n',
+        {},
+        "duplicate name 'B1' (already used by a building)",
+    ),
+    "base entry clashes with the variant": (
+        VARIANT.replace('"../base.toml"', '"../base.toml"  # <-- error')
+        + '[[building]]\nname = "shed"\nheight = 3.0\n'
+        + "footprint = [[-52.0, -52.0], [-48.0, -52.0], [-50.0, -48.0]]\n",
+        {},
+        "pad 'H1' overlaps building 'shed' (base world entry at ",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_VARIANTS))
+def test_bad_variant_is_rejected_at_its_line(case: str, tmp_path: Path) -> None:
+    text, others, reason = BAD_VARIANTS[case]
+    path = _variant(tmp_path, text, others)
+    with pytest.raises(WorldError) as caught:
+        load_world(path)
+    error = caught.value
+    assert str(error).startswith(f"{path}:{_marked_line(text)}:"), str(error)
+    assert reason in error.reason, str(error)
+
+
+def test_too_deep_extends_is_rejected(tmp_path: Path) -> None:
+    (tmp_path / "w0.toml").write_text(BASE_WORLD)
+    for k in range(1, 11):
+        (tmp_path / f"w{k}.toml").write_text(f'[world]\nname = "w{k}"\nextends = "w{k - 1}.toml"\n')
+    assert load_world(tmp_path / "w8.toml").name == "w8"
+    with pytest.raises(WorldError, match="more than 8 nested base worlds"):
+        load_world(tmp_path / "w10.toml")
+
+
+def test_revinge_changed_is_revinge_with_a_container_and_new_trees() -> None:
+    assert "revinge_changed" in shipped_worlds()
+    world, revinge = load_world("revinge_changed"), load_world("revinge")
+    assert world.name == "revinge_changed" and world.source is not None
+    assert world.source.name == "revinge_changed.toml" and "11.2" in world.description
+    assert world.buildings[: len(revinge.buildings)] == revinge.buildings
+    assert [b.name for b in world.buildings[len(revinge.buildings) :]] == ["C1"]
+    assert [v.name for v in world.vegetation[len(revinge.vegetation) :]] == ["V-new"]
+    assert (world.origin, world.terrain, world.objects) == (
+        revinge.origin, revinge.terrain, revinge.objects
+    )  # fmt: skip
+    container = world.buildings[-1]
+    east = [e for e, _ in container.footprint]
+    north = [n for _, n in container.footprint]
+    assert max(east) - min(east) == pytest.approx(2.5)
+    assert max(north) - min(north) == pytest.approx(12.2)
+    assert container.height == pytest.approx(2.6)
