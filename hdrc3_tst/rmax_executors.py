@@ -163,6 +163,27 @@ class FlyPath(ActionExecutor):
         return (yield from stream(ctx, resumed(ctx, polyline(points, ctx.number("speed")))))
 
 
+def between(
+    ctx: ActionContext, start: PpclCommand, stop: PpclCommand, segments: list[PathSegment]
+) -> Steps:
+    """Fly a pattern with a payload function on: ``start``, the pattern, then ``stop``.
+
+    ``stop`` is sent however the flight ended, also when the node is aborted or paused
+    (``Stepper.close``: sent without waiting); a failed ``stop`` fails a flown pattern.
+    """
+    try:
+        outcome = yield from finish(ctx, ctx.send(start))
+        if outcome.progress is Progress.SUCCEEDED:
+            outcome = yield from stream(ctx, resumed(ctx, segments))
+    except GeneratorExit:
+        ctx.send(stop)
+        raise
+    stopped = yield from finish(ctx, ctx.send(stop))
+    if outcome.progress is Progress.SUCCEEDED and stopped.progress is not Progress.SUCCEEDED:
+        return stopped
+    return outcome
+
+
 class ScanArea(ActionExecutor):
     """``scan-area(speed, area, altitude, part, parts)``: camera coverage for the saliency map.
 
@@ -184,17 +205,7 @@ class ScanArea(ActionExecutor):
         outcome = yield from finish(ctx, ctx.send(PpclCommand.TURN_TO, pan=0.0, tilt=NADIR_TILT))
         if outcome.progress is not Progress.SUCCEEDED:
             return outcome
-        try:
-            outcome = yield from finish(ctx, ctx.send(PpclCommand.IP_SALIENCY))
-            if outcome.progress is Progress.SUCCEEDED:
-                outcome = yield from stream(ctx, resumed(ctx, segments))
-        except GeneratorExit:  # aborted or paused (Stepper.close): stop the pipeline, no wait
-            ctx.send(PpclCommand.IP_ABORT)
-            raise
-        stopped = yield from finish(ctx, ctx.send(PpclCommand.IP_ABORT))
-        if outcome.progress is Progress.SUCCEEDED and stopped.progress is not Progress.SUCCEEDED:
-            return stopped
-        return outcome
+        return (yield from between(ctx, PpclCommand.IP_SALIENCY, PpclCommand.IP_ABORT, segments))
 
     @staticmethod
     def _pattern(ctx: ActionContext) -> list[PathSegment] | str:
@@ -277,17 +288,11 @@ class LaserMapArea(ActionExecutor):
             outcome = yield from finish(ctx, ctx.send(command, **args))
             if outcome.progress is not Progress.SUCCEEDED:
                 return outcome
-        try:
-            outcome = yield from finish(ctx, ctx.send(PpclCommand.LASER_START_DATA_COLLECTION))
-            if outcome.progress is Progress.SUCCEEDED:
-                outcome = yield from stream(ctx, resumed(ctx, segments))
-        except GeneratorExit:  # aborted or paused: stop collecting (the map is stored), no wait
-            ctx.send(PpclCommand.LASER_STOP_DATA_COLLECTION)
-            raise
-        stopped = yield from finish(ctx, ctx.send(PpclCommand.LASER_STOP_DATA_COLLECTION))
-        if outcome.progress is Progress.SUCCEEDED and stopped.progress is not Progress.SUCCEEDED:
-            return stopped
-        return outcome
+        start, stop = (
+            PpclCommand.LASER_START_DATA_COLLECTION,
+            PpclCommand.LASER_STOP_DATA_COLLECTION,
+        )
+        return (yield from between(ctx, start, stop, segments))
 
 
 class LookAt(ActionExecutor):

@@ -5,18 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sim.geodesy import GeodeticOrigin
-from sim.terrain import Terrain
-from sim.world import Building, Vegetation, World
-
-SLOPE = Terrain(-100.0, -100.0, 200.0, ((0.0, 0.0), (10.0, 10.0)))  # rises 5 m per 100 m north
-WORLD = World(
-    name="geo",
-    origin=GeodeticOrigin(55.7, 13.47, 95.0),
-    terrain=SLOPE,
-    buildings=(Building("box", ((0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)), 10.0, 5.0),),
-    vegetation=(Vegetation("trees", ((30.0, -5.0), (40.0, -5.0), (40.0, 5.0), (30.0, 5.0)), 8.0),),
-)
+from tests.unit.sim.test_world_geometry import SLOPE, WORLD  # a slope, a box, trees
 
 
 @pytest.mark.parametrize(
