@@ -16,9 +16,10 @@ Printed: landings on vision and their touchdown error (the centre of gravity aga
 centre, horizontally, ground truth used only to score), the vertical speed at the first skid
 contact, what each ``Cmd-Finished-EV`` said, the fixes per second of sim time, and the CPU
 time of estimate + fix per image. GPS is the simulator's nominal receiver (1.5 m Gauss-Markov
-per axis): vision landings use only its velocity.
+per axis): vision landings use only its velocity. ``--gps-noise F`` degrades it as near
+buildings (the ``noise_up`` fault: every error, correlated, white and velocity, times F).
 
-Run: .venv/bin/python bench/vision_landing.py [--landings 20] [--wind 5] [--seed 1]
+Run: .venv/bin/python bench/vision_landing.py [--landings 20] [--wind 5] [--seed 1] [--gps-noise 3]
 """
 
 from __future__ import annotations
@@ -45,6 +46,7 @@ from hdrc3_perception.pad_pose import PoseStatus, estimate
 from sim.render.renderer import Renderer
 from sim.sensors.camera import COLOR_CAMERA, camera_intrinsics
 from sim.sensors.camera_model import camera_pose
+from sim.sensors.fault import FaultMode
 from sim.sensors.ptu import PtuParams
 from sim.wind import WindSettings
 
@@ -196,14 +198,23 @@ def main() -> None:
     parser.add_argument("--rate", type=float, default=10.0, help="camera images per s of sim time")
     parser.add_argument("--latency", type=float, default=0.15, help="image to filter, s")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument(
+        "--gps-noise",
+        type=float,
+        default=1.0,
+        help="GPS degraded: its errors (correlated, white, velocity) times this (1: nominal)",
+    )
     args = parser.parse_args()
     wind = WindSettings((args.wind, 0.0, 0.0), args.gust)
     flight = KernelFlight(seed=args.seed, wind=wind)
+    if args.gps_noise != 1.0:  # near buildings: multipath and masking (section 5.4)
+        flight.sim.agents[flight.agent].sensors.gps.fault.set(FaultMode.NOISE_UP, args.gps_noise)
     camera = Camera(flight, args.rate, args.latency, args.seed)
     rng = np.random.default_rng(args.seed)
     print(
         f"revinge L1, wind {args.wind:g} m/s from the west, gusts {args.gust:g} m/s, camera "
-        f"{args.rate:g} Hz, fixes {args.latency:g} s late, {args.landings} landings",
+        f"{args.rate:g} Hz, fixes {args.latency:g} s late, GPS errors x{args.gps_noise:g}, "
+        f"{args.landings} landings",
         flush=True,
     )
     results: list[Landing] = []
