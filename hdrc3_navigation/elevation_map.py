@@ -2,8 +2,9 @@
 
 The laser mapper (:mod:`hdrc3_perception.laser_mapping`) samples its point cloud into a regular
 grid, one height per cell; the chapter then "constructs a set of triangles in order to represent
-the elevation" (§11.2, Figure 40). Here the triangles join the centres of mapped cells: two per
-square of four mapped neighbours, so an unmapped cell leaves a hole rather than a guess.
+the elevation" (§11.2, Figure 40). Here two triangles cover each mapped cell between its corners,
+each corner at the highest mapped cell around it: a solid is never smaller than its cells (a
+planner's margin then holds from every mapped cell), and an unmapped cell is a hole, not a guess.
 
 :meth:`ElevationMap.compare` overlays the map with an existing model (Figure 41a): cells that rose
 or fell by more than a threshold, cleaned of one-cell-wide seams (a grid of horizontal position
@@ -252,19 +253,31 @@ class ElevationMap:
         )
 
     def triangles(self) -> tuple[NDArray[np.float64], NDArray[np.int32]]:
-        """The triangulated surface: vertices (k x 3, cell centres) and faces (m x 3 indices)."""
+        """The triangulated surface: vertices (k x 3, cell corners) and faces (m x 3 indices).
+
+        Two triangles over each mapped cell, between its four corners; a corner stands at the
+        highest of the mapped cells around it. A cell is thus covered at its own height (a roof
+        reaches the roof cell's edge) and the surface slopes down within the lower neighbour:
+        the solid is never smaller than the cells that hold it, only up to a cell larger.
+        """
         mapped = self.mapped
-        index = np.full(self.heights.shape, -1, dtype=np.int64)
-        index[mapped] = np.arange(int(mapped.sum()))
-        grid_e, grid_n = self.centres()
-        vertices = np.column_stack([grid_e[mapped], grid_n[mapped], self.heights[mapped]])
-        a, b = index[:-1, :-1], index[:-1, 1:]  # south-west, south-east of each square
-        c, d = index[1:, :-1], index[1:, 1:]  # north-west, north-east
-        full = (a >= 0) & (b >= 0) & (c >= 0) & (d >= 0)
-        first = np.column_stack([a[full], b[full], d[full]])
-        second = np.column_stack([a[full], d[full], c[full]])
-        faces = np.vstack([first, second]).astype(np.int32)
-        return vertices, faces
+        rows, cols = self.heights.shape
+        padded = np.full((rows + 2, cols + 2), -np.inf)
+        padded[1:-1, 1:-1] = np.where(mapped, self.heights, -np.inf)
+        corner = np.maximum.reduce(
+            [padded[:-1, :-1], padded[:-1, 1:], padded[1:, :-1], padded[1:, 1:]]
+        )  # (rows + 1) x (cols + 1): corner (i, j) is the south-west corner of cell (i, j)
+        used = np.isfinite(corner)
+        index = np.full(corner.shape, -1, dtype=np.int64)
+        index[used] = np.arange(int(used.sum()))
+        east = self.east0 + np.arange(cols + 1) * self.resolution
+        north = self.north0 + np.arange(rows + 1) * self.resolution
+        grid_e, grid_n = np.meshgrid(east, north)
+        vertices = np.column_stack([grid_e[used], grid_n[used], corner[used]])
+        a, b = index[:-1, :-1][mapped], index[:-1, 1:][mapped]  # south-west, south-east
+        c, d = index[1:, :-1][mapped], index[1:, 1:][mapped]  # north-west, north-east
+        faces = np.vstack([np.column_stack([a, b, d]), np.column_stack([a, d, c])])
+        return vertices, faces.astype(np.int32)
 
     def compare(
         self,

@@ -333,7 +333,7 @@ class Gis:
 
         Raises:
             ConfigError: Not an :class:`ElevationMap`.
-            DataError: The map has no triangle (no square of four mapped cells).
+            DataError: The map has no triangle (no mapped cell).
 
         """
         if not isinstance(elevation_map, ElevationMap):
@@ -342,7 +342,7 @@ class Gis:
         vertices, faces = elevation_map.triangles()
         if len(faces) == 0:
             raise DataError(
-                f"elevation map {name!r} has no triangles (no square of four mapped cells)"
+                f"elevation map {name!r} has no triangles (no mapped cell)"
             )
         model = fcl.BVHModel()
         model.beginModel(len(vertices), len(faces))

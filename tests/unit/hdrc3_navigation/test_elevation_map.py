@@ -21,18 +21,19 @@ def grid(rows: int, cols: int, holes: tuple[tuple[int, int], ...] = ()) -> np.nd
 
 TRIANGLES = [
     # (rows, cols, unmapped cells, vertices, faces)
-    (2, 2, (), 4, 2),
-    (3, 4, (), 12, 12),  # 2 x 3 squares
-    (3, 4, ((1, 1),), 11, 4),  # an inner hole takes the 4 squares around it
-    (3, 4, ((0, 0),), 11, 10),  # a corner hole takes one square
-    (3, 3, ((0, 1), (1, 0)), 7, 2),  # only the north-east square is whole
-    (1, 5, (), 5, 0),  # a single row: no square
-    (2, 2, ((0, 0), (1, 1)), 2, 0),
+    (2, 2, (), 9, 8),  # two triangles per cell, between its corners
+    (3, 4, (), 20, 24),
+    (3, 4, ((1, 1),), 20, 22),  # an inner hole: its corners still belong to its neighbours
+    (3, 4, ((0, 0),), 19, 22),  # a corner hole: its outer corner belongs to no cell
+    (3, 3, ((0, 1), (1, 0)), 16, 14),
+    (1, 5, (), 12, 10),  # a single row is a surface too
+    (2, 2, ((0, 0), (1, 1)), 7, 4),
+    (2, 2, ((0, 0), (0, 1), (1, 0), (1, 1)), 0, 0),
 ]
 
 
 @pytest.mark.parametrize(("rows", "cols", "holes", "vertices", "faces"), TRIANGLES)
-def test_triangles_join_squares_of_four_mapped_cells(
+def test_triangles_cover_each_mapped_cell_between_its_corners(
     rows: int, cols: int, holes: tuple[tuple[int, int], ...], vertices: int, faces: int
 ) -> None:
     m = ElevationMap("m", 10.0, 20.0, 2.0, grid(rows, cols, holes))
@@ -41,9 +42,19 @@ def test_triangles_join_squares_of_four_mapped_cells(
     assert tris.dtype == np.int32
     if faces:
         assert tris.min() >= 0 and tris.max() < vertices
-    # vertices sit on the mapped cell centres at the cell's height
-    assert np.allclose(verts[:, 2], m.heights_at(verts[:, 0], verts[:, 1]))
-    assert np.all((verts[:, 0] - 10.0) % 2.0 == pytest.approx(1.0))
+    # vertices sit on cell corners, at the highest mapped cell around each
+    assert np.all((verts[:, 0] - 10.0) % 2.0 == pytest.approx(0.0))
+    around = [m.heights_at(verts[:, 0] + de, verts[:, 1] + dn) for de in (-1, 1) for dn in (-1, 1)]
+    assert np.allclose(verts[:, 2], np.nanmax(np.vstack(around), axis=0))
+
+
+def test_a_solid_is_never_smaller_than_its_cells() -> None:
+    heights = np.zeros((5, 5))
+    heights[2, 2] = 5.0  # one roof cell: east 2..3, north 2..3
+    verts, tris = ElevationMap("m", 0.0, 0.0, 1.0, heights).triangles()
+    roof = [t for t in tris if np.all(verts[t, 2] == 5.0)]
+    assert len(roof) == 2  # the roof cell's square is flat at the roof, to its edges
+    assert {tuple(verts[i, :2]) for t in roof for i in t} == {(2, 2), (3, 2), (2, 3), (3, 3)}
 
 
 HEIGHTS_AT = [
