@@ -341,9 +341,7 @@ class Gis:
         name = elevation_map.name
         vertices, faces = elevation_map.triangles()
         if len(faces) == 0:
-            raise DataError(
-                f"elevation map {name!r} has no triangles (no mapped cell)"
-            )
+            raise DataError(f"elevation map {name!r} has no triangles (no mapped cell)")
         model = fcl.BVHModel()
         model.beginModel(len(vertices), len(faces))
         model.addSubModel(vertices, faces)
