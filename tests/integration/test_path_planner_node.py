@@ -140,7 +140,7 @@ def test_plan_service_of_a_launched_node(
         before = worlds[-1].revision
         stored = _call(node, executor, GisElevationMap, "gis_elevation_map", map=scan)
         assert stored.success, stored.reason
-        assert stored.triangles == 2 * 29 * 29 and stored.revision > before
+        assert stored.triangles == 2 * 30 * 30 and stored.revision > before  # two per cell
         deadline = time.monotonic() + WAIT_S
         while "scan" not in worlds[-1].elevation_maps:
             assert time.monotonic() < deadline, "no gis_state with the elevation map"
