@@ -13,10 +13,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from hdrc3_platform_server.geo_frame import WorldFrame
 from sim.airframe import PTU_MOUNT_FRD
 
 Vec3 = tuple[float, float, float]
@@ -111,6 +113,17 @@ class NavPose:
     def is_finite(self) -> bool:
         """True if every number is finite."""
         return all(math.isfinite(v) for v in (*self.position, self.roll, self.pitch, self.heading))
+
+    @staticmethod
+    def of_state(frame: WorldFrame, state: Any) -> NavPose:
+        """The pose a Data Interface ``HelicopterState`` (WGS84, Euler angles) gives in ENU.
+
+        Non-finite input gives a non-finite pose (:meth:`is_finite` says so).
+        """
+        east, north, up = frame.to_enu(state.longitude, state.latitude, state.altitude)
+        return NavPose(
+            (east, north, up), float(state.roll), float(state.pitch), float(state.heading)
+        )
 
 
 @dataclass(frozen=True, slots=True)

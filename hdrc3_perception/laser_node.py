@@ -34,7 +34,6 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-import pymap3d
 from numpy.typing import NDArray
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -54,6 +53,7 @@ from hdrc3_navigation.elevation_map import ElevationMap
 from hdrc3_navigation.messages import elevation_map_to_msg
 from hdrc3_perception.camera import NavPose
 from hdrc3_perception.laser_mapping import LaserMapper, MapperConfig, ScanLine
+from hdrc3_platform_server.geo_frame import WorldFrame
 from sim.world_loader import load_world
 
 SCAN_QOS = QoSProfile(depth=200, reliability=ReliabilityPolicy.RELIABLE)
@@ -106,6 +106,8 @@ class LaserMapperNode(Node):
         )
         self._search = float(self.declare_parameter("align_search", 6.0).value)
         self._world = load_world(world_name)
+        origin = self._world.origin
+        self._frame = WorldFrame(origin.latitude, origin.longitude, origin.altitude)
         self.mapper = LaserMapper(self._world.bounds, config)
         self.collecting = False
         self.maps = 0
@@ -153,16 +155,7 @@ class LaserMapperNode(Node):
             )
 
     def _on_state(self, msg: HelicopterState) -> None:
-        origin = self._world.origin
-        east, north, up = pymap3d.geodetic2enu(
-            msg.latitude,
-            msg.longitude,
-            msg.altitude,
-            origin.latitude,
-            origin.longitude,
-            origin.altitude,
-        )
-        pose = NavPose((float(east), float(north), float(up)), msg.roll, msg.pitch, msg.heading)
+        pose = NavPose.of_state(self._frame, msg)
         if not (self.collecting and pose.is_finite()):
             return
         time = stamp_s(msg.header.stamp)

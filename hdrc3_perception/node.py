@@ -33,7 +33,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pymap3d
 from numpy.typing import NDArray
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
@@ -61,6 +60,7 @@ from hdrc3_perception.pipeline import (
     SaliencyPipeline,
 )
 from hdrc3_perception.saliency_map import dumps_geojson
+from hdrc3_platform_server.geo_frame import WorldFrame
 from sim.world_loader import load_world
 
 RESULT_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
@@ -104,6 +104,8 @@ class SaliencyNode(Node):
                 f"detector {detector!r}: one of {[d.value for d in Detector]}"
             ) from exc
         self._world = load_world(world_name)
+        origin = self._world.origin
+        self._frame = WorldFrame(origin.latitude, origin.longitude, origin.altitude)
         ground = Ground(height=self._world.terrain.height, max_slope=1.0)
         self.pipeline = SaliencyPipeline(ground, PipelineConfig(classifier=ClassifierParams(kind)))
         self._geojson = Path(path) if path else None
@@ -152,17 +154,7 @@ class SaliencyNode(Node):
         self._info[cam] = Intrinsics.from_k(int(msg.width), int(msg.height), list(msg.k))
 
     def _on_state(self, msg: HelicopterState) -> None:
-        origin = self._world.origin
-        east, north, up = pymap3d.geodetic2enu(
-            msg.latitude,
-            msg.longitude,
-            msg.altitude,
-            origin.latitude,
-            origin.longitude,
-            origin.altitude,
-        )
-        position = (float(east), float(north), float(up))
-        self._nav = NavPose(position, float(msg.roll), float(msg.pitch), float(msg.heading))
+        self._nav = NavPose.of_state(self._frame, msg)
 
     def _on_ptu(self, msg: CameraState) -> None:
         self._ptu = (float(msg.pan), float(msg.tilt))
