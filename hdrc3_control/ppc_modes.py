@@ -31,6 +31,8 @@ class ImageProcessing(enum.IntEnum):
     """The saliency map pipeline of mission leg I (§11.1.1, Algorithm 4)."""
     STATE_ESTIMATION = 2
     """The landing pad's pose from the colour camera (§5.4, ``hdrc3_perception.pad_pose``)."""
+    COLOR_TRACKER = 3
+    """Colour tracking from a seed pixel (§6.2.3, ``hdrc3_perception.colour_tracking``)."""
 
 
 class PtuMode(enum.Enum):
