@@ -118,6 +118,15 @@ CATALOG: tuple[NodeKind, ...] = (
         default=False,
     ),
     NodeKind(
+        "color_tracker",
+        "hdrc3-color-tracker",
+        Scope.AGENT,
+        "colour tracking of a seeded object and its ground position while the PPC engages it "
+        "(6.1, 6.2.3)",
+        world_params=True,
+        default=False,
+    ),
+    NodeKind(
         LASER_MAPPER,
         "hdrc3-laser-mapper",
         Scope.AGENT,

@@ -7,9 +7,12 @@ from the PFC (``pfc/state``) and the camera states from ``sensors/color_camera``
 ``camera/command`` (CameraCommand) and ``laser/command`` (LaserCommand), republishes the camera
 state stamped with the PPC clock on ``ppc/camera_state``, publishes the engaged image
 processing function on ``ppc/image_processing`` (latched ``std_msgs/UInt8``,
-:class:`~hdrc3_control.ppc_modes.ImageProcessing`), and talks to the DRC over ``hcsm/events/*``.
-While state estimation is engaged it follows the landing pad's pose (``pad_pose/pose``) with the
-PTU (:mod:`hdrc3_control.pad_tracking`).
+:class:`~hdrc3_control.ppc_modes.ImageProcessing`) and the colour tracker's seed of each
+``ppcl_ip_color_tracker(x, y)`` on ``ppc/color_tracker_seed`` (latched ``PointStamped``: point.x
+the pixel column, point.y the row, stamp the PPC time of the command), and talks to the DRC over
+``hcsm/events/*``. While state estimation is engaged the PTU follows the landing pad's pose
+(``pad_pose/pose``), while colour tracking is engaged the tracked object (``color_tracker/track``,
+``ColorTrack`` results with status TRACKING) (:mod:`hdrc3_control.visual_servoing`).
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from __future__ import annotations
 import sys
 from typing import Any
 
-from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import PointStamped, PoseStamped
 from rclpy.context import Context
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -25,14 +28,15 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import UInt8
 
 from hdrc3_base.ros_runtime import run_events_node
-from hdrc3_base.stamps import set_stamp_ns, stamp_s
-from hdrc3_control.pad_tracking import PadSighting
-from hdrc3_control.ppc_kernel import PpcKernel, PpcOutputs
+from hdrc3_base.stamps import set_stamp_ns, set_stamp_s, stamp_s
+from hdrc3_control.ppc_kernel import ColorSeed, PpcKernel, PpcOutputs
 from hdrc3_control.ppc_modes import ImageProcessing, Pose
+from hdrc3_control.visual_servoing import Sighting
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import (
     CameraCommand,
     CameraState,
+    ColorTrack,
     LaserCommand,
     PfcState,
     PtuCommand,
@@ -43,6 +47,10 @@ NODE_NAME = "perception_kernel"
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 IMAGE_PROCESSING_TOPIC = "ppc/image_processing"
 """The engaged :class:`ImageProcessing` function (relative to the agent's namespace)."""
+COLOR_TRACKER_SEED_TOPIC = "ppc/color_tracker_seed"
+"""The colour tracker's seed (latched ``PointStamped``; a new one restarts the tracking)."""
+COLOR_TRACK_TOPIC = "color_tracker/track"
+"""The colour tracker's ``ColorTrack`` of every image while colour tracking is engaged."""
 LATCHED = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
@@ -67,10 +75,12 @@ class PerceptionKernelNode(Node):
         self.laser_pub = self.create_publisher(LaserCommand, "laser/command", LATCHED)
         self.state_pub = self.create_publisher(CameraState, "ppc/camera_state", QOS)
         self.ip_pub = self.create_publisher(UInt8, IMAGE_PROCESSING_TOPIC, LATCHED)
+        self.seed_pub = self.create_publisher(PointStamped, COLOR_TRACKER_SEED_TOPIC, LATCHED)
         self._publish_ip(self.kernel.image_processing)
         self.create_subscription(PfcState, "pfc/state", self._on_pfc, QOS)
         self.create_subscription(PtuState, "sensors/ptu", self._on_ptu, QOS)
         self.create_subscription(PoseStamped, "pad_pose/pose", self._on_pad, QOS)
+        self.create_subscription(ColorTrack, COLOR_TRACK_TOPIC, self._on_color_track, QOS)
         for topic in ("sensors/color_camera", "sensors/thermal_camera"):
             self.create_subscription(CameraState, topic, self._on_camera, QOS)
 
@@ -88,8 +98,15 @@ class PerceptionKernelNode(Node):
 
     def _on_pad(self, msg: Any) -> None:
         p, stamp = msg.pose.position, msg.header.stamp
-        time = stamp_s(stamp)
-        self.kernel.see_pad(PadSighting(time, (float(p.x), float(p.y), float(p.z))))
+        sighting = Sighting(stamp_s(stamp), (float(p.x), float(p.y), float(p.z)))
+        self.kernel.see(ImageProcessing.STATE_ESTIMATION, sighting)
+
+    def _on_color_track(self, msg: Any) -> None:
+        if msg.status != ColorTrack.STATUS_TRACKING:
+            return
+        d = msg.direction
+        sighting = Sighting(stamp_s(msg.header.stamp), (float(d.x), float(d.y), float(d.z)))
+        self.kernel.see(ImageProcessing.COLOR_TRACKER, sighting)
 
     def _on_camera(self, msg: Any) -> None:
         self.zooms[int(msg.id)] = float(msg.zoom)
@@ -136,8 +153,16 @@ class PerceptionKernelNode(Node):
             lm.rotation_speed, lm.hold_angle = la.rotation_speed, la.hold_angle
             lm.rotation_angle, lm.collect = la.rotation_angle, la.collect
             self.laser_pub.publish(lm)
+        if out.color_seed is not None:  # before the function: the tracker starts on this seed
+            self._publish_seed(out.color_seed)
         if out.image_processing is not None:
             self._publish_ip(out.image_processing)
+
+    def _publish_seed(self, seed: ColorSeed) -> None:
+        m = PointStamped()
+        set_stamp_s(m.header.stamp, seed.time)
+        m.point.x, m.point.y = seed.x, seed.y
+        self.seed_pub.publish(m)
 
     def _publish_ip(self, mode: ImageProcessing) -> None:
         self.ip_pub.publish(UInt8(data=int(mode)))

@@ -3,9 +3,13 @@
 ``automata_ppc/ppc.hcsm`` receives the PPCL events from the DRC and raises action flags; this
 module is the flag consumer (RunControlFunctions of Algorithm 1) that engages the pan-tilt modes
 (:mod:`hdrc3_control.ppc_modes`), the camera parameters, the laser configuration and the image
-processing function (the saliency pipeline, a node of its own, runs while it is engaged), and the
-source of the conditions (on target, zoom reached, timeouts). :meth:`PpcKernel.step` is one
-iteration, driven by the PTU angle reports (25 Hz of sim time) in the node.
+processing function (the saliency pipeline, the landing pad's pose or the colour tracker, each a
+node of its own, runs while it is engaged; the colour tracker from the seed pixel of
+``ppcl_ip_color_tracker(x, y)``), and the source of the conditions (on target, zoom reached,
+timeouts). While the pad's pose or the colour tracker runs, the PTU keeps the pad or the tracked
+object in the image's centre (:mod:`hdrc3_control.visual_servoing`) instead of following its
+commanded mode. :meth:`PpcKernel.step` is one iteration, driven by the PTU angle reports (25 Hz
+of sim time) in the node.
 """
 
 from __future__ import annotations
@@ -16,9 +20,9 @@ from importlib import resources
 from pathlib import Path
 
 from hdrc3_control.event_codec import Decoded, decode, encode
-from hdrc3_control.pad_tracking import PadSighting, PadTracker
 from hdrc3_control.ppc_hardware import PtuLimits
 from hdrc3_control.ppc_modes import ImageProcessing, Pose, PtuController, PtuMode, on_target
+from hdrc3_control.visual_servoing import PtuServo, Sighting
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.interpreter import Interpreter
 from hdrc3_hcsm.loader import load_file
@@ -28,6 +32,19 @@ from hdrc3_hcsm.tables import compile_model
 from hdrc3_hcsm.transport import Transport
 
 ZOOM_TOLERANCE = 0.02
+SERVOED = frozenset({ImageProcessing.STATE_ESTIMATION, ImageProcessing.COLOR_TRACKER})
+"""Image processing functions whose sightings the PTU servoes on."""
+
+
+@dataclass(frozen=True, slots=True)
+class ColorSeed:
+    """The colour tracker's seed: ``ppcl_ip_color_tracker(x, y)`` received at PPC ``time``."""
+
+    x: float
+    """Pixel column, from the left of the colour image."""
+    y: float
+    """Pixel row, from the top."""
+    time: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -61,6 +78,8 @@ class PpcOutputs:
     cameras: list[CameraSetting] = field(default_factory=list)
     laser: LaserSetting | None = None
     image_processing: ImageProcessing | None = None
+    color_seed: ColorSeed | None = None
+    """A new colour tracker seed (each ``ppcl_ip_color_tracker`` command, also the same pixel)."""
 
 
 def model_path() -> Path:
@@ -80,9 +99,11 @@ class PpcKernel:
         zoom_timeout: float = 10.0,
     ) -> None:
         self.ptu = PtuController(limits)
-        self.tracker = PadTracker(limits)
-        """Keeps the landing pad centred while state estimation is engaged (§5.4)."""
-        self._sightings: list[PadSighting] = []
+        self.servo = PtuServo(limits)
+        """Keeps the pad (state estimation, §5.4) or the colour tracker's object centred (§6.1)."""
+        self._sightings: list[tuple[ImageProcessing, Sighting]] = []
+        self._servoed: tuple[ImageProcessing, ColorSeed | None] | None = None
+        """The object the servo follows (function, seed); a change restarts it."""
         self.ptu_timeout = ptu_timeout
         self.zoom_timeout = zoom_timeout
         self.now = 0.0
@@ -92,6 +113,8 @@ class PpcKernel:
         self.cameras = {cam: CameraSetting(cam) for cam in (0, 1)}
         self.laser = LaserSetting()
         self.image_processing = ImageProcessing.IDLE
+        self.color_seed: ColorSeed | None = None
+        """The colour tracker's seed while colour tracking is engaged."""
         self._ptu_since = 0.0
         self._zoom_since = 0.0
         self._zoom_camera = 0
@@ -175,8 +198,14 @@ class PpcKernel:
             ip = ImageProcessing.SALIENCY
         if flags.is_set("Ip-State-Est-AC"):
             ip = ImageProcessing.STATE_ESTIMATION
+        # the DRC checked the pixel; a malformed payload (never sent) engages nothing
+        if flags.is_set("Ip-Tracker-AC") and (p := read("Ip-DO", 2)):
+            ip = ImageProcessing.COLOR_TRACKER
+            self.color_seed = out.color_seed = ColorSeed(p.values[0], p.values[1], now)
         if flags.is_set("Ip-Stop-AC"):
             ip = ImageProcessing.IDLE
+        if ip is not ImageProcessing.COLOR_TRACKER:
+            self.color_seed = None
         if ip is not self.image_processing:
             self.image_processing = out.image_processing = ip
 
@@ -193,13 +222,17 @@ class PpcKernel:
         self._outputs.cameras.append(setting)
 
     # --- iteration ------------------------------------------------------------------------
-    def see_pad(self, sighting: PadSighting) -> None:
-        """The pad's pose of one image (taken in the next iteration)."""
-        self._sightings.append(sighting)
+    def see(self, source: ImageProcessing, sighting: Sighting) -> None:
+        """Where one image of ``source`` saw its object (taken in the next iteration).
+
+        Only the engaged function's sightings count; the colour tracker's only from images
+        taken since its seed (older ones show the previous object).
+        """
+        self._sightings.append((source, sighting))
 
     def ptu_reading(self, time: float, pan: float, tilt: float) -> None:
-        """A PTU read-out with its sensor time (the tracker aims from the image's angles)."""
-        self.tracker.reading(time, pan, tilt)
+        """A PTU read-out with its sensor time (the servo aims from the image's angles)."""
+        self.servo.reading(time, pan, tilt)
 
     def step(
         self,
@@ -237,19 +270,25 @@ class PpcKernel:
         return out
 
     def _track(self, now: float) -> tuple[float, float] | None:
-        """The pad tracker's set-point while state estimation is engaged (else None)."""
+        """The servo's set-point while the pad's pose or the colour tracker runs (else None)."""
         sightings, self._sightings = self._sightings, []
-        if self.image_processing is not ImageProcessing.STATE_ESTIMATION:
-            self.tracker.reset()
+        ip, seed = self.image_processing, self.color_seed
+        if ip not in SERVOED:
+            self.servo.reset()
+            self._servoed = None
             return None
-        for sighting in sightings:
-            self.tracker.see(sighting)
-        return self.tracker.update(now)
+        if self._servoed is not None and self._servoed != (ip, seed):
+            self.servo.restart(now)  # another object: hold still until it is seen
+        self._servoed = (ip, seed)
+        for source, sighting in sightings:
+            if source is ip and (seed is None or sighting.time >= seed.time):
+                self.servo.see(sighting)
+        return self.servo.update(now)
 
     @property
     def tracking(self) -> bool:
-        """True while the PTU follows the pad rather than its commanded mode."""
-        return self.tracker.setpoint is not None
+        """True while the PTU follows the pad or the tracked object, not its commanded mode."""
+        return self.servo.setpoint is not None
 
     def _send(self) -> None:
         outgoing = self.interpreter.take_outbox()

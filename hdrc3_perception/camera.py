@@ -99,6 +99,12 @@ class Intrinsics:
         """Row-major K as ``CameraInfo.k`` carries it."""
         return (self.fx, 0.0, self.cx, 0.0, self.fy, self.cy, 0.0, 0.0, 1.0)
 
+    def direction(self, u: float, v: float) -> NDArray[np.float64]:
+        """Unit vector through pixel (u, v) in the optical frame (x right, y down, z forward)."""
+        local = np.array([(u - self.cx) / self.fx, (v - self.cy) / self.fy, 1.0])
+        unit: NDArray[np.float64] = local / np.linalg.norm(local)
+        return unit
+
 
 @dataclass(frozen=True, slots=True)
 class NavPose:
@@ -176,8 +182,5 @@ class CameraPose:
 
     def ray(self, intrinsics: Intrinsics, u: float, v: float) -> NDArray[np.float64]:
         """Unit ENU direction of the ray through pixel (u, v)."""
-        local = np.array(
-            [(u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy, 1.0]
-        )
-        direction: NDArray[np.float64] = self.rotation @ (local / np.linalg.norm(local))
+        direction: NDArray[np.float64] = self.rotation @ intrinsics.direction(u, v)
         return direction

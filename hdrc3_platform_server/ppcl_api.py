@@ -7,7 +7,9 @@ resource held (the service requests carry no caller identity, so any caller may 
 resource; ownership keeps two executors from taking the same resource). An accepted command
 answers ``PPCL_OK`` with an id; the PPC reports the mode reaching its target (finished) or failing;
 a newer command for the same mode replaces an older one (cancelled). No queue, no busy: payload
-modes replace each other as the chapter's pan-tilt modes do.
+modes replace each other as the chapter's pan-tilt modes do. The image processing commands
+(``ppcl_ip_saliency``, ``ppcl_ip_state_estimation``, ``ppcl_ip_color_tracker(x, y)`` with the
+seed pixel, ``ppcl_ip_abort``) finish when the PPC has engaged (or stopped) the function.
 """
 
 from __future__ import annotations
@@ -28,10 +30,6 @@ from hdrc3_platform_server.fcl_api import IdSource
 from hdrc3_platform_server.geo_frame import WorldFrame
 
 LANDING_CONTROLLED = frozenset({Resource.PTU, Resource.CAMERA, Resource.IMAGE_PROCESSING})
-IP_NOT_AVAILABLE = (
-    "colour tracking is not available in this version of the PPC (ppcl_ip_saliency and"
-    " ppcl_ip_state_estimation are)"
-)
 RESTARTED_PPC = "perception kernel (PPC) restarted: the command was lost"
 """Reason of the terminal event of a PPCL command the PPC forgot in a restart."""
 
@@ -159,8 +157,6 @@ class PayloadCommandLayer:
                 PpclCode.NOT_ACCEPTED,
                 f"request control of the {name} first (ppcl_request_{name}_control)",
             )
-        if command is PpclCommand.IP_COLOR_TRACKER:
-            return PpclAnswer(PpclCode.NOT_ACCEPTED, IP_NOT_AVAILABLE)
         if not self.kernel.status.ppc_fresh():
             return PpclAnswer(
                 PpclCode.NOT_ACCEPTED,

@@ -3,8 +3,9 @@
 What a checkpoint holds (:class:`WorldState`): the tick, every agent (flight model including
 JSBSim's rigid body, rotor and drive-train states, the YACS and its YAS front end, the RC
 transmitter, the sensor suite with its noise streams, schedules, faults, power switches and
-payload mechanisms, the latest command), the wind (gusts and their stream), the dynamic objects,
-and what the node adds (:class:`RunState`: run id, pause, lockstep set).
+payload mechanisms, the latest command), the wind (gusts and their stream), the dynamic objects
+(a driving car's pose is a function of the tick and its drive's departure, which a resume delays
+by the skipped ticks), and what the node adds (:class:`RunState`: run id, pause, lockstep set).
 
 Why pickle and not a hand-written format: the state is spread over some twenty plain Python
 classes (numpy generators, Gauss-Markov processes, schedules, filters); a codec per class would
@@ -44,8 +45,9 @@ from sim.world import DynamicObject
 from sim.world_sim import TICK_NS, SimAgent, SimConfig, WorldSim
 
 MAGIC = b"hdrc3 world checkpoint\n"
-FORMAT = 2
-"""Version of the file layout and of the pickled classes; another version is not resumed."""
+FORMAT = 3
+"""Version of the file layout and of the pickled classes; another version is not resumed.
+3: dynamic objects carry a car's ``drive`` and ``paint``."""
 _HEADER = struct.Struct(f">{len(MAGIC)}sI32s")
 _ALLOWED_MODULES = ("sim.", "numpy")
 _ALLOWED_BUILTINS = frozenset({"complex", "frozenset", "set", "slice", "bytearray", "range"})

@@ -72,9 +72,10 @@ NODE_NAME = "world_sim"
 WIND_EVERY = 5
 """Ticks between /world_sim/wind messages (10 Hz sim time)."""
 PAYLOAD_EVERY = 5
-"""Ticks between carrying-sensor samples and looks for moved boxes (10 Hz sim time)."""
+"""Ticks between carrying-sensor samples and looks for moved objects (10 Hz sim time): a car
+driving at 10 m/s moves 1 m between two /world_sim/objects messages."""
 MOVED = 0.01
-"""m (or rad of heading) a box or carrier moves before /world_sim/objects is sent again."""
+"""m (or rad of heading) a box, carrier or car moves before /world_sim/objects is sent again."""
 STALL_S = 0.5
 """Wall seconds without the awaited commands after which a tick is re-announced."""
 WAIT_STEP_S = 0.1
@@ -389,7 +390,7 @@ class WorldSimNode(SteppedNode):
             self.get_logger().error(problem, throttle_duration_sec=10.0)
 
     def _publish_objects(self) -> None:
-        """Every dynamic object; boxes and carriers where their rigid bodies are now."""
+        """Every dynamic object; boxes, carriers and driving cars where they are now."""
         msg = WorldObjects()
         stamp_header(msg.header, self.sim.time_ns)
         poses = self.sim.object_poses()
@@ -410,7 +411,7 @@ class WorldSimNode(SteppedNode):
         self._objects_pub.publish(msg)
 
     def _objects_moved(self) -> bool:
-        """True when a box or carrier moved (or changed hands) since the last objects message."""
+        """True when an object moved (or changed hands) since the last objects message."""
         last = self._published_poses
         for oid, p in self.sim.object_poses().items():
             old = last.get(oid)

@@ -151,13 +151,33 @@ class RadiationSource:
 
 
 @dataclass(frozen=True, slots=True)
+class Drive:
+    """A car's drive along a route of road waypoints (kinematics: :mod:`sim.drive`).
+
+    The car sets off from rest at the first waypoint at sim time ``depart``, cruises at
+    ``speed`` on straights, slows for the rounded corners and stops at the last waypoint, or,
+    with ``loop``, drives on from the last waypoint back to the first, lap after lap.
+    """
+
+    route: tuple[Point2, ...]
+    """Waypoints (east, north), m: road centre-line points, at least 2 (3 for a loop)."""
+    speed: float
+    """Cruise speed on straights, m/s (0 < speed <= ``sim.drive.MAX_SPEED``)."""
+    loop: bool = False
+    depart: float = 0.0
+    """Sim time the car sets off, s (>= 0); it waits at the first waypoint until then."""
+
+
+@dataclass(frozen=True, slots=True)
 class DynamicObject:
     """A movable object: person, dummy or animal on the ground, supply box, carrier or car.
 
     Kind-specific properties are ``None`` where they do not apply: ``temperature`` (surface
     temperature seen by the thermal camera, K) for persons, dummies, animals and cars,
     ``contents`` for boxes, ``capacity`` (boxes) for carriers; ``mass`` for boxes, carriers,
-    cars and animals; ``on`` for a box that rests on a carrier at the start.
+    cars and animals; ``on`` for a box that rests on a carrier at the start; ``drive`` and
+    ``paint`` for cars. A driving car's ``east``, ``north`` and ``heading`` are its pose when
+    it waits to set off (sim time 0); :meth:`sim.world_sim.WorldSim.object_poses` gives it now.
     """
 
     id: str
@@ -173,6 +193,10 @@ class DynamicObject:
     capacity: int | None = None
     on: str | None = None
     """The carrier a box rests on at the start (its position is a place on that carrier)."""
+    drive: Drive | None = None
+    """How a car drives (None: it stays where it is)."""
+    paint: tuple[float, float, float] | None = None
+    """A car's body colour, linear RGB in [0, 1] (None: the renderer picks one by its id)."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from hdrc3_base.errors import DataError
+from sim.drive import MAX_SPEED, DrivePlan, drive_problem
 from sim.geodesy import GeodeticOrigin
 from sim.landing_pattern import PAD_HALF_WIDTH_M
 from sim.terrain import Terrain
@@ -28,6 +29,7 @@ from sim.world import (
     Building,
     Depot,
     DepotKind,
+    Drive,
     DynamicObject,
     LandingPad,
     NoFlyZone,
@@ -82,6 +84,11 @@ _ARRAY_KEYS: dict[str, frozenset[str]] = {
             "mass",
             "capacity",
             "on",
+            "route",
+            "speed",
+            "loop",
+            "depart",
+            "paint",
         }
     ),
 }
@@ -585,8 +592,20 @@ class _Reader:
     def _object(self, value: dict[str, Any], entry: int) -> DynamicObject:
         ident = self._string(value, "object", entry, "id")
         kind = self._enum(value, "object", entry, "type", ObjectKind)
-        east, north = self._point(value, "object", entry)
-        heading = math.radians(self._number(value, "object", entry, "heading_deg", default=0.0))
+        driving = kind is ObjectKind.CAR and "route" in value
+        if driving:  # a driving car waits at its route's start, facing along it
+            for key in ("position", "heading_deg"):
+                if key in value:
+                    raise self.fail(
+                        "object",
+                        entry,
+                        key,
+                        f"car '{ident}' drives a route: its start is the route's, leave out {key}",
+                    )
+            east, north, heading = 0.0, 0.0, 0.0
+        else:
+            east, north = self._point(value, "object", entry)
+            heading = math.radians(self._number(value, "object", entry, "heading_deg", default=0.0))
         size = DEFAULT_SIZES[kind]
         if "size" in value:
             raw = value["size"]
@@ -603,7 +622,7 @@ class _Reader:
                 )
             size = (float(raw[0]), float(raw[1]), float(raw[2]))
         allowed = _KIND_KEYS[kind]
-        for key in ("temperature_c", "contents", "mass", "capacity", "on"):
+        for key in ("temperature_c", "contents", "mass", "capacity", "on", *_CAR_KEYS):
             if key in value and key not in allowed:
                 raise self.fail(
                     "object",
@@ -645,6 +664,11 @@ class _Reader:
                 )
             capacity = raw_capacity
         on = self._string(value, "object", entry, "on") if "on" in value else None
+        drive = self._drive(value, entry, ident) if kind is ObjectKind.CAR else None
+        if drive is not None:
+            start = DrivePlan.of(drive).pose(0.0)
+            east, north, heading = start.east, start.north, start.heading
+        paint = self._paint(value, entry, ident) if "paint" in value else None
         return DynamicObject(
             ident,
             kind,
@@ -657,14 +681,70 @@ class _Reader:
             mass,
             capacity,
             on,
+            drive=drive,
+            paint=paint,
         )
 
+    def _drive(self, value: dict[str, Any], entry: int, ident: str) -> Drive | None:
+        """A car's ``route``, ``speed``, ``loop`` and ``depart``; None for a parked car."""
+        if "route" not in value:
+            for key in ("speed", "loop", "depart"):
+                if key in value:
+                    raise self.fail(
+                        "object", entry, key, f"car '{ident}': {key} applies to a car with a route"
+                    )
+            return None
+        route = self._points(value, "object", entry, "route", 2)
+        if "speed" not in value:
+            raise self.fail("object", entry, None, f"car '{ident}' has a route but no speed")
+        speed = value["speed"]
+        if not _is_number(speed) or not 0.0 < speed <= MAX_SPEED:
+            raise self.fail(
+                "object",
+                entry,
+                "speed",
+                f"car '{ident}': speed must be a number > 0 and <= {MAX_SPEED} m/s, got {speed!r}",
+            )
+        loop = value.get("loop", False)
+        if not isinstance(loop, bool):
+            raise self.fail("object", entry, "loop", f"car '{ident}': loop must be true or false")
+        depart = value.get("depart", 0.0)
+        if not _is_number(depart) or depart < 0.0:
+            raise self.fail(
+                "object",
+                entry,
+                "depart",
+                f"car '{ident}': depart must be a number of seconds >= 0, got {depart!r}",
+            )
+        drive = Drive(route, float(speed), loop, float(depart))
+        problem = drive_problem(drive)
+        if problem is not None:
+            raise self.fail("object", entry, "route", f"car '{ident}': {problem}")
+        return drive
 
+    def _paint(self, value: dict[str, Any], entry: int, ident: str) -> tuple[float, float, float]:
+        raw = value["paint"]
+        if not (
+            isinstance(raw, list)
+            and len(raw) == 3
+            and all(_is_number(c) and 0 <= c <= 1 for c in raw)
+        ):
+            raise self.fail(
+                "object",
+                entry,
+                "paint",
+                f"object '{ident}': paint must be [red, green, blue], each 0..1, got {raw!r}",
+            )
+        return float(raw[0]), float(raw[1]), float(raw[2])
+
+
+_CAR_KEYS = ("route", "speed", "loop", "depart", "paint")
+"""Keys of a car only: its drive and its paint."""
 _KIND_KEYS: dict[ObjectKind, frozenset[str]] = {
     ObjectKind.PERSON: frozenset({"temperature_c"}),
     ObjectKind.BOX: frozenset({"contents", "mass", "on"}),
     ObjectKind.CARRIER: frozenset({"capacity", "mass"}),
-    ObjectKind.CAR: frozenset({"temperature_c", "mass"}),
+    ObjectKind.CAR: frozenset({"temperature_c", "mass", *_CAR_KEYS}),
     ObjectKind.DUMMY: frozenset({"temperature_c"}),
     ObjectKind.ANIMAL: frozenset({"temperature_c", "mass"}),
 }

@@ -18,6 +18,7 @@ import numpy as np
 
 from hdrc3_base.errors import ConfigError
 from sim.aircraft import Aircraft, YacsStatus
+from sim.drive import DrivePlan
 from sim.flight_model import InitialPlacement
 from sim.hook import HookFault, HookReading
 from sim.hook_camera import observe
@@ -140,6 +141,8 @@ class WorldSim:
         }
         self.tick = 0
         self.objects: dict[str, DynamicObject] = {}
+        self._drives: dict[str, DrivePlan] = {}
+        """Solved drives of the driving cars (a car's pose is a function of sim time)."""
         self._readings: dict[str, list[SensorReadings]] = {}
         self.payload: PayloadWorld
         """Boxes, carriers and hooks (rebuilt by a full reset)."""
@@ -167,6 +170,7 @@ class WorldSim:
         self.wind.reset(self._wind_seed)
         self.wind.set(self.config.wind)
         self.objects = {o.id: o for o in self.world.objects}
+        self._plan_drives()
         for sim_agent in self.agents.values():
             self._build(sim_agent)
         self.payload = PayloadWorld(
@@ -187,8 +191,9 @@ class WorldSim:
         """Take over a checkpointed world state of ``tick``, its clock moved on by ``skip`` ticks.
 
         Nothing moves during the skipped ticks: the world is as if paused with its clock running
-        (every clock in the state moves along), so that the clock of a restarted simulator
-        never goes back behind a tick its predecessor may have published.
+        (every clock in the state moves along, driving cars depart ``skip`` ticks later), so
+        that the clock of a restarted simulator never goes back behind a tick its predecessor
+        may have published.
         """
         if set(agents) != set(self.agents):
             raise ConfigError(f"the state is of agents {sorted(agents)}, not {sorted(self.agents)}")
@@ -197,10 +202,16 @@ class WorldSim:
         for agent in self.agents.values():
             agent.aircraft.shift_time(skip * STEPS_PER_TICK)
         self.wind = wind
-        self.objects = dict(objects)
+        self.objects = {oid: _delayed(obj, skip * TICK_S) for oid, obj in objects.items()}
+        self._plan_drives()
         if payload is not None:
             self.payload = payload
         self._readings = {name: [] for name in self.agents}
+
+    def _plan_drives(self) -> None:
+        self._drives = {
+            oid: DrivePlan.of(obj.drive) for oid, obj in self.objects.items() if obj.drive
+        }
 
     def _origin(self) -> tuple[float, float, float]:
         o = self.world.origin
@@ -274,6 +285,8 @@ class WorldSim:
     def spawn(self, obj: DynamicObject) -> None:
         """Add a dynamic object (unchecked; boxes and carriers come from the world file)."""
         self.objects[obj.id] = obj
+        if obj.drive is not None:
+            self._drives[obj.id] = DrivePlan.of(obj.drive)
 
     def hook_command(self, agent: str, cable_length: float, magnet: bool) -> None:
         """Winch and magnet set-point of ``agent``'s hook (unchecked)."""
@@ -300,8 +313,16 @@ class WorldSim:
         return observe(winch, targets, (self.agents[agent].seed, self.tick))
 
     def object_poses(self) -> dict[str, PayloadPose]:
-        """Rigid-body poses of the boxes and carriers now."""
-        return self.payload.poses()
+        """Poses now of the objects that move: boxes and carriers (rigid bodies), driving cars."""
+        poses = self.payload.poses()
+        height = self.world.terrain.height
+        t = self.time
+        for oid, plan in self._drives.items():
+            p = plan.pose(t)
+            poses[oid] = PayloadPose(
+                p.east, p.north, height(p.east, p.north), p.heading, "", p.speed
+            )
+        return poses
 
     # ------------------------------------------------------------------ step
     def advance(self) -> None:
@@ -348,6 +369,13 @@ class WorldSim:
     def blocked_by(self, east: float, north: float, up: float | None = None) -> str | None:
         """Building occupying the point (any height if ``up`` is None), else None."""
         return self.geometry.point_in_building(east, north, up)
+
+
+def _delayed(obj: DynamicObject, seconds: float) -> DynamicObject:
+    """``obj``, a driving car departing ``seconds`` later (the same object otherwise)."""
+    if obj.drive is None or seconds == 0.0:
+        return obj
+    return replace(obj, drive=replace(obj.drive, depart=obj.drive.depart + seconds))
 
 
 def finite(*values: float) -> bool:

@@ -99,7 +99,12 @@ def _inside_terrain(world: World) -> Iterator[Issue]:
         ),
         ("pad", "position", [(p.name, [(p.east, p.north)]) for p in world.pads]),
         ("depot", "position", [(d.name, [(d.east, d.north)]) for d in world.depots]),
-        ("object", "position", [(o.id, [(o.east, o.north)]) for o in world.objects]),
+        (  # a driving car's position is its route's start
+            "object",
+            "position",
+            [(o.id, [(o.east, o.north)] if o.drive is None else []) for o in world.objects],
+        ),
+        ("object", "route", [(o.id, o.drive.route if o.drive else ()) for o in world.objects]),
     ]
     for table, key, items in shapes:
         for entry, (name, points) in enumerate(items):
@@ -129,6 +134,18 @@ def _pads_and_depots(world: World) -> Iterator[Issue]:
 def _objects(world: World) -> Iterator[Issue]:
     buildings = [(b.name, Polygon(b.footprint)) for b in world.buildings]
     for entry, obj in enumerate(world.objects):
+        if obj.drive is not None:  # a driving car's start lies on its route
+            route = obj.drive.route
+            line = LineString([*route, route[0]] if obj.drive.loop else route)
+            for name, polygon in buildings:
+                if line.intersects(polygon):
+                    yield (
+                        "object",
+                        entry,
+                        "route",
+                        f"car '{obj.id}': route crosses building '{name}'",
+                    )
+            continue
         point = Point(obj.east, obj.north)
         for name, polygon in buildings:
             if polygon.covers(point):

@@ -222,9 +222,13 @@ def add_animal(mesh: MeshBuilder, obj: DynamicObject, ground: float, fur_k: floa
 
 
 def add_car(mesh: MeshBuilder, obj: DynamicObject, ground: float, body_k: float) -> None:
-    """A car: lower body, cabin, four wheels and a warm engine hood at the front."""
+    """A car: lower body, cabin, four wheels and a warm engine hood at the front.
+
+    The body has the object's ``paint`` if it has one (a colour a tracker is told), else a
+    colour of ``CAR_PAINTS`` drawn by its id.
+    """
     rng = object_rng(obj.id)
-    paint = choose(rng, CAR_PAINTS)
+    paint = choose(rng, CAR_PAINTS) if obj.paint is None else np.asarray(obj.paint)
     length, width, height = obj.size
     p = _Placer(mesh, obj, ground, 1.0)
     lower = 0.5 * height

@@ -1,8 +1,8 @@
 """The dynamic objects world_render draws, from world_sim's ``/world_sim/objects`` message.
 
 The message carries id, kind, position, heading and size; the properties it lacks (surface
-temperature) come from the world file for objects it defines and from the spawn defaults of
-their kind for spawned ones.
+temperature, a car's paint and drive) come from the world file for objects it defines and from
+the spawn defaults of their kind for spawned ones.
 """
 
 from __future__ import annotations

@@ -135,8 +135,15 @@ class _Drawable:
     """One vertex buffer, tiled for culling, bound to both programs."""
 
     mesh: TiledMesh
+    vbo: moderngl.Buffer
     colour: moderngl.VertexArray
     thermal: moderngl.VertexArray
+
+    def release(self) -> None:
+        """Free the GL objects (the context does not collect them)."""
+        self.colour.release()
+        self.thermal.release()
+        self.vbo.release()
 
 
 def _uniform(program: moderngl.Program, name: str) -> moderngl.Uniform:
@@ -167,7 +174,9 @@ class Renderer:
         self._color_prog = self.ctx.program(vertex_shader=_VERTEX, fragment_shader=_COLOR)
         self._thermal_prog = self.ctx.program(vertex_shader=_VERTEX, fragment_shader=_THERMAL)
         self._static = self._buffers(static_mesh(world, self.environment))
-        self._objects = self._buffers(object_mesh(world, world.objects, self.environment))
+        self._parked: tuple[DynamicObject, ...] = ()
+        self._objects: _Drawable | None = None
+        self._driving: _Drawable | None = None
         self._framebuffers: dict[tuple[int, int, bool], moderngl.Framebuffer] = {}
         prog = self._color_prog
         _uniform(prog, "sun_dir").value = self.color.sun_direction()
@@ -175,6 +184,7 @@ class Renderer:
         _uniform(prog, "ambient").value = self.color.ambient
         _uniform(prog, "exposure").value = self.color.exposure
         _uniform(prog, "noise").value = self.color.noise
+        self.set_objects(world.objects)  # last: leaving its `with self.ctx` unbinds the context
 
     @property
     def renderer_name(self) -> str:
@@ -194,12 +204,28 @@ class Renderer:
         thermal = self.ctx.vertex_array(
             self._thermal_prog, [(vbo, "3f 24x 1f", "in_pos", "in_temp")]
         )
-        return _Drawable(tiled, colour, thermal)
+        return _Drawable(tiled, vbo, colour, thermal)
 
     def set_objects(self, objects: Iterable[DynamicObject]) -> None:
-        """Replace the dynamic objects (after a spawn or a move)."""
+        """Replace the dynamic objects (after a spawn or a move).
+
+        Driving cars move with every ``/world_sim/objects`` message (10 Hz of sim time): they
+        have their own small buffer, rebuilt each time, while the mesh of the other objects
+        (people's bodies are most of its triangles) is rebuilt only when one of them changed.
+        """
+        objects = list(objects)
+        parked = tuple(obj for obj in objects if obj.drive is None)
+        driving = [obj for obj in objects if obj.drive is not None]
         with self.ctx:
-            self._objects = self._buffers(object_mesh(self.world, objects, self.environment))
+            if parked != self._parked or self._objects is None:
+                self._parked = parked
+                self._objects = self._replace(self._objects, parked)
+            self._driving = self._replace(self._driving, driving)
+
+    def _replace(self, old: _Drawable | None, objects: Iterable[DynamicObject]) -> _Drawable | None:
+        if old is not None:
+            old.release()
+        return self._buffers(object_mesh(self.world, objects, self.environment))
 
     def _framebuffer(self, intrinsics: Intrinsics, thermal: bool) -> moderngl.Framebuffer:
         key = (intrinsics.width, intrinsics.height, thermal)
@@ -227,7 +253,8 @@ class Renderer:
         prog = self._thermal_prog if thermal else self._color_prog
         clip = clip_matrix(pose, intrinsics)
         _uniform(prog, "clip").write(gl_bytes(clip))
-        for drawable, grain in ((self._static, True), (self._objects, False)):
+        drawables = ((self._static, True), (self._objects, False), (self._driving, False))
+        for drawable, grain in drawables:
             if drawable is None:
                 continue
             amp = (GROUND_THERMAL_GRAIN_K if thermal else GROUND_GRAIN) if grain else 0.0

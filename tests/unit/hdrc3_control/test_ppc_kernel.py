@@ -7,8 +7,9 @@ import math
 import pytest
 
 from hdrc3_control.event_codec import decode, encode
-from hdrc3_control.ppc_kernel import PpcKernel, model_path
-from hdrc3_control.ppc_modes import Pose, PtuMode
+from hdrc3_control.ppc_kernel import ColorSeed, PpcKernel, model_path
+from hdrc3_control.ppc_modes import ImageProcessing, Pose, PtuMode
+from hdrc3_control.visual_servoing import Sighting
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.loader import load_file
 from hdrc3_hcsm.tables import compile_model
@@ -16,6 +17,13 @@ from hdrc3_hcsm.transport import LoopbackNetwork, LoopbackTransport
 
 EVENTS = compile_model(load_file(model_path())).events
 POSE = Pose((0.0, 0.0, 20.0), 0.0, 0.0, 0.0)
+IP = ImageProcessing
+ENGAGE = {
+    IP.SALIENCY: ("PPCL-IP-Saliency-EV", ()),
+    IP.STATE_ESTIMATION: ("PPCL-IP-State-Est-EV", ()),
+    IP.COLOR_TRACKER: ("PPCL-IP-Tracker-EV", (320.0, 200.0)),
+}
+"""The PPCL event (and its numbers) that engages each image processing function."""
 
 
 class Bench:
@@ -29,6 +37,9 @@ class Bench:
         self.pan = self.tilt = self.zoom = 0.0
         self.powered = True
         self.replies: list[tuple[str, int, str]] = []
+        self.seeds: list[ColorSeed] = []
+        self.functions: list[ImageProcessing] = []
+        """The published image processing functions and colour tracker seeds, in order."""
 
     def send(self, name: str, cid: int, *numbers: float) -> None:
         self.drc.send(WireEvent(EVENTS.id_of(name), name, encode(cid, numbers), "DRC", "PPC"))
@@ -36,17 +47,32 @@ class Bench:
     def run(self, seconds: float) -> None:
         for _ in range(round(seconds / 0.04)):
             self.t += 0.04
+            self.kernel.ptu_reading(self.t, self.pan, self.tilt)
             out = self.kernel.step(self.t, POSE, (self.pan, self.tilt), {0: self.zoom, 1: 0.0})
             if out.ptu is not None and self.powered:
                 step = math.radians(60.0) * 0.04
                 self.pan += max(-step, min(step, out.ptu[0] - self.pan))
                 self.tilt += max(-step, min(step, out.ptu[1] - self.tilt))
+            if out.color_seed is not None:
+                self.seeds.append(out.color_seed)
+            if out.image_processing is not None:
+                self.functions.append(out.image_processing)
             for cam in out.cameras:
                 if cam.camera_id == 0:
                     self.zoom = cam.zoom
             for event in self.drc.receive():
                 p = decode(event.data, 0, with_reason=True)
                 self.replies.append((event.name, p.command_id, p.reason))
+
+    def engage(self, function: ImageProcessing, cid: int) -> None:
+        """Send the command that engages ``function`` and run one iteration."""
+        name, numbers = ENGAGE[function]
+        self.send(name, cid, *numbers)
+        self.run(0.04)
+
+    def sight(self, source: ImageProcessing, direction: tuple[float, float, float]) -> None:
+        """An image of ``source`` taken now sees its object in ``direction`` (optical frame)."""
+        self.kernel.see(source, Sighting(self.t, direction))
 
     def outcome(self, cid: int) -> str | None:
         return next((name for name, c, _ in self.replies if c == cid), None)
@@ -126,3 +152,94 @@ def test_laser_collection_start_stop() -> None:
     b.run(0.08)
     assert not b.kernel.laser.collect
     assert b.outcome(10) == b.outcome(11) == "PPCL-Finished-EV"
+
+
+@pytest.mark.parametrize(
+    ("engaged", "source", "servoed"),
+    [
+        (IP.STATE_ESTIMATION, IP.STATE_ESTIMATION, True),
+        (IP.STATE_ESTIMATION, IP.COLOR_TRACKER, False),
+        (IP.COLOR_TRACKER, IP.COLOR_TRACKER, True),
+        (IP.COLOR_TRACKER, IP.STATE_ESTIMATION, False),
+        (IP.SALIENCY, IP.COLOR_TRACKER, False),
+        (IP.SALIENCY, IP.STATE_ESTIMATION, False),
+        (IP.IDLE, IP.STATE_ESTIMATION, False),
+    ],
+)
+def test_the_ptu_servoes_on_the_engaged_functions_sightings_only(
+    engaged: ImageProcessing, source: ImageProcessing, servoed: bool
+) -> None:
+    b = Bench()
+    if engaged is not IP.IDLE:
+        b.engage(engaged, 3)
+        assert b.outcome(3) == "PPCL-Finished-EV"
+    assert b.kernel.image_processing is engaged
+    b.sight(source, (0.0, 1.0, 5.0))
+    b.run(1.0)
+    assert b.kernel.tracking is servoed
+    if servoed:
+        assert b.tilt == pytest.approx(math.atan2(1.0, 5.0), abs=1e-6)
+    b.send("PPCL-IP-Abort-EV", 4)
+    b.run(0.08)
+    assert not b.kernel.tracking and b.kernel.image_processing is IP.IDLE
+    assert b.outcome(4) == "PPCL-Finished-EV"
+
+
+def test_colour_tracking_publishes_each_seed_and_stops_on_abort() -> None:
+    b = Bench()
+    b.send("PPCL-IP-Tracker-EV", 5, 100.0, 200.0)
+    b.run(0.04)
+    first = b.t
+    b.run(0.2)
+    b.send("PPCL-IP-Tracker-EV", 6, 100.0, 200.0)  # the same pixel again: a new seed
+    b.run(0.04)
+    assert b.seeds == [ColorSeed(100.0, 200.0, first), ColorSeed(100.0, 200.0, b.t)]
+    assert b.functions == [IP.COLOR_TRACKER]  # engaged once, restarted by the seed
+    assert b.kernel.color_seed == b.seeds[-1]
+    assert b.outcome(5) == b.outcome(6) == "PPCL-Finished-EV"
+    b.send("PPCL-IP-Abort-EV", 7)
+    b.run(0.04)
+    assert b.functions == [IP.COLOR_TRACKER, IP.IDLE] and b.kernel.color_seed is None
+    assert b.outcome(7) == "PPCL-Finished-EV"
+
+
+@pytest.mark.parametrize(
+    ("before", "function"),
+    [
+        (IP.IDLE, IP.COLOR_TRACKER),
+        (IP.SALIENCY, IP.COLOR_TRACKER),
+        (IP.STATE_ESTIMATION, IP.COLOR_TRACKER),
+        (IP.COLOR_TRACKER, IP.STATE_ESTIMATION),
+        (IP.COLOR_TRACKER, IP.SALIENCY),
+    ],
+)
+def test_one_image_processing_function_replaces_another(
+    before: ImageProcessing, function: ImageProcessing
+) -> None:
+    b = Bench()
+    if before is not IP.IDLE:
+        b.engage(before, 1)
+    b.engage(function, 2)
+    assert b.kernel.image_processing is function and b.outcome(2) == "PPCL-Finished-EV"
+    assert b.functions[-1] is function
+    assert (b.kernel.color_seed is not None) is (function is IP.COLOR_TRACKER)
+
+
+def test_a_new_seed_holds_the_pointing_until_its_object_is_seen() -> None:
+    b = Bench()
+    b.send("PPCL-Turn-To-EV", 1, 0.0, 0.0)  # the commanded mode: straight ahead
+    b.engage(IP.COLOR_TRACKER, 2)
+    seed = b.t
+    b.sight(IP.COLOR_TRACKER, (0.0, 1.0, 1.0))  # 45 deg down
+    b.run(1.0)
+    assert b.tilt == pytest.approx(math.pi / 4, abs=1e-6)
+    b.send("PPCL-IP-Tracker-EV", 3, 10.0, 10.0)
+    b.run(0.04)
+    b.kernel.see(IP.COLOR_TRACKER, Sighting(seed, (1.0, 0.0, 1.0)))  # the old seed's image
+    b.run(1.9)  # within the hold (2 s): still, not back to the commanded mode
+    assert b.kernel.tracking and b.tilt == pytest.approx(math.pi / 4, abs=1e-6)
+    assert b.pan == pytest.approx(0.0, abs=1e-9)
+    b.run(0.2)  # not seen within the hold: back to the commanded turn-to
+    assert not b.kernel.tracking
+    b.run(1.0)
+    assert b.tilt == pytest.approx(0.0, abs=1e-9)

@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from hdrc3_control.event_codec import decode
 from hdrc3_platform_server.codes import (
     EventKind,
     FclCode,
@@ -17,7 +18,6 @@ from hdrc3_platform_server.codes import (
 )
 from hdrc3_platform_server.fakes import FakeRig
 from hdrc3_platform_server.geo_frame import WorldFrame
-from hdrc3_platform_server.ppcl_api import IP_NOT_AVAILABLE
 
 FRAME = WorldFrame(55.70, 13.47, 95.0)
 P = PpclCommand
@@ -124,16 +124,13 @@ def test_bad_control_requests(resource: int, requesting: bool, owner: str, words
 
 
 # --- mode and parameter rows -----------------------------------------------------------------
-FORWARDED = [c for c in P if c is not P.IP_COLOR_TRACKER]
-
-
 @pytest.mark.parametrize("command", list(P))
 def test_command_without_control_is_not_accepted(command: PpclCommand) -> None:
     answer = rig().core.ppcl.submit(command, VALID[command], 0.2)
     assert answer.code is PpclCode.NOT_ACCEPTED and "request control" in answer.reason
 
 
-@pytest.mark.parametrize("command", FORWARDED)
+@pytest.mark.parametrize("command", list(P))
 def test_command_with_control_finishes(command: PpclCommand) -> None:
     r = rig(*Resource)
     answer = r.core.ppcl.submit(command, VALID[command], r.t)
@@ -143,10 +140,17 @@ def test_command_with_control_finishes(command: PpclCommand) -> None:
     assert final is not None and final.kind is EventKind.FINISHED
 
 
-def test_colour_tracking_is_not_available() -> None:
-    command = P.IP_COLOR_TRACKER
-    answer = rig(Resource.IMAGE_PROCESSING).core.ppcl.submit(command, VALID[command], 0.2)
-    assert answer.code is PpclCode.NOT_ACCEPTED and answer.reason == IP_NOT_AVAILABLE
+@pytest.mark.parametrize("seed", [(0.0, 0.0), (719.5, 575.0), (360.0, 288.0)])
+def test_colour_tracking_sends_its_seed_to_the_ppc(seed: tuple[float, float]) -> None:
+    r = rig(Resource.IMAGE_PROCESSING)
+    assert r.ppc is not None
+    answer = r.core.ppcl.submit(P.IP_COLOR_TRACKER, seed, r.t)
+    assert answer.code is PpclCode.OK, answer.reason
+    r.run(0.2)
+    sent = [e for e in r.ppc.received if e.name == "PPCL-IP-Tracker-EV"]
+    assert [decode(e.data, 2).values for e in sent] == [seed]
+    final = r.log.final(answer.command_id)
+    assert final is not None and final.kind is EventKind.FINISHED
 
 
 @pytest.mark.parametrize("command", [c for c in P if RESOURCE.get(c) is not None])
@@ -208,6 +212,10 @@ def test_commands_need_a_running_ppc() -> None:
         (P.LOOK_AT, (15.0, 55.7, 0.0, 0.0), "far outside"),
         (P.LOOK_AT, (math.nan, 55.7, 0.0, 0.0), "finite"),
         (P.IP_COLOR_TRACKER, (1000.0, 10.0), "outside"),
+        (P.IP_COLOR_TRACKER, (-1.0, 10.0), "outside"),
+        (P.IP_COLOR_TRACKER, (10.0, 576.0), "outside the 720x576 color image"),
+        (P.IP_COLOR_TRACKER, (math.nan, 10.0), "finite"),
+        (P.IP_COLOR_TRACKER, (10.0,), "takes 2 argument(s), got 1"),
         # fuzz-found: infinite camera ids once reached int() (OverflowError)
         (P.IRIS, (math.inf, 0.5), "camera_id must be a finite number"),
         (P.EXPOSURE, (math.inf, 1.0), "camera_id must be a finite number"),

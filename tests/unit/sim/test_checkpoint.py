@@ -185,3 +185,27 @@ def test_a_failed_write_is_a_reason_not_an_exception(tmp_path: Path) -> None:
     problem = checkpoints.write(WorldSim(CONFIG), RUN)
     assert problem is not None and "cannot write checkpoint" in problem
     assert not checkpoints.due(5)  # retried a period later, not every tick
+
+
+def test_a_driving_car_resumes_where_it_was_and_stands_still_in_the_skipped_time() -> None:
+    config = SimConfig(load_world("revinge_chase"), ("uav0",))
+    sim = WorldSim(config)
+    for _ in range(100):
+        sim.advance()
+    before = sim.object_poses()["chase1"]
+    assert before.speed == pytest.approx(4.0)
+    copy = WorldSim(config)
+    found = ck.decode(ck.encode(sim, RUN, 10), copy)
+    assert found.state is not None, found.reason
+    state = found.state
+    copy.resume(state.tick, state.agents, state.wind, state.objects, 25, payload=state.payload)
+    assert copy.time == pytest.approx(sim.time + 0.5)
+    after = copy.object_poses()["chase1"]
+    assert (after.east, after.north, after.speed) == pytest.approx((before.east, before.north, 4.0))
+    sim.advance()
+    copy.advance()
+    moved, resumed = sim.object_poses()["chase1"], copy.object_poses()["chase1"]
+    assert (resumed.east, resumed.north, resumed.speed) == pytest.approx(
+        (moved.east, moved.north, moved.speed)
+    )
+    assert moved.east > before.east

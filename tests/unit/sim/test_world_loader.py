@@ -2,13 +2,20 @@
 
 from __future__ import annotations
 
+import colorsys
 import math
 import random
 from pathlib import Path
 
+import numpy as np
 import pytest
+from shapely.geometry import LineString, Point, Polygon
+from shapely.ops import unary_union
 
+from sim.drive import DrivePlan
 from sim.geodesy import enu_to_geodetic
+from sim.render import bodies
+from sim.render.materials import Material
 from sim.world import BoxContents, DepotKind, ObjectKind
 from sim.world_loader import DEFAULT_SIZES, WorldError, load_world, parse_world, shipped_worlds
 
@@ -513,3 +520,188 @@ def test_revinge_changed_is_revinge_with_a_container_and_new_trees() -> None:
     assert max(east) - min(east) == pytest.approx(2.5)
     assert max(north) - min(north) == pytest.approx(12.2)
     assert container.height == pytest.approx(2.6)
+
+
+CAR = """
+[[object]]
+id = "k1"
+type = "car"
+route = [[-50.0, -50.0], [50.0, -50.0], [50.0, 50.0]]
+speed = 8.0
+"""
+ROUTE = "route = [[-50.0, -50.0], [50.0, -50.0], [50.0, 50.0]]"
+
+BAD_CARS = {
+    "route of a person": (
+        BASE
+        + '[[object]]\nid = "p1"\ntype = "person"\nposition = [-20.0, 3.0]\ntemperature_c = 33.0\n'
+        + "route = [[0.0, 0.0], [5.0, 0.0]]  # <-- error\n",
+        "object 'p1': route does not apply to a person",
+    ),
+    "paint of a dummy": (
+        BASE
+        + '[[object]]\nid = "d1"\ntype = "dummy"\nposition = [-20.0, 3.0]\n'
+        + "paint = [1.0, 0.0, 0.0]  # <-- error\n",
+        "paint does not apply to a dummy",
+    ),
+    "speed of a parked car": (
+        BASE
+        + '[[object]]\nid = "k1"\ntype = "car"\nposition = [-20.0, 3.0]\n'
+        + "speed = 5.0  # <-- error\n",
+        "car 'k1': speed applies to a car with a route",
+    ),
+    "position of a driving car": (
+        BASE + CAR + "position = [-50.0, -50.0]  # <-- error\n",
+        "car 'k1' drives a route: its start is the route's, leave out position",
+    ),
+    "route of one point": (
+        BASE + CAR.replace(ROUTE, "route = [[0.0, -50.0]]  # <-- error"),
+        "route needs at least 2 points, got 1",
+    ),
+    "route not finite": (
+        BASE + CAR.replace(ROUTE, "route = [[0.0, -50.0], [nan, 0.0]]  # <-- error"),
+        "route must be a list of [east, north] pairs",
+    ),
+    "no speed": (
+        BASE + CAR.replace("[[object]]", "[[object]]  # <-- error").replace("speed = 8.0\n", ""),
+        "car 'k1' has a route but no speed",
+    ),
+    "speed zero": (
+        BASE + CAR.replace("speed = 8.0", "speed = 0.0  # <-- error"),
+        "car 'k1': speed must be a number > 0 and <= 15.0 m/s, got 0.0",
+    ),
+    "speed too high": (
+        BASE + CAR.replace("speed = 8.0", "speed = 16.0  # <-- error"),
+        "speed must be a number > 0 and <= 15.0 m/s, got 16.0",
+    ),
+    "speed infinite": (
+        BASE + CAR.replace("speed = 8.0", "speed = inf  # <-- error"),
+        "speed must be a number > 0 and <= 15.0 m/s, got inf",
+    ),
+    "loop not a flag": (
+        BASE + CAR + 'loop = "yes"  # <-- error\n',
+        "car 'k1': loop must be true or false",
+    ),
+    "negative depart": (
+        BASE + CAR + "depart = -1.0  # <-- error\n",
+        "car 'k1': depart must be a number of seconds >= 0, got -1.0",
+    ),
+    "paint out of range": (
+        BASE + CAR + "paint = [1.2, 0.0, 0.0]  # <-- error\n",
+        "object 'k1': paint must be [red, green, blue], each 0..1",
+    ),
+    "paint of two colours": (
+        BASE + CAR + "paint = [0.5, 0.5]  # <-- error\n",
+        "paint must be [red, green, blue]",
+    ),
+    "loop of two waypoints": (
+        BASE
+        + CAR.replace(ROUTE, "route = [[-50.0, -50.0], [50.0, -50.0]]  # <-- error")
+        + "loop = true\n",
+        "car 'k1': a looping route needs at least 3 distinct waypoints, got 2",
+    ),
+    "u-turn": (
+        BASE
+        + CAR.replace(ROUTE, "route = [[0.0, -50.0], [50.0, -50.0], [0.0, -51.0]]  # <-- error"),
+        "car 'k1': route turns by 179 deg at waypoint 1 (at most 150)",
+    ),
+    "route outside the world": (
+        BASE + CAR.replace(ROUTE, "route = [[-50.0, -50.0], [500.0, -50.0]]  # <-- error"),
+        "object 'k1' lies outside the terrain grid",
+    ),
+    "route through a building": (
+        BASE + BUILDING + CAR.replace(ROUTE, "route = [[-50.0, 5.0], [50.0, 5.0]]  # <-- error"),
+        "car 'k1': route crosses building 'B1'",
+    ),
+    "loop closing through a building": (
+        BASE
+        + BUILDING
+        + CAR.replace(
+            ROUTE, "route = [[20.0, 5.0], [20.0, -50.0], [-50.0, -50.0], [-50.0, 5.0]]  # <-- error"
+        )
+        + "loop = true\n",
+        "car 'k1': route crosses building 'B1'",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_CARS))
+def test_bad_car_is_rejected_with_line_and_reason(case: str, tmp_path: Path) -> None:
+    text, reason = BAD_CARS[case]
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(WorldError) as caught:
+        load_world(path)
+    error = caught.value
+    assert error.line == _marked_line(text), str(error)
+    assert reason in error.reason, str(error)
+    assert len(error.issues) == 1, str(error)
+
+
+def test_a_driving_car_starts_on_its_route_with_its_paint() -> None:
+    world = parse_world(BASE + CAR + "loop = true\ndepart = 3.0\npaint = [0.1, 0.2, 1]\n", "mem")
+    (car,) = world.objects
+    assert car.drive is not None and car.drive.loop and car.drive.depart == 3.0
+    assert car.drive.route == ((-50.0, -50.0), (50.0, -50.0), (50.0, 50.0))
+    assert car.drive.speed == 8.0 and car.paint == (0.1, 0.2, 1.0)
+    # the loop's first waypoint is a 135 degree corner: the car waits past its 5 m arc (12 m)
+    assert car.north == pytest.approx(-50.0) and car.east == pytest.approx(
+        -50.0 + 5.0 * math.tan(math.radians(67.5))
+    )
+    assert car.heading == pytest.approx(math.pi / 2.0)
+    parked = parse_world(
+        BASE + CAR.replace(ROUTE, "position = [1.0, 2.0]").replace("speed", "#"), "m"
+    )
+    assert parked.objects[0].drive is None and parked.objects[0].paint is None
+
+
+def _hue(rgb: tuple[float, float, float]) -> tuple[float, float]:
+    """Hue (deg) and saturation of a colour."""
+    hue, saturation, _ = colorsys.rgb_to_hsv(*rgb)
+    return hue * 360.0, saturation
+
+
+def test_revinge_chase_is_revinge_with_a_car_driving_laps_on_its_roads() -> None:
+    assert "revinge_chase" in shipped_worlds()
+    world, revinge = load_world("revinge_chase"), load_world("revinge")
+    assert world.objects[: len(revinge.objects)] == revinge.objects
+    (chase,) = world.objects[len(revinge.objects) :]
+    assert (world.buildings, world.roads) == (revinge.buildings, revinge.roads)
+    assert chase.id == "chase1" and chase.kind is ObjectKind.CAR
+    assert chase.drive is not None and chase.drive.loop and chase.drive.speed == 10.0
+    plan = DrivePlan.of(chase.drive)
+    assert 60.0 <= plan.lap_time <= 120.0 and plan.start_time + 0.5 * plan.lap_time < 180.0
+    roads = unary_union([LineString(r.points).buffer(r.width / 2.0) for r in world.roads])
+    buildings = unary_union([Polygon(b.footprint) for b in world.buildings])
+    trees = unary_union([Polygon(v.polygon) for v in world.vegetation])
+    length, width, _ = chase.size
+    for t in np.arange(0.0, plan.start_time + plan.lap_time, 0.25):
+        pose = plan.pose(float(t))
+        body = _footprint(pose.east, pose.north, pose.heading, length, width)
+        assert roads.contains(body), f"t = {t}: {pose}"
+        assert body.distance(buildings) > 8.0 and body.distance(trees) > 8.0
+    persons = [o for o in world.objects if o.kind in (ObjectKind.PERSON, ObjectKind.DUMMY)]
+    path = LineString([*chase.drive.route, chase.drive.route[0]])
+    assert min(path.distance(Point(o.east, o.north)) for o in persons) > 4.0
+
+
+def test_revinge_chase_paint_is_a_hue_nothing_else_has() -> None:
+    world = load_world("revinge_chase")
+    (chase,) = [o for o in world.objects if o.id == "chase1"]
+    assert chase.paint is not None
+    hue, saturation = _hue(chase.paint)
+    assert saturation > 0.9
+    palette = [*bodies.SHIRTS, *bodies.TROUSERS, *bodies.SKINS, *bodies.FURS, *bodies.CAR_PAINTS]
+    palette += [m.surface.albedo for m in Material]
+    palette += [(0.55, 0.40, 0.22), (0.4, 0.42, 0.45)]  # boxes and carriers
+    palette += [o.paint for o in world.objects if o.paint is not None and o is not chase]
+    for colour in palette:
+        other, other_saturation = _hue(colour)
+        gap = abs((hue - other + 180.0) % 360.0 - 180.0)
+        assert other_saturation < 0.2 or gap > 45.0, colour
+
+
+def _footprint(east: float, north: float, heading: float, length: float, width: float) -> Polygon:
+    s, c = math.sin(heading), math.cos(heading)
+    corners = [(a * length / 2.0, b * width / 2.0) for a, b in ((1, 1), (1, -1), (-1, -1), (-1, 1))]
+    return Polygon([(east + a * s - b * c, north + a * c + b * s) for a, b in corners])

@@ -1,5 +1,6 @@
 from collections import Counter
 from dataclasses import replace
+from math import pi
 
 import pytest
 
@@ -139,3 +140,19 @@ def test_agent_reset_and_teleport_keep_the_world_clock() -> None:
     assert after.position_enu[:2] == pytest.approx(
         (WORLD.pad("H1").east, WORLD.pad("H1").north), abs=0.01
     )
+
+
+def test_a_driving_car_moves_with_sim_time_and_a_reset_brings_it_back() -> None:
+    world = load_world("revinge_chase")
+    sim = WorldSim(SimConfig(world, ("uav0",)))
+    start = sim.object_poses()["chase1"]
+    assert (start.east, start.north, start.heading, start.speed) == (100.0, -100.0, pi / 2, 0.0)
+    assert "car1" not in sim.object_poses()  # a parked car stays where the world file has it
+    for _ in range(50):  # 1 s at 2 m/s^2 from rest
+        sim.advance()
+    pose = sim.object_poses()["chase1"]
+    assert (pose.east, pose.north, pose.speed) == pytest.approx((101.0, -100.0, 2.0))
+    assert pose.up == pytest.approx(world.terrain.height(101.0, -100.0)) and pose.held_by == ""
+    assert sim.objects["chase1"] == world.objects[-1]  # the object keeps its start pose
+    sim.reset()
+    assert sim.object_poses()["chase1"] == start

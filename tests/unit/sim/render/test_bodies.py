@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import math
 from collections import Counter
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from sim.render.bodies import (
+    CAR_PAINTS,
     CLOTHING_BELOW_SKIN_K,
     ENGINE_HOOD_ABOVE_BODY_K,
     Pose,
@@ -75,3 +77,16 @@ def test_dummy_without_temperature_is_near_the_air_and_car_hood_is_hot() -> None
     assert ENV.ambient < dummy[:, 9].max() < ENV.ambient + 6.0
     car = _mesh(_obj("c", ObjectKind.CAR, 290.0))
     assert set(np.round(car[:, 9], 3)) == {290.0, 290.0 + ENGINE_HOOD_ABOVE_BODY_K}
+
+
+@pytest.mark.parametrize("ident", ["c", "car1", "chase1"])
+def test_a_painted_car_has_its_paint_and_others_one_of_the_palette(ident: str) -> None:
+    paint = (0.85, 0.05, 0.80)
+    painted = _mesh(replace(_obj(ident, ObjectKind.CAR), paint=paint))
+    colours = {tuple(np.round(c, 4)) for c in painted[:, 6:9]}
+    assert tuple(np.round(np.asarray(paint, dtype=np.float32), 4)) in colours
+    plain = _mesh(_obj(ident, ObjectKind.CAR))
+    body = plain[0, 6:9]  # the lower body: a palette colour varied by at most 10 %
+    ratios = [body / np.asarray(p) for p in CAR_PAINTS]
+    assert any(np.all((r > 0.89) & (r < 1.11)) for r in ratios)
+    assert not np.allclose(body, paint, atol=0.1)

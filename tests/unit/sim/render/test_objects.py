@@ -37,3 +37,13 @@ def test_known_objects_keep_their_temperature_and_spawned_ones_get_defaults() ->
     assert moved.temperature == body.temperature
     assert objects["fox"].temperature is not None and objects["fox"].temperature > 290.0
     assert objects["crate"].temperature is None
+
+
+def test_a_driving_car_keeps_its_paint_and_drive_where_it_is_now() -> None:
+    world = load_world("revinge_chase")
+    (chase,) = [o for o in world.objects if o.id == "chase1"]
+    entries = [Entry("chase1", "car", 180.0, -100.0, 1.5, chase.size)]
+    (moved,) = objects_from_message(world, entries)
+    assert (moved.east, moved.north, moved.heading) == (180.0, -100.0, 1.5)
+    assert moved.paint == chase.paint == (0.85, 0.05, 0.80)
+    assert moved.drive == chase.drive and moved.temperature == chase.temperature
