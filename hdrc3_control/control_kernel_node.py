@@ -9,7 +9,9 @@ t_k (it never got the answer), the same answer goes out again. Events to and fro
 
 Topics (relative to the agent namespace): in ``sensors/{imu,attitude,gps/fix,gps/velocity,
 barometer,ground_contact,rpm,power}``, ``pad_pose/fix`` (the landing pad camera's helicopter
-fix, ``PoseWithCovarianceStamped`` in the world's ENU frame, §5.4), ``yacs/status``, ``pfc/ui``
+fix, ``PoseWithCovarianceStamped`` in the world's ENU frame, §5.4), ``color_tracker/track`` (the
+colour tracker's ``ColorTrack``: located TRACKING results are the car's ground fixes for
+``fcl_track``), ``yacs/status``, ``pfc/ui``
 (std_msgs/String: arm, brake, land), ``/clock``; out ``yacs/command``, ``pfc/state`` (PfcState,
 every tick), ``pfc/aiding`` (std_msgs/String JSON, 5 Hz of sim time: the sources the Kalman
 filter used lately and each source's verdict counts, :class:`~hdrc3_control.aiding.AidingLog`),
@@ -56,6 +58,7 @@ from hdrc3_control.measurements import (
     ImuMeasurement,
     VisionPoseMeasurement,
 )
+from hdrc3_control.perception_kernel_node import COLOR_TRACK_TOPIC
 from hdrc3_control.pfc_state import PlatformStatus, PowerReading
 from hdrc3_control.takeoff import TakeoffConfig
 from hdrc3_control.warm_start import read_warm_start, write_warm_start
@@ -64,6 +67,7 @@ from hdrc3_hcsm.trace import TraceRecord
 from hdrc3_interfaces.msg import (
     Attitude,
     Barometer,
+    ColorTrack,
     GroundContact,
     PfcState,
     PowerStatus,
@@ -80,6 +84,8 @@ PERIOD = 0.02
 SENSOR_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 IMU_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
 COMMAND_QOS = QoSProfile(depth=20, reliability=ReliabilityPolicy.RELIABLE)
+TRACK_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+"""The colour tracker's results (its publisher: reliable, depth 50)."""
 CLOCK_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
@@ -200,6 +206,7 @@ class ControlKernelNode(SteppedNode):
         sub(PowerStatus, "sensors/power", self._on_power, SENSOR_QOS)
         sub(String, "pfc/ui", self._on_ui, SENSOR_QOS)
         sub(PoseWithCovarianceStamped, "pad_pose/fix", self._on_vision, SENSOR_QOS)
+        sub(ColorTrack, COLOR_TRACK_TOPIC, self._on_color_track, TRACK_QOS)
 
     # ------------------------------------------------------------------ inputs
     def _on_clock(self, msg: Any) -> None:
@@ -284,6 +291,12 @@ class ControlKernelNode(SteppedNode):
         position = (float(p.x), float(p.y), float(p.z))
         t = stamp_s(msg.header.stamp)
         self.kernel.feed(VisionPoseMeasurement(t, position, math.sqrt(variance)))
+
+    def _on_color_track(self, msg: Any) -> None:
+        if msg.status != ColorTrack.STATUS_TRACKING or not msg.located:
+            return
+        p = msg.position
+        self.kernel.target_fix(stamp_s(msg.header.stamp), float(p.x), float(p.y), float(p.z))
 
     def _on_rpm(self, msg: Any) -> None:
         self.kernel.feed_rpm(float(msg.rpm))

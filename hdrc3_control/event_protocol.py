@@ -36,11 +36,11 @@ FUNCTION_EVENT_PREFIX = "Fn-"
 # Reasons of transitions whose meaning the generic text would not carry.
 REASONS: dict[str, str] = {
     "A.38": "take-off refused: the engine is not running",
-    "A.39": "tracking needs the PPC colour tracker, which this system does not have",
     "A.78": "failsafe: hovering on dead reckoning (GPS lost); only land, cancel, brake",
     "A.79": "failsafe: hovering on dead reckoning (GPS lost); only land, cancel, brake",
     "A.80": "failsafe: hovering on dead reckoning (GPS lost); only land, cancel, brake",
     "A.81": "failsafe: hovering on dead reckoning (GPS lost); only land, cancel, brake",
+    "A.84": "failsafe: hovering on dead reckoning (GPS lost); only land, cancel, brake",
     "A.82": "failsafe emergency landing in progress: only the RC switch (manual) stops it",
     "A.83": "failsafe emergency landing in progress: only the RC switch (manual) stops it",
     "W.4": "RC switch to manual: the safety pilot has the aircraft",
@@ -54,11 +54,13 @@ REASONS: dict[str, str] = {
     "A.47": "emergency brake",
     "A.48": "emergency brake",
     "A.50": "emergency brake",
+    "A.56": "emergency brake",
     "A.61": "cancelled",
     "A.62": "cancelled",
     "A.63": "cancelled",
     "A.64": "cancelled",
     "A.65": "cancelled",
+    "A.57": "cancelled",
 }
 
 

@@ -34,6 +34,7 @@ from hdrc3_base.errors import ConfigError
 from hdrc3_control.aiding import AidingSource
 from hdrc3_control.automata import automaton_path
 from hdrc3_control.braking import BrakeStatus
+from hdrc3_control.car_following import TargetFix
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth, Vec3
 from hdrc3_control.event_codec import encode, encode_values
 from hdrc3_control.event_protocol import EventProtocol, SendLog
@@ -46,6 +47,7 @@ from hdrc3_control.kernel_functions import (
     HoverFunction,
     LandingFunction,
     TakeoffFunction,
+    TrackFunction,
     Traj3DFunction,
     pack_pose,
 )
@@ -95,6 +97,9 @@ _FUNCTION_MODES = {
     "traj3d": FlightMode.TRAJ3D,
     "flyto": FlightMode.FLYTO,
     "landing": FlightMode.LAND,
+    # car following flies on the path following mode's outer loop (§6.2.2); PfcState has no
+    # MODE_TRACK, so the Data Interface shows it as path following
+    "track": FlightMode.TRAJ3D,
 }
 GROUND_IDLE = AttitudeCommand(vertical=-1.0)
 """On the skids: minimum collective (the YACS keeps the collective at 0 when not climbing)."""
@@ -184,6 +189,7 @@ class PfcKernel:
         self.traj3d = Traj3DFunction(self.ctx, c.path, c.segment_start_tolerance)
         self.flyto = FlytoFunction(self.ctx, c.path, c.climb_speed)
         self.landing = LandingFunction(self.ctx, c.landing)
+        self.track = TrackFunction(self.ctx, c.track)
         self.braking = BrakingConsumer(self.ctx, c.path)
         self.functions = ControlFunctionSet(
             {
@@ -192,6 +198,7 @@ class PfcKernel:
                 "Traj3D-Mode-AC": ControlFunctionRunner("traj3d", self.traj3d),
                 "Flyto-Mode-AC": ControlFunctionRunner("flyto", self.flyto),
                 "Land-Mode-AC": ControlFunctionRunner("landing", self.landing),
+                "Track-Mode-AC": ControlFunctionRunner("track", self.track),
             }
         )
         self.model = load_model() if c.model is None else compile_model(load_file(c.model))
@@ -257,6 +264,16 @@ class PfcKernel:
     def feed_power(self, reading: PowerReading) -> None:
         """Latest power management unit report."""
         self._power = reading
+
+    def target_fix(self, time: float, east: float, north: float, up: float) -> bool:
+        """A ground fix of the colour tracker's car (image time, world ENU); False if not finite.
+
+        Kept for the car following function (``fcl_track``) on the kernel's clock.
+        """
+        if not all(math.isfinite(v) for v in (time, east, north, up)):
+            return False
+        self.ctx.target_fixes.append(TargetFix(time - self.paused, (east, north, up)))
+        return True
 
     def post_ui(self, command: UiCommand) -> PostStatus:
         """A key of the ground UI; LAND lands with the current heading."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from hdrc3_control.car_following import CarFollowingConfig
 from hdrc3_control.landing import LandingConfig
 from hdrc3_control.path_following import PathFollowingConfig
 from hdrc3_control.state_estimator import EstimatorConfig
@@ -22,6 +23,8 @@ class KernelConfig:
     path: PathFollowingConfig = field(default_factory=PathFollowingConfig)
     landing: LandingConfig = field(default_factory=LandingConfig)
     estimator: EstimatorConfig = field(default_factory=EstimatorConfig)
+    track: CarFollowingConfig = field(default_factory=CarFollowingConfig)
+    """fcl_track: the car's estimate and the following law."""
     climb_speed: float = 1.5
     """fcl_climb speed along the vertical segment, m/s."""
     segment_start_tolerance: float = 10.0

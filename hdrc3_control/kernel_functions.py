@@ -1,8 +1,8 @@
 """The PFC's control functions in the control-function template (chapter 6.1.1, Figure 13).
 
 Each class wraps one flight mode of the control core (hover, take-off, path following, fly-to,
-landing) into the template's single hook ``step(phase, memory, now)``: it reads its inputs from
-the HCSM memory slots, writes its command and its status into the shared
+landing, car following) into the template's single hook ``step(phase, memory, now)``: it reads
+its inputs from the HCSM memory slots, writes its command and its status into the shared
 :class:`FunctionContext`, and turns its status flags into function events (``Fn-*-EV``) that the
 kernel posts to the automata. Braking runs outside Control Mode, triggered by ``Braking-AC`` as
 in the Mode Switch of Figure 14 (:class:`BrakingConsumer`).
@@ -12,11 +12,19 @@ from __future__ import annotations
 
 import math
 import struct
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_control.braking import BrakeStatus, EmergencyBrake
+from hdrc3_control.car_following import (
+    CarFollower,
+    CarFollowingConfig,
+    FollowOutput,
+    TargetEstimator,
+    TargetFix,
+)
 from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth, Vec3
 from hdrc3_control.event_codec import command_id_of, decode, encode
 from hdrc3_control.hover import HoverController, HoverSetpoint, HoverStatus
@@ -29,6 +37,7 @@ from hdrc3_control.landing import (
     LandingSite,
     plan_landing,
 )
+from hdrc3_control.outer_loop import OuterLoop
 from hdrc3_control.path_following import (
     OfferStatus,
     PathEvent,
@@ -57,6 +66,9 @@ OFFER_REFUSALS: dict[OfferStatus, str] = {
     ),
 }
 """Reasons of the Cmd-Rejected-EV that answers a next segment the PFCM refuses."""
+TARGET_FIXES = 256
+"""Ground fixes of the tracked car the kernel keeps (about 25 s of colour images)."""
+NO_TRACK = "track: no colour track: engage ppcl_ip_color_tracker on the car first"
 
 
 def pack_pose(position: Vec3, heading: float) -> bytes:
@@ -98,6 +110,8 @@ class FunctionContext:
     """Seconds since the navigation filter last accepted a vision fix (inf: never)."""
     notes: dict[int, str] = field(default_factory=dict)
     """Text for a command's Cmd-Finished-EV, by command id (what the function used)."""
+    target_fixes: deque[TargetFix] = field(default_factory=lambda: deque(maxlen=TARGET_FIXES))
+    """The colour tracker's latest ground fixes of its car, in arrival order (kernel clock)."""
 
     def fail(self, reason: str) -> HookResult:
         """Record a failure reason and report FAILED to the template."""
@@ -403,6 +417,75 @@ class FlytoFunction(_PathBase):
             return ctx.fail("fly-to: navigation solution lost")
         if PathEvent.ARRIVED in out.events:
             ctx.post("Fn-Done-EV" if self.climb else "Fn-Arrived-EV", encode(out.segment_id))
+        return HookResult.BUSY
+
+
+class TrackFunction:
+    """Reactive car following (Track-Mode-AC, fcl_track, §6.1): ``car_following.py``.
+
+    Engages on a recent ground fix of the colour tracker's car and follows it until stopped;
+    no accepted fix for ``lost_timeout`` posts ``Fn-Failed-EV`` (the Track automaton fails the
+    command, the Mode Switch brakes and hovers).
+    """
+
+    def __init__(self, ctx: FunctionContext, config: CarFollowingConfig) -> None:
+        self.ctx = ctx
+        self.config = config
+        self.estimator = TargetEstimator(config)
+        self.follower = CarFollower(config)
+        self.loop = OuterLoop(config.gains)
+        self.taken = -math.inf
+        """Time of the newest fix handed to the estimator."""
+        self.command_id = 0
+        self.reported = False
+        self.last: FollowOutput | None = None
+
+    def _take_fixes(self, since: float) -> None:
+        for fix in sorted(self.ctx.target_fixes, key=lambda f: f.time):
+            if fix.time > max(since, self.taken):
+                self.estimator.update(fix)
+                self.taken = fix.time
+
+    def step(self, phase: Phase, memory: MemoryBank, now: float) -> HookResult:
+        """Template hook."""
+        ctx, c = self.ctx, self.config
+        if phase is Phase.INITIALIZING:
+            state = _usable(ctx)
+            if state is None:
+                return ctx.fail("track: no navigation solution")
+            self.estimator.reset()
+            self.taken, self.reported, self.last = -math.inf, False, None
+            self._take_fixes(now - c.init_window)
+            target = self.estimator.predict(now)
+            if target is None or target.age > c.fix_recent:
+                return ctx.fail(NO_TRACK)
+            e, n, _ = state.position
+            far = math.hypot(target.position[0] - e, target.position[1] - n)
+            if far > c.max_range:
+                return ctx.fail(
+                    f"track: the tracked car is {far:.0f} m away (limit {c.max_range:.0f} m)"
+                )
+            self.command_id = command_id_of(memory.read("Command-DO"))
+            self.follower.start(state, target)
+            self.loop.reset(ctx.integral)
+            return HookResult.DONE
+        if phase is Phase.STOPPING:
+            ctx.integral = self.loop.integral
+            return HookResult.DONE
+        state = ctx.state
+        if state is None:
+            return ctx.fail("track: navigation solution lost")
+        self._take_fixes(-math.inf)
+        target = self.estimator.predict(now)
+        if target is None:
+            return ctx.fail(NO_TRACK)
+        if target.age > c.lost_timeout and not self.reported:
+            self.reported = True
+            reason = f"track: target lost for {c.lost_timeout:.1f} s"
+            ctx.failure = reason
+            ctx.post("Fn-Failed-EV", encode(self.command_id, (), reason))
+        self.last = out = self.follower.update(state, target, ctx.dt)
+        ctx.command = self.loop.update(state, out.reference, ctx.dt)
         return HookResult.BUSY
 
 

@@ -433,7 +433,8 @@ class ColourTracker:
         rows, cols = image_rgb.shape[:2]
         mask = self._clean(self._model.mask(self._hsv(image_rgb)))
         count, _, stats, centroids = cv2.connectedComponentsWithStats(mask, connectivity=8)
-        px, py = self._predict(now, cols, rows, view)
+        predictions = self._predict(now, cols, rows, view)
+        px, py = predictions[0]
         gate = min(
             max(cfg.min_gate_px, cfg.gate_sizes * track.diagonal)
             + cfg.gate_growth_px * track.misses,
@@ -448,16 +449,24 @@ class ColourTracker:
             if region.area < cfg.min_area or not 1 / cfg.area_ratio <= ratio <= cfg.area_ratio:
                 continue
             sized += 1
-            distance = math.hypot(region.x - px, region.y - py)
-            if distance <= gate and distance < best_distance:
+            distance = min(math.hypot(region.x - x, region.y - y) for x, y in predictions)
+            if distance < best_distance:
                 best, best_distance = region, distance
+        nearest: _Region | None = None
+        if best is not None and best_distance > gate:
+            nearest, best = best, None
         if best is None:
             track.misses += 1
             if track.misses >= cfg.coast_images:  # stop moving the prediction
                 track.x, track.y, track.vx, track.vy, track.time = px, py, 0.0, 0.0, now
                 if view is not None:
                     track.direction, track.rate = view.direction(px, py), np.zeros(3)
-            elsewhere = f"; {sized} of its size elsewhere" if sized else ""
+            elsewhere = (
+                f"; {sized} of its size elsewhere, the nearest at ({nearest.x:.0f},"
+                f" {nearest.y:.0f})"
+                if nearest is not None
+                else ""
+            )
             return TrackResult(
                 TrackStatus.LOST,
                 f"no region of the target's colour within {gate:.0f} px of ({px:.0f}, {py:.0f})"
@@ -488,17 +497,24 @@ class ColourTracker:
 
     def _predict(
         self, now: float, cols: int, rows: int, view: CameraView | None
-    ) -> tuple[float, float]:
-        """Constant-velocity prediction (in the world with a view), clamped to the image."""
+    ) -> list[tuple[float, float]]:
+        """Constant-velocity predictions clamped to the image: in the world first, and the image's.
+
+        The world's (with a view) comes first and is the one a LOST result reports. A
+        candidate near either counts: the world's holds while the camera swings, the image's
+        while the view's angles are off (a PTU read-out late on a loaded machine puts the
+        world's prediction where the servo has just turned away from).
+        """
         assert self._track is not None
         t = self._track
         dt = now - t.time
-        x, y = t.x + t.vx * dt, t.y + t.vy * dt
+        found = [(t.x + t.vx * dt, t.y + t.vy * dt)]
         if view is not None and t.direction is not None:
             ahead = t.direction + t.rate * dt
             seen = view.pixel(ahead / np.linalg.norm(ahead))
-            x, y = seen if seen is not None else (t.x, t.y)
-        return min(max(x, 0.0), float(cols - 1)), min(max(y, 0.0), float(rows - 1))
+            if seen is not None:
+                found.insert(0, seen)
+        return [(min(max(x, 0.0), cols - 1.0), min(max(y, 0.0), rows - 1.0)) for x, y in found]
 
 
 def _region(stats: NDArray[Any], centroids: NDArray[Any], label: int) -> _Region:

@@ -8,6 +8,7 @@ They are deliberately simple (no physics); the real kernels live in ``hdrc3_cont
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass, field, replace
 
@@ -56,7 +57,11 @@ class _Job:
 
 
 class FakePfc:
-    """A PFC stand-in: accepts, rejects, finishes, streams segments, brakes, cancels."""
+    """A PFC stand-in: accepts, rejects, finishes, streams segments, brakes, cancels.
+
+    ``fcl_track`` is accepted and runs until cancel or emergency brake, as in the real PFC
+    while the colour tracker follows the car (the fake has no car to lose).
+    """
 
     def __init__(
         self,
@@ -171,8 +176,9 @@ class FakePfc:
             job = _Job(cid, "path", self.now + t.segment, (v[3], v[4], v[5]), v[13])
             self._begin(job, FlightMode.TRAJ3D)
             self._send("Request-Segment-EV", cid)
-        else:
-            self._send("Cmd-Failed-EV", cid, "tracking needs the color tracker (not available)")
+        elif name == "FCL-Track-EV":
+            # car following runs until cancelled (or, in the real PFC, the car is lost)
+            self._begin(_Job(cid, "track", math.inf), FlightMode.TRAJ3D)
 
     def _begin(self, job: _Job, mode: FlightMode) -> None:
         self.job = job

@@ -3,11 +3,18 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING, cast
 
 import pytest
 
 from hdrc3.cli.fcl import build_request as fcl_request
-from hdrc3.cli.fcl import parse_numbers
+from hdrc3.cli.fcl import parse_numbers, wait_accepted
+from hdrc3_platform_server.codes import EventKind
+from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
+
+if TYPE_CHECKING:
+    from hdrc3_platform_server.client import PlatformClient
 from hdrc3.cli.main import build_parser, main
 
 
@@ -60,3 +67,44 @@ def test_ppcl_requests() -> None:
     args = build_parser().parse_args(["ppcl", "uav0", "release", "laser", "--owner", "x"])
     _, name, req = ppcl_request(args)
     assert (name, req.resource, req.request, req.owner) == ("ppcl/control", 3, False, "x")
+
+
+class _Events:
+    """A PlatformClient stand-in: ``wait_final`` replays events of one command."""
+
+    def __init__(self, events: list[CompletionEvent]) -> None:
+        self.events = events
+
+    def wait_final(
+        self, command_id: int, timeout: float, on_event: Callable[[CompletionEvent], None]
+    ) -> CompletionEvent | None:
+        for event in self.events:
+            if event.kind in TERMINAL:
+                return event
+            on_event(event)
+        return None
+
+
+def _event(kind: EventKind, reason: str) -> CompletionEvent:
+    return CompletionEvent(7, "fcl_track", kind, reason, 0.0)
+
+
+@pytest.mark.parametrize(
+    ("events", "code"),
+    [
+        ([_event(EventKind.INFO, "accepted by the PFC")], 0),
+        (
+            [_event(EventKind.INFO, "PFC fault: x"), _event(EventKind.INFO, "accepted by the PFC")],
+            0,
+        ),
+        ([_event(EventKind.FAILED, "rejected by the PFC: track: no colour track")], 1),
+        ([], 1),
+    ],
+)
+def test_track_no_wait_returns_on_the_pfcs_acceptance(
+    events: list[CompletionEvent], code: int, capsys: pytest.CaptureFixture[str]
+) -> None:
+    client = cast("PlatformClient", _Events(events))
+    assert wait_accepted(client, "fcl_track", 7, 1.0) == code
+    if events:
+        assert events[-1].reason in capsys.readouterr().out

@@ -25,7 +25,7 @@ def test_pfc_model_has_the_automata_of_figure_12() -> None:
     model = compile_model(load_file(automaton_path()))
     expected = {
         "Root", "Run", "Power-Switch", "Sync", "Sync-Drc", "Auto-Switch", "Mode-Switch",
-        "Control-Mode", "User-Interface", "Ui-Timer", "Traj3D", "Traj3D-Flyto", "Landing",
+        "Control-Mode", "User-Interface", "Ui-Timer", "Traj3D", "Traj3D-Flyto", "Landing", "Track",
     }  # fmt: skip
     assert expected <= set(model.automata)
 

@@ -194,7 +194,7 @@ def test_emergency_brake_mid_path() -> None:
     ("event", "values", "reason"),
     [
         ("FCL-Takeoff-EV", (), "Hovering-ST"),
-        ("FCL-Track-EV", (), "colour tracker"),
+        ("FCL-Track-EV", (), "no colour track"),
         ("Traj3D-EV", (0.0,) * 12 + (5.0, 0.0), "Hovering-ST"),  # degenerate: refused by init
     ],
 )
