@@ -1,23 +1,28 @@
-"""PPCL colour tracking of a driving car, on the real node chain (chapter §6.1, §6.2.3).
+"""Colour tracking and car following on the real node chain (chapter §6.1, §6.2.2, §6.2.3).
 
 ``hdrc3 launch`` with the cameras and a simulated world that is revinge plus one magenta car
 (``chase1``) parked on pad_track, 32 m north-east of the start pad H1, that sets off at
-``DEPART`` s of sim time, drives north along pad_track and turns east onto main_street. The
-stack's nodes hold plain revinge: nothing but the images tells them about the car.
+``DEPART`` s of sim time, drives north along pad_track, turns east onto main_street and stops at
+its end (287 m). The stack's nodes hold plain revinge: nothing but the images tells them about
+the car.
 
 Through the ``hdrc3`` command the aircraft takes off and climbs to 30 m; the operator points the
-camera at the parked car (``ppcl look_at``) and clicks on it: ``ppcl ip_color_tracker X Y`` with
-the car's pixel in the latest image (the operator's eye is the test's projection of the car's true
-position). From then on the color_tracker node follows the car in every colour image and the
-perception kernel's pan-tilt visual servoing keeps it in the centre while the car drives away.
+camera at the parked car (``ppcl look_at``), clicks on it (``ppcl ip_color_tracker X Y`` with the
+car's pixel in the latest image: the operator's eye is the test's projection of the car's true
+position) and engages car following (``fcl track --no-wait``: accepted, it runs until
+cancelled). The color_tracker node follows the car in every colour image, the perception
+kernel's pan-tilt visual servoing keeps it in the image's centre, and the control kernel's Track
+mode holds the aircraft ``DISTANCE`` m behind it on the tracker's ground points. ``fcl cancel``
+ends it once the car stood still for a while.
 
-Checked over the drive along pad_track (the ground truth only scores): the car is tracked in at
-least 95 % of the images (the issue's car-following target), the tracked pixel lies on the car
-(within half the tracked region's size of its projected centre), the servo keeps it near the
-image's centre (median within ``CENTRE_BOUND`` of the width) while the PTU turns by more than
-``MIN_SWEEP``, and each ground position is as close to the car as the navigation solution allows:
-the GPS's 3 sigma plus the height errors (barometer, the car's visible centre above the road)
-stretched along the ray by range / height.
+Checked over the drive (the ground truth only scores): the car is tracked in at least 95 % of
+the images (the issue's car-following target), the tracked pixel lies on the car (within half
+the tracked region's size of its projected centre), the servo keeps it near the image's centre
+(median within ``CENTRE_BOUND`` of the width), each ground position is as close to the car as
+the navigation solution allows (the GPS's 3 sigma plus the height errors of the barometer and of
+the car's visible centre above the road, stretched along the ray by range / height), and the
+aircraft flew with the car (at least ``MIN_TRAVEL`` m), ``DISTANCE_BAND`` m from it once both
+were under way, ``DISTANCE`` +- 5 m on average.
 """
 
 from __future__ import annotations
@@ -47,12 +52,17 @@ CAR = "chase1"
 DEPART = 100.0
 """s of sim time the car sets off (the aircraft hovers by then)."""
 ROUTE = ((-215.0, -112.0), (-215.0, 0.0), (-40.0, 0.0))
-ALONG_PAD_TRACK = -5.0
-"""Scoring ends when the car reaches this north (before the corner onto main_street)."""
-PIXEL_SLACK = 2.0
+PARKED_AGAIN = 5.0
+"""s the scoring goes on after the car stopped at the route's end."""
+DISTANCE = 20.0
+"""m: fcl_track's standoff (CarFollowingConfig.distance)."""
+SETTLE = 15.0
+"""s of driving before the following distance is checked (the car speeds up, the aircraft too)."""
+DISTANCE_BAND = (5.0, 35.0)
+MIN_TRAVEL = 200.0
+PIXEL_SLACK = 4.0
 """px beyond half the tracked region's size that its centre may be off the car's centre."""
 CENTRE_BOUND = 0.15
-MIN_SWEEP = math.radians(20.0)
 GPS_BOUND_H = 4.5
 """m: 3 sigma of the simulated GPS's horizontal error per axis (1.5 m)."""
 BARO_BOUND_V = 1.5
@@ -61,9 +71,9 @@ CAR_CENTRE_UP = 0.75
 HOVER_HEIGHT = 30.0
 """m above the origin (H1 lies at its height)."""
 CLOCK_LAG = 0.1
+"""s: states this close to the latest sim clock count as current."""
 SEED_LEAD = 3.0
 """s the seed takes to reach the tracker (the click must be on the parked car)."""
-"""s: states this close to the latest sim clock count as current."""
 WORLD = f"""[world]
 name = "chase_near_h1"
 extends = "{Path(__file__).resolve().parents[2] / "sim" / "worlds" / "revinge.toml"}"
@@ -90,8 +100,8 @@ def _nearest(samples: list[Any], time: float) -> Any:
     return min(samples, key=lambda m: abs(_stamp(m) - time))
 
 
-def test_a_driving_car_is_tracked_and_kept_in_the_image_centre(
-    hdrc3_cli: Any, ros_context: Any, tmp_path: Path
+def test_a_driving_car_is_tracked_and_followed(
+    hdrc3_cli: Any, ros_context: Any, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     from sensor_msgs.msg import CameraInfo
 
@@ -136,18 +146,20 @@ def test_a_driving_car_is_tracked_and_kept_in_the_image_centre(
     node.create_subscription(WorldObjects, "/world_sim/objects", on_objects, LATCHED_QOS)
 
     def car_at(time: float) -> np.ndarray:
-        """The car's centre at ``time`` (the objects message is sent every 0.1 s as it moves)."""
-        return np.array(min(cars, key=lambda c: abs(c[0] - time))[1])
+        """The car's centre at ``time``, between the objects messages (10 Hz while it moves)."""
+        times = [c[0] for c in cars]
+        return np.array([np.interp(time, times, [c[1][i] for c in cars]) for i in range(3)])
 
     def pixel_of_car(time: float) -> np.ndarray:
         """Where the car's centre is in the colour image taken at ``time`` (ground truth)."""
         t = _nearest(truth, time)
         nav = NavPose(tuple(t.position_enu), t.roll, t.pitch, t.heading)
-        p = _nearest(ptu, time)
-        camera = CameraPose.of(nav, p.pan, p.tilt)
+        times = [_stamp(m) for m in ptu]
+        pan = float(np.interp(time, times, [m.pan for m in ptu]))
+        tilt = float(np.interp(time, times, [m.tilt for m in ptu]))
         intrinsics = Intrinsics.from_k(info[-1].width, info[-1].height, list(info[-1].k))
         assert intrinsics is not None
-        return camera.project(intrinsics, car_at(time)[None, :])[0]
+        return CameraPose.of(nav, pan, tilt).project(intrinsics, car_at(time)[None, :])[0]
 
     def catch_up() -> None:
         """Take what arrived while a command ran: the states up to a fresh sim clock."""
@@ -200,10 +212,22 @@ def test_a_driving_car_is_tracked_and_kept_in_the_image_centre(
         executor, lambda: any(t.status == ColorTrack.STATUS_TRACKING for t in tracks), 30.0
     ), [(round(_stamp(t), 2), t.status, t.reason) for t in tracks[:3] + tracks[-2:]]
     seeded = _stamp(tracks[0])
-    assert spin_until(executor, lambda: bool(cars) and cars[-1][1][1] >= ALONG_PAD_TRACK, 120.0), (
-        cars[-1:]
+    capsys.readouterr()
+    assert hdrc3_main(["fcl", AGENT, "track", "--no-wait"]) == 0
+    assert "FCL_OK" in capsys.readouterr().out
+    route_end = np.array(ROUTE[-1])
+    assert spin_until(
+        executor,
+        lambda: bool(cars) and float(np.hypot(*(np.array(cars[-1][1][:2]) - route_end))) < 0.5,
+        180.0,
+    ), cars[-1:]
+    stopped = cars[-1][0]
+    assert spin_until(
+        executor, lambda: bool(truth) and _stamp(truth[-1]) >= stopped + PARKED_AGAIN, 30.0
     )
-    end = cars[-1][0]
+    end = _stamp(truth[-1])
+    capsys.readouterr()
+    assert hdrc3_main(["fcl", AGENT, "cancel"]) == 0
     node.destroy_node()
     assert launch.interrupt() == 0
 
@@ -217,14 +241,21 @@ def test_a_driving_car_is_tracked_and_kept_in_the_image_centre(
     located = [t for t in found if t.located]
     ground = [math.dist((t.position.x, t.position.y), car_at(_stamp(t))[:2]) for t in located]
     ground_bounds = [ground_bound(_stamp(t)) for t in located]
-    angles = np.array([(p.pan, p.tilt) for p in ptu if DEPART <= _stamp(p) <= end])
-    sweep = angles.max(axis=0) - angles.min(axis=0)
+    flown = [t for t in truth if DEPART <= _stamp(t) <= end]
+    track_xy = np.array([t.position_enu[:2] for t in flown])
+    travel = float(np.linalg.norm(np.diff(track_xy, axis=0), axis=1).sum())
+    apart = [
+        math.dist(t.position_enu[:2], car_at(_stamp(t))[:2])
+        for t in flown
+        if _stamp(t) >= DEPART + SETTLE
+    ]
     print(
         f"seeded at {seeded:.2f} s; {len(found)}/{len(scored)} images tracked over "
         f"{end - DEPART:.1f} s of driving; pixel error median {np.median(errors):.1f} px, max "
         f"{max(errors):.1f}; off centre median {np.median(off_centre):.3f} of the width; ground "
-        f"error median {np.median(ground):.2f} m, max {max(ground):.2f}; pan and tilt swept "
-        f"{np.degrees(sweep).round(1)} deg"
+        f"error median {np.median(ground):.2f} m, max {max(ground):.2f}; flew {travel:.0f} m "
+        f"behind the car, {np.mean(apart):.1f} m apart on average ({min(apart):.1f}-"
+        f"{max(apart):.1f})"
     )
     lost = [(round(_stamp(t), 2), t.reason) for t in scored if t not in found]
     assert len(scored) >= 20 and len(found) >= 0.95 * len(scored), lost
@@ -233,6 +264,8 @@ def test_a_driving_car_is_tracked_and_kept_in_the_image_centre(
         (round(e, 1), t.area) for e, t in pairs
     ]
     assert float(np.median(off_centre)) <= CENTRE_BOUND, off_centre
-    assert float(sweep.max()) >= MIN_SWEEP, sweep
+    assert travel >= MIN_TRAVEL, travel
+    assert DISTANCE_BAND[0] <= min(apart) and max(apart) <= DISTANCE_BAND[1], apart
+    assert abs(float(np.mean(apart)) - DISTANCE) <= 5.0, apart
     assert len(ground) >= 0.9 * len(found), (len(ground), len(found))
     assert all(e <= b for e, b in zip(ground, ground_bounds, strict=True)), (ground, ground_bounds)
