@@ -226,7 +226,12 @@ def chase(depart: float, arrival: float) -> int:
     say(f"the operator clicks on the parked car at ({u:.0f}, {v:.0f})")
     if hdrc3_main(["ppcl", AGENT, "ip_color_tracker", f"{u:.1f}", f"{v:.1f}"]) != 0:
         return 1
-    spin_until(lambda: any(t.status == ColorTrack.STATUS_TRACKING for t in tracks), 30.0)
+    spin_until(
+        lambda: (
+            bool(tracks) and tracks[-1].status == ColorTrack.STATUS_TRACKING and tracks[-1].located
+        ),
+        30.0,
+    )
     if hdrc3_main(["fcl", AGENT, "track", "--no-wait"]) != 0:
         return 1
     say("fcl track accepted; waiting for the car to set off")

@@ -87,8 +87,9 @@ class CarFollowingConfig:
     """Bound on the estimated car speed, m/s."""
     max_extrapolation: float = 1.0
     """Prediction beyond the last fix at most this long, s."""
-    fix_recent: float = 1.0
-    """Engaging needs a fix at most this old, s."""
+    fix_recent: float = 2.0
+    """Engaging needs a fix at most this old, s (an image reaches the PFC as a fix 0.1-0.2 s
+    after it was taken, more than a second on a loaded machine)."""
     init_window: float = 3.0
     """Fixes at most this old when the mode engages start the estimate, s."""
     lost_timeout: float = 3.0

@@ -3,8 +3,9 @@
 The PPC engages it on ``ppcl_ip_color_tracker(x, y)`` (``ImageProcessing.COLOR_TRACKER`` on the
 latched ``ppc/image_processing``; see :mod:`hdrc3_perception.image_gate`) and publishes the seed
 on :data:`SEED_TOPIC` (latched ``geometry_msgs/PointStamped``: point.x = column, point.y = row,
-stamp = when the command was given). A new seed restarts tracking on the next colour image; the
-tracker forgets its target when the PPC engages another function.
+stamp = when the command was given). A new seed restarts tracking on the first colour image taken
+at or after the seed's stamp; the tracker forgets its target when the PPC engages another
+function.
 
 While engaged it subscribes ``camera/color/image_raw`` (``rgb8``) with its ``camera_info``, the
 Data Interface's ``helicopter_state`` (the aircraft's own navigation solution, WGS84 -> ENU of
@@ -131,9 +132,12 @@ class ColorTrackerNode(Node):
         else:
             pixels = np.asarray(decoded, dtype=np.uint8)  # rgb8 decodes to uint8
             view = self._view(time)
-            if self._pending is not None:
-                seed, self._pending = self._pending, None
-                x, y = float(seed.point.x), float(seed.point.y)
+            pending = self._pending
+            # the seed's pixel is in the image the operator saw when commanding: an image taken
+            # before the command (queued on a loaded machine) may show the scene elsewhere
+            if pending is not None and stamp_ns(msg.header.stamp) >= stamp_ns(pending.header.stamp):
+                self._pending = None
+                x, y = float(pending.point.x), float(pending.point.y)
                 result = self.tracker.seed(x, y, pixels, time, view)
             else:
                 result = self.tracker.update(pixels, time, view)

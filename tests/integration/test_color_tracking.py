@@ -45,7 +45,9 @@ from hdrc3_platform_server.geo_frame import WorldFrame
 from sim.world_loader import load_world
 from tests.integration.ros_wait import spin_until
 
-pytestmark = pytest.mark.ros
+# `make flights`: the simulator waits for the renderer, not for the tracker, the PTU servo and the
+# PFC, so on a machine running several test workers per core they fall behind sim time
+pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 
 AGENT = "uav0"
 CAR = "chase1"
@@ -207,11 +209,16 @@ def test_a_driving_car_is_tracked_and_followed(
     assert now < DEPART - SEED_LEAD, f"the car must be parked when clicked on: {now} s"
     assert 0 <= u < info[-1].width and 0 <= v < info[-1].height, (u, v)
     assert hdrc3_main(["ppcl", AGENT, "ip_color_tracker", f"{u:.1f}", f"{v:.1f}"]) == 0
-    # the look_at pointing is no longer the PTU's mode once tracking starts
+    # the operator engages track once the tracker shows the car on the ground (the PFC
+    # refuses it without a recent ground fix)
     assert spin_until(
-        executor, lambda: any(t.status == ColorTrack.STATUS_TRACKING for t in tracks), 30.0
+        executor,
+        lambda: (
+            bool(tracks) and tracks[-1].status == ColorTrack.STATUS_TRACKING and tracks[-1].located
+        ),
+        30.0,
     ), [(round(_stamp(t), 2), t.status, t.reason) for t in tracks[:3] + tracks[-2:]]
-    seeded = _stamp(tracks[0])
+    seeded = next(_stamp(t) for t in tracks if t.status == ColorTrack.STATUS_TRACKING)
     capsys.readouterr()
     assert hdrc3_main(["fcl", AGENT, "track", "--no-wait"]) == 0
     assert "FCL_OK" in capsys.readouterr().out
@@ -249,6 +256,8 @@ def test_a_driving_car_is_tracked_and_followed(
         for t in flown
         if _stamp(t) >= DEPART + SETTLE
     ]
+    lost = [(round(_stamp(t), 2), t.reason) for t in scored if t not in found]
+    assert len(scored) >= 20 and len(found) >= 0.95 * len(scored), (len(scored), lost)
     print(
         f"seeded at {seeded:.2f} s; {len(found)}/{len(scored)} images tracked over "
         f"{end - DEPART:.1f} s of driving; pixel error median {np.median(errors):.1f} px, max "
@@ -257,8 +266,6 @@ def test_a_driving_car_is_tracked_and_followed(
         f"behind the car, {np.mean(apart):.1f} m apart on average ({min(apart):.1f}-"
         f"{max(apart):.1f})"
     )
-    lost = [(round(_stamp(t), 2), t.reason) for t in scored if t not in found]
-    assert len(scored) >= 20 and len(found) >= 0.95 * len(scored), lost
     pairs = list(zip(errors, found, strict=True))
     assert all(e <= 0.5 * math.sqrt(t.area) + PIXEL_SLACK for e, t in pairs), [
         (round(e, 1), t.area) for e, t in pairs

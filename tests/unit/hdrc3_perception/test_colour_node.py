@@ -183,6 +183,16 @@ def test_the_seeded_car_is_tracked_and_located_on_the_ground(rig: Rig) -> None:
         assert np.hypot(p.x - car[0], p.y - car[1]) < 0.3 and abs(p.z - car[2]) < 0.3
 
 
+def test_a_seed_waits_for_an_image_taken_at_or_after_it(rig: Rig) -> None:
+    """An image older than the command (queued on a loaded machine) is not the one clicked on."""
+    rig.mode(ImageProcessing.COLOR_TRACKER)
+    pixels, uv = scene(5, np.random.default_rng(6), ground_point(*TARGET))
+    rig.seed(float(uv[0]), float(uv[1]), 6)
+    early = rig.image(5, pixels)
+    assert early.status == ColorTrack.STATUS_LOST and "no seed" in early.reason
+    assert rig.image(6, pixels).status == ColorTrack.STATUS_TRACKING
+
+
 def test_without_state_the_track_is_not_located(rig: Rig) -> None:
     rig.mode(ImageProcessing.COLOR_TRACKER)
     pixels, uv = scene(5, np.random.default_rng(4), ground_point(*TARGET))
