@@ -109,6 +109,12 @@ class TrackerConfig:
     """Weight of the newest image-to-image velocity in the smoothed one: a pixel of jitter
     over one image period is tens of px/s, and a camera that servoes on the target keeps
     its real image velocity small."""
+    max_image_speed: float = 400.0
+    """Bound on the smoothed image velocity, px/s (the PTU's swing is not the target's)."""
+    search_images: int = 12
+    """After this many images without the target, the nearest region of its colour and size
+    anywhere in the image is taken: the PTU holds its pointing for a while after a loss, so a
+    target that is still there is still in view, wherever the predictions went."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -453,7 +459,7 @@ class ColourTracker:
             if distance < best_distance:
                 best, best_distance = region, distance
         nearest: _Region | None = None
-        if best is not None and best_distance > gate:
+        if best is not None and best_distance > gate and track.misses < cfg.search_images:
             nearest, best = best, None
         if best is None:
             track.misses += 1
@@ -476,6 +482,9 @@ class ColourTracker:
         if now > track.time:
             track.vx += gain * ((best.x - track.x) / (now - track.time) - track.vx)
             track.vy += gain * ((best.y - track.y) / (now - track.time) - track.vy)
+            speed = math.hypot(track.vx, track.vy)
+            if speed > cfg.max_image_speed:
+                track.vx, track.vy = (v * cfg.max_image_speed / speed for v in (track.vx, track.vy))
         if view is None:
             track.direction, track.rate = None, np.zeros(3)
         else:

@@ -414,3 +414,15 @@ def test_a_camera_view_projects_the_directions_it_gives() -> None:
     for u, v in [(0.0, 0.0), (160.0, 120.0), (300.5, 17.25)]:
         assert view.pixel(view.direction(u, v)) == pytest.approx((u, v), abs=1e-6)
     assert view.pixel(-view.direction(160.0, 120.0)) is None  # behind the camera
+
+
+def test_a_target_far_from_both_predictions_is_searched_for_in_the_whole_image() -> None:
+    """The camera swung back (no view given): LOST at first, then taken wherever it is."""
+    scene, tracker = Scene(), ColourTracker()
+    tracker.seed(40, 125, scene.image((40, 125, RED)))
+    for x in (70, 100):
+        assert tracker.update(scene.image((x, 125, RED))).status is TrackStatus.TRACKING
+    statuses = [tracker.update(scene.image((40, 125, RED))).status for _ in range(13)]
+    search = tracker.config.search_images
+    assert statuses[:search] == [TrackStatus.LOST] * search
+    assert statuses[search] is TrackStatus.TRACKING
