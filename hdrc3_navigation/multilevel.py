@@ -239,6 +239,8 @@ def multilevel(
     first segment along it fits (with or without a joining waypoint). Without it, never None.
     """
     pts = align(_dedupe(points), checks)
+    if len(pts) > 2:  # alignment can move two waypoints onto one point: no segment between them
+        pts = _dedupe(pts)
     if start_direction is None:
         pts, _ = eliminate(pts, replace_curves(pts, checks), checks)
         return segments_with_velocities(pts, replace_curves(pts, checks), speed, limits)
