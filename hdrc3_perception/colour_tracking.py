@@ -180,29 +180,25 @@ class _Region:
 
 @dataclass(frozen=True, slots=True)
 class CameraView:
-    """The camera an image was taken with: its calibration and its orientation in the world."""
+    """The camera an image was taken with: its calibration and its pose in the world."""
 
     intrinsics: Intrinsics
-    rotation: NDArray[np.float64]
-    """Optical frame (x right, y down, z forward) -> world ENU, 3 x 3."""
+    pose: CameraPose
 
     @staticmethod
     def of(intrinsics: Intrinsics, pose: CameraPose) -> CameraView:
         """The view of a camera pose."""
-        return CameraView(intrinsics, pose.rotation)
+        return CameraView(intrinsics, pose)
 
     def direction(self, u: float, v: float) -> NDArray[np.float64]:
         """World unit vector through pixel (u, v)."""
-        world: NDArray[np.float64] = self.rotation @ self.intrinsics.direction(u, v)
-        return world
+        return self.pose.ray(self.intrinsics, u, v)
 
     def pixel(self, direction: NDArray[np.float64]) -> tuple[float, float] | None:
         """Where a world direction appears in the image (None behind the camera)."""
-        x, y, z = (float(c) for c in self.rotation.T @ direction)
-        if z <= 1e-6:
-            return None
-        k = self.intrinsics
-        return k.fx * x / z + k.cx, k.fy * y / z + k.cy
+        point = self.pose.position + direction
+        u, v = self.pose.project(self.intrinsics, point[None, :])[0]
+        return None if math.isnan(u) else (float(u), float(v))
 
 
 @dataclass(slots=True)
