@@ -180,3 +180,17 @@ def test_elimination_keeps_the_node_that_joins_the_start_direction() -> None:
     assert [seg.end for seg in out.segments] == [(50.0, 0.0, 10.0), (100.0, 0.0, 10.0)]
     assert out.segments[0].tangent(0.0) == pytest.approx([0.0, 1.0, 0.0])
     assert len(multilevel(pts, checks, 8.0, LIMITS).segments) == 1  # free start: eliminated
+
+
+@pytest.mark.parametrize("start_direction", [None, np.array([1.0, 0.0, 0.0])], ids=["free", "fixed"])
+def test_a_waypoint_aligned_onto_its_neighbour_leaves_no_zero_length_segment(
+    start_direction: np.ndarray | None,  # type: ignore[type-arg]
+) -> None:
+    # the path doubles back: alignment moves (5, 0) to the midpoint of its neighbours, 5 cm from
+    # the start (a replanned path in flight did this and raised ConfigError)
+    points = np.array([[0.0, 0, 10], [5, 0, 10], [0, 0.1, 10], [60, 60, 10]])
+    assert float(np.linalg.norm(align(points, free_space())[1] - points[0])) < 0.1
+    out = multilevel(points, free_space(), 8.0, LIMITS, start_direction)
+    assert out is not None
+    assert out.segments[0].start == tuple(points[0]) and out.segments[-1].end == tuple(points[-1])
+    assert min(out.lengths) > 0.1
