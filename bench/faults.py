@@ -1,8 +1,9 @@
 """The fault campaign of issue 21: each fault injected into the real launched system, one table.
 
 Every entry starts its own ``hdrc3 launch`` (world_sim, control_kernel, perception_kernel,
-platform_server of ``uav0`` at ``--speed max``, own ROS domain), lets the safety pilot hand over,
-takes off through FCL, starts a fly-to (the command the fault interrupts) and injects the fault:
+platform_server of ``uav0`` at ``--speed max`` unless ``--speed`` says otherwise, own ROS
+domain), lets the safety pilot hand over, takes off through FCL, starts a fly-to (the command
+the fault interrupts) and injects the fault:
 
 | entry | fault |
 |---|---|
@@ -27,7 +28,7 @@ from the fault to the safe state (sim and wall seconds) and to the terminal even
 for a kill, sim seconds of the events' stamps otherwise), the touchdown speed in ground truth and,
 for a kill, when the new process started. The table says what happens, not what should.
 
-Run: ``.venv/bin/python bench/faults.py [--only ENTRY ...] [--domain-id N]``.
+Run: ``.venv/bin/python bench/faults.py [--only ENTRY ...] [--domain-id N] [--speed max|F]``.
 """
 
 from __future__ import annotations
@@ -35,10 +36,10 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import selectors
 import signal
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -66,12 +67,11 @@ def log(text: str) -> None:
 class Launch:
     """``hdrc3 launch`` as a child process in its own session (killed as a group)."""
 
-    def __init__(self, domain: int) -> None:
+    def __init__(self, domain: int, speed: str) -> None:
         env = dict(os.environ, ROS_DOMAIN_ID=str(domain), PYTHONUNBUFFERED="1")
         env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
         nodes = "world_sim,control_kernel,perception_kernel,platform_server"
-        args = ["launch", "--agents", AGENT, "--world", WORLD, "--nodes", nodes, "--speed", "max"]
-        args.append("--fork-restarts")  # the figures of the fork server (hdrc3/zygote.py)
+        args = ["launch", "--agents", AGENT, "--world", WORLD, "--nodes", nodes, "--speed", speed]
         self.proc = subprocess.Popen(
             [HDRC3, *args],
             stdout=subprocess.PIPE,
@@ -79,23 +79,32 @@ class Launch:
             start_new_session=True,
             env=env,
         )
+        self.lines: list[tuple[float, str]] = []
+        """Each line the launcher printed, with the (monotonic) time it arrived."""
+        self._news = threading.Condition()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self) -> None:
         assert self.proc.stdout is not None
-        os.set_blocking(self.proc.stdout.fileno(), False)
-        self._sel = selectors.DefaultSelector()
-        self._sel.register(self.proc.stdout, selectors.EVENT_READ)
-        self.lines: list[str] = []
+        for raw in self.proc.stdout:
+            with self._news:
+                self.lines.append((time.monotonic(), raw.decode(errors="replace").rstrip("\n")))
+                self._news.notify_all()
+
+    def seen(self, text: str, after: float = 0.0) -> float | None:
+        """When the first line containing ``text`` arrived after ``after``, if it did."""
+        with self._news:
+            return next((t for t, line in self.lines if t > after and text in line), None)
 
     def wait_ready(self, timeout: float) -> bool:
         """True once the launcher printed READY within ``timeout`` s (wall)."""
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline and self.proc.poll() is None:
-            if self._sel.select(0.5):
-                assert self.proc.stdout is not None
-                chunk = self.proc.stdout.read() or b""
-                self.lines += chunk.decode(errors="replace").splitlines()
-                if any("READY" in line for line in self.lines):
-                    return True
-        return False
+        with self._news:
+            return (
+                self._news.wait_for(
+                    lambda: self.seen("READY") is not None or self.proc.poll() is not None, timeout
+                )
+                and self.seen("READY") is not None
+            )
 
     def stop(self) -> None:
         """SIGINT, then SIGKILL of the whole group if it does not exit within 30 s."""
@@ -121,6 +130,8 @@ class Row:
     recover_sim: float = math.nan
     recover_wall: float = math.nan
     terminal_wall: float = math.nan
+    restart_wall: float = math.nan
+    """For a kill: the launcher's restart, wall seconds after the kill."""
     """Kills: wall seconds from the kill to the last terminal event of the commands."""
     terminal_sim: float = math.nan
     """Other faults: sim seconds from the fault to the last terminal event of the commands."""
@@ -430,12 +441,12 @@ ENTRIES = (
 )
 
 
-def run_entry(entry: str, domain: int) -> Row:
+def run_entry(entry: str, domain: int, speed: str) -> Row:
     from hdrc3_base.ros_runtime import RosProcess
     from hdrc3_platform_server.completion import TERMINAL
 
     row = Row(entry)
-    launch = Launch(domain)
+    launch = Launch(domain, speed)
     try:
         if not launch.wait_ready(120.0):
             row.note = "launch not READY"
@@ -463,6 +474,11 @@ def run_entry(entry: str, domain: int) -> Row:
             if entry.startswith("kill_"):
                 node = entry.removeprefix("kill_")
                 name = node if node == "world_sim" else f"{AGENT}/{node}"
+                restarted = launch.seen(f"[launch] {name}: restarted", row.fault_at)
+                if restarted is not None:  # the launcher's line, printed as it restarts
+                    row.restart_wall = restarted - row.fault_at
+                    warm = launch.seen(f"[launch] {name}: runs in the warm spare", row.fault_at)
+                    row.note += "; in the warm spare" if warm is not None else "; new interpreter"
                 rig.wait(lambda: rig.started.get(name, (0, 0.0))[1] > row.fault_at, 60.0)
                 up = rig.started.get(name, (0, 0.0))[1] - row.fault_at
                 if up > 0:
@@ -517,10 +533,12 @@ def print_table(rows: list[Row]) -> None:
                 log(f"{'':90} {extra}")
     for r in rows:  # issue 21: terminal event within 2 s wall of the restart of these two
         if r.entry in ("kill_platform_server", "kill_control_kernel"):
-            met = "met" if r.terminal_wall <= RESTART_TARGET_S else "NOT met"
+            since = r.terminal_wall - r.restart_wall
+            met = "met" if since <= RESTART_TARGET_S else "NOT met"
             log(
-                f"{r.entry}: terminal event {r.terminal_wall:.2f} s wall after the kill "
-                f"(target {RESTART_TARGET_S:g} s: {met})"
+                f"{r.entry}: terminal event {r.terminal_wall:.2f} s wall after the kill, "
+                f"{since:.2f} s after the restart {r.restart_wall:.2f} s after the kill "
+                f"(target <= {RESTART_TARGET_S:g} s after the restart: {met})"
             )
     safe = sum(r.outcome != "unsafe" for r in rows)
     once = sum(set(r.terminals_per_command.split(",")) == {"1"} for r in rows)
@@ -532,12 +550,18 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", action="append", choices=ENTRIES, help="run only this entry")
     parser.add_argument("--domain-id", type=int, default=int(os.environ.get("ROS_DOMAIN_ID", "90")))
+    parser.add_argument(
+        "--speed",
+        default="max",
+        help="the launch's real-time factor (default max: the simulator takes every free cycle, "
+        "a stress test of discovery; 1 is a flight's pace)",
+    )
     args = parser.parse_args()
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     rows = []
     for entry in args.only or ENTRIES:
         log(f"--- {entry}")
-        row = run_entry(entry, args.domain_id)
+        row = run_entry(entry, args.domain_id, args.speed)
         log(f"    {row}")
         rows.append(row)
     print_table(rows)

@@ -59,7 +59,7 @@ class ProcessSpec:
     """Variables added to the inherited environment."""
     entry: str = ""
     """``module:function`` of the console script in ``argv[0]`` ("" if unknown): lets the
-    launcher's fork server (:mod:`hdrc3.zygote`) restart the process without a new interpreter."""
+    launcher's warm spare (:mod:`hdrc3.warm_spare`) restart it in a pre-imported interpreter."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -177,7 +177,7 @@ class Rig:
 
 
 def _processes_on(domain: int) -> list[str]:
-    """Other processes whose environment has this ROS domain (launcher, zygote, nodes)."""
+    """Other processes whose environment has this ROS domain (launcher, warm spare, nodes)."""
     needle = f"ROS_DOMAIN_ID={domain}".encode()
     found = []
     for entry in os.scandir("/proc"):
@@ -220,7 +220,7 @@ def rig(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[Rig]:
             r.node.destroy_node()
             code = launch.interrupt(timeout=30)
             print("\n".join(launch.lines[-30:]))
-    # the launcher stops its nodes, the restarted (forked) ones and its fork server included
+    # the launcher stops its nodes, the restarted ones and its unused warm spare included
     assert code == 0, launch.lines[-30:]
     deadline = time.monotonic() + 10.0
     while _processes_on(ros_domain) and time.monotonic() < deadline:
@@ -235,8 +235,8 @@ def _kill_mid_flyto(r: Rig, node: str, reason: str) -> None:
 
     r.airborne()
     # 120 s of sim time (60 s of wall time at --speed 2): still flying when the new node is up,
-    # also at load 12, where a restarted platform_server took 27 s to come up (before the fork
-    # server). A fly-to that ends while the server is down: the test below.
+    # also at load 12, where a restarted platform_server took 27 s to come up (before the warm
+    # spare). A fly-to that ends while the server is down: the test below.
     flyto = r.flyto(120.0, 0.0, 1.0)
     assert flyto.code == FclReturn.FCL_OK, flyto.reason
     r.wait(lambda: r.pfc[-1].command_id == flyto.command_id, 30.0, "the PFC flies it")

@@ -182,7 +182,9 @@ def test_elimination_keeps_the_node_that_joins_the_start_direction() -> None:
     assert len(multilevel(pts, checks, 8.0, LIMITS).segments) == 1  # free start: eliminated
 
 
-@pytest.mark.parametrize("start_direction", [None, np.array([1.0, 0.0, 0.0])], ids=["free", "fixed"])
+@pytest.mark.parametrize(
+    "start_direction", [None, np.array([1.0, 0.0, 0.0])], ids=["free", "fixed"]
+)
 def test_a_waypoint_aligned_onto_its_neighbour_leaves_no_zero_length_segment(
     start_direction: np.ndarray | None,  # type: ignore[type-arg]
 ) -> None:

@@ -1,6 +1,6 @@
-"""A stand-in node entry point for the tests of the fork server (:mod:`hdrc3.zygote`).
+"""A stand-in node entry point for the tests of the warm spare (:mod:`hdrc3.warm_spare`).
 
-``hdrc3.fake_zygote_child:main`` with argv ``[exe, CODE|wait, OUT]`` writes what the forked child
+``hdrc3.fake_spare_child:main`` with argv ``[exe, CODE|wait, OUT]`` writes what the node
 sees (argv, ``HDRC3_PROBE``, whether it leads its own session, its parent) to the file OUT as
 JSON, then exits with CODE, or for ``wait`` waits for SIGINT and exits 0.
 """
