@@ -40,7 +40,7 @@ from hdrc3_base.stamps import stamp_ns, stamp_s
 from hdrc3_control.perception_kernel_node import COLOR_TRACK_TOPIC, COLOR_TRACKER_SEED_TOPIC
 from hdrc3_control.ppc_modes import ImageProcessing
 from hdrc3_interfaces.msg import ColorTrack, HelicopterState, PtuState
-from hdrc3_perception.camera import CameraPose, Intrinsics, NavPose
+from hdrc3_perception.camera import Intrinsics, NavPose
 from hdrc3_perception.colour_tracking import (
     CameraView,
     ColourTracker,
@@ -126,34 +126,32 @@ class ColorTrackerNode(Node):
         if not self.gate.engaged:  # taken by the executor before the stop
             return
         time = stamp_s(msg.header.stamp)
+        view = self._view(time)
         decoded = image_array(msg) if msg.encoding == "rgb8" else f"encoding {msg.encoding!r}: rgb8"
         if isinstance(decoded, str):
             result = TrackResult(TrackStatus.LOST, f"bad image: {decoded}")
         else:
             pixels = np.asarray(decoded, dtype=np.uint8)  # rgb8 decodes to uint8
-            view = self._view(time)
+            known = view if isinstance(view, CameraView) else None
             pending = self._pending
             # the seed's pixel is in the image the operator saw when commanding: an image taken
             # before the command (queued on a loaded machine) may show the scene elsewhere
             if pending is not None and stamp_ns(msg.header.stamp) >= stamp_ns(pending.header.stamp):
                 self._pending = None
                 x, y = float(pending.point.x), float(pending.point.y)
-                result = self.tracker.seed(x, y, pixels, time, view)
+                result = self.tracker.seed(x, y, pixels, time, known)
             else:
-                result = self.tracker.update(pixels, time, view)
+                result = self.tracker.update(pixels, time, known)
         self.results[result.status] = self.results.get(result.status, 0) + 1
-        self._pub.publish(self._message(msg, time, result))
+        self._pub.publish(self._message(msg, result, view))
 
-    def _view(self, time: float) -> CameraView | None:
-        """The colour camera at an image's time (the tracker predicts in the world with it)."""
-        nav, ptu = self._nav.at(time), self._ptu.at(time)
-        if self._intrinsics is None or nav is None or not nav.is_finite() or ptu is None:
-            return None
-        if not all(math.isfinite(a) for a in ptu):
-            return None
-        return CameraView.of(self._intrinsics, CameraPose.of(nav, ptu[0], ptu[1]))
+    def _view(self, time: float) -> CameraView | str:
+        """The colour camera at an image's time, or why it is unknown (predictions, locating)."""
+        if self._intrinsics is None:
+            return "no usable camera_info"
+        return CameraView.at(self._intrinsics, self._nav.at(time), self._ptu.at(time))
 
-    def _message(self, image: Image, time: float, result: TrackResult) -> ColorTrack:
+    def _message(self, image: Image, result: TrackResult, view: CameraView | str) -> ColorTrack:
         out = ColorTrack()
         out.header.stamp = image.header.stamp
         out.header.frame_id = image.header.frame_id or OPTICAL_FRAME
@@ -167,14 +165,7 @@ class ColorTrackerNode(Node):
             if self._intrinsics is None:
                 reason += "; not located: no usable camera_info"
             else:
-                fix = locate(
-                    self._intrinsics,
-                    result.x,
-                    result.y,
-                    self._nav.at(time),
-                    self._ptu.at(time),
-                    self._ground,
-                )
+                fix = locate(self._intrinsics, result.x, result.y, view, self._ground)
                 out.direction.x, out.direction.y, out.direction.z = (
                     float(v) for v in fix.direction
                 )

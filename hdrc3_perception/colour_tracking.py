@@ -190,6 +190,27 @@ class CameraView:
         """The view of a camera pose."""
         return CameraView(intrinsics, pose)
 
+    @staticmethod
+    def at(
+        intrinsics: Intrinsics,
+        nav: NavPose | None,
+        ptu: tuple[float, float] | None,
+        mount: Vec3 = MOUNT_OFFSET,
+    ) -> CameraView | str:
+        """The camera on the PTU at an image's time, or why it is unknown.
+
+        Args:
+            intrinsics: The colour camera's calibration.
+            nav: The aircraft's navigation solution at the image's time (None if unknown).
+            ptu: (pan, tilt) at the image's time, rad (None if unknown).
+            mount: The camera's mount point on the airframe (body FRD, m).
+        """
+        if nav is None or not nav.is_finite():
+            return "no finite helicopter_state at the image's time"
+        if ptu is None or not all(math.isfinite(a) for a in ptu):
+            return "no PTU reading at the image's time"
+        return CameraView(intrinsics, CameraPose.of(nav, ptu[0], ptu[1], mount))
+
     def direction(self, u: float, v: float) -> NDArray[np.float64]:
         """World unit vector through pixel (u, v)."""
         return self.pose.ray(self.intrinsics, u, v)
@@ -546,31 +567,21 @@ class TargetFix:
 
 
 def locate(
-    intrinsics: Intrinsics,
-    u: float,
-    v: float,
-    nav: NavPose | None,
-    ptu: tuple[float, float] | None,
-    ground: Ground,
-    mount: Vec3 = MOUNT_OFFSET,
+    intrinsics: Intrinsics, u: float, v: float, view: CameraView | str, ground: Ground
 ) -> TargetFix:
-    """Direction of pixel (u, v) and its ground point from the navigation solution and PTU.
+    """Direction of pixel (u, v) and its ground point seen from ``view``.
 
     Args:
-        intrinsics: The colour camera's calibration.
+        intrinsics: The colour camera's calibration (the direction needs no pose).
         u: Pixel column.
         v: Pixel row.
-        nav: The aircraft's navigation solution at the image's time (None if unknown).
-        ptu: (pan, tilt) at the image's time, rad (None if unknown).
+        view: The camera at the image's time, or why it is unknown (:meth:`CameraView.at`).
         ground: The terrain the ray meets.
-        mount: The camera's mount point on the airframe (body FRD, m).
     """
     direction = intrinsics.direction(u, v)
-    if nav is None or not nav.is_finite():
-        return TargetFix(direction, None, "no finite helicopter_state at the image's time")
-    if ptu is None or not all(math.isfinite(a) for a in ptu):
-        return TargetFix(direction, None, "no PTU reading at the image's time")
-    point = geolocate(CameraPose.of(nav, ptu[0], ptu[1], mount), intrinsics, u, v, ground)
+    if isinstance(view, str):
+        return TargetFix(direction, None, view)
+    point = geolocate(view.pose, intrinsics, u, v, ground)
     if point is None:
         return TargetFix(direction, None, "the ray meets no ground")
     return TargetFix(direction, point)

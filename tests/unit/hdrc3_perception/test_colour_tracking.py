@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 from hdrc3_interfaces.msg import ColorTrack
 from hdrc3_perception.camera import CameraPose, Intrinsics, NavPose
 from hdrc3_perception.colour_tracking import (
+    CameraView,
     ColourModel,
     ColourTracker,
     NavHistory,
@@ -280,7 +281,7 @@ def test_a_tracked_pixel_is_located_on_the_ground(ground: Ground) -> None:
     truth = np.array([18.0, -12.0, 0.0])
     truth[2] = ground.up(truth[0], truth[1])
     u, v = pose.project(K, truth)[0]
-    fix = locate(K, u, v, NAV, PTU, ground)
+    fix = locate(K, u, v, CameraView.at(K, NAV, PTU), ground)
     assert fix.position is not None and fix.position == pytest.approx(truth, abs=0.05)
     assert fix.direction == pytest.approx(K.direction(u, v))
     to_truth = truth - pose.position
@@ -300,7 +301,7 @@ def test_a_tracked_pixel_is_located_on_the_ground(ground: Ground) -> None:
 def test_not_located_says_why(
     nav: NavPose | None, ptu: tuple[float, float] | None, reason: str
 ) -> None:
-    fix = locate(K, K.cx, K.cy, nav, ptu, Ground())
+    fix = locate(K, K.cx, K.cy, CameraView.at(K, nav, ptu), Ground())
     assert fix.position is None and reason in fix.reason
     assert np.linalg.norm(fix.direction) == pytest.approx(1.0)
 
