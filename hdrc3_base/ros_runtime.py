@@ -36,7 +36,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rclpy.signals import SignalHandlerOptions
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
-from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_env import apply_dds_defaults
 
 SERVICE_WAIT_S = 10.0
 """How long a new client looks for a service before calling it absent (one value for the CLI,
@@ -87,7 +87,7 @@ class RosProcess:
         self._signal_thread: threading.Thread | None = None
 
     def __enter__(self) -> RosProcess:
-        apply_localhost_default()
+        apply_dds_defaults()
         rclpy.init(
             args=self._args,
             context=self.context,

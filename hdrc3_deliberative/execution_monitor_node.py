@@ -38,7 +38,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
-from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_env import apply_dds_defaults
 from hdrc3_base.ros_runtime import run_node
 from hdrc3_deliberative.execution_monitor import (
     EventKind,
@@ -243,7 +243,7 @@ class ExecutionMonitorNode(Node):
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``hdrc3-execution-monitor`` (``--ros-args -r __ns:=/uav0 -p monitor_spec:=FILE``)."""
-    apply_localhost_default()
+    apply_dds_defaults()
     try:
         return run_node(
             lambda context: ExecutionMonitorNode(context), sys.argv if argv is None else argv

@@ -27,7 +27,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.subscription import Subscription
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
-from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_env import apply_dds_defaults
 from hdrc3_base.ros_runtime import run_node
 from hdrc3_dyknow.coordinator import (
     MonitorResult,
@@ -270,7 +270,7 @@ class DyKnowNode(Node):
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``hdrc3-dyknow``; accepts standard ``--ros-args`` (e.g. ``-r __ns:=/uav0``)."""
-    apply_localhost_default()
+    apply_dds_defaults()
     try:
         return run_node(
             lambda context: DyKnowNode(context=context), sys.argv if argv is None else argv

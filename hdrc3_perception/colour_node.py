@@ -34,7 +34,7 @@ from rclpy.subscription import Subscription
 from sensor_msgs.msg import CameraInfo, Image
 
 from hdrc3_base.errors import Hdrc3Error
-from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_env import apply_dds_defaults
 from hdrc3_base.ros_runtime import run_node
 from hdrc3_base.stamps import stamp_ns, stamp_s
 from hdrc3_control.perception_kernel_node import COLOR_TRACK_TOPIC, COLOR_TRACKER_SEED_TOPIC
@@ -182,7 +182,7 @@ class ColorTrackerNode(Node):
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``hdrc3-color-tracker``; accepts ``--ros-args`` (e.g. ``-r __ns:=/uav0``)."""
-    apply_localhost_default()
+    apply_dds_defaults()
     try:
         return run_node(
             lambda context: ColorTrackerNode(context=context), sys.argv if argv is None else argv

@@ -42,7 +42,7 @@ from sensor_msgs.msg import PointCloud2, PointField
 from std_msgs.msg import String
 
 from hdrc3_base.errors import Hdrc3Error
-from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_env import apply_dds_defaults
 from hdrc3_base.ros_runtime import run_node
 from hdrc3_base.stamps import set_stamp_s, stamp_s
 from hdrc3_control.perception_kernel_node import LATCHED
@@ -207,7 +207,7 @@ class LaserMapperNode(Node):
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``hdrc3-laser-mapper``; accepts ``--ros-args`` (e.g. ``-r __ns:=/uav0``)."""
-    apply_localhost_default()
+    apply_dds_defaults()
     try:
         return run_node(
             lambda context: LaserMapperNode(context=context), sys.argv if argv is None else argv

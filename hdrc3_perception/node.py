@@ -42,7 +42,7 @@ from std_msgs.msg import String
 from visualization_msgs.msg import Marker, MarkerArray
 
 from hdrc3_base.errors import ConfigError, Hdrc3Error
-from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_env import apply_dds_defaults
 from hdrc3_base.ros_runtime import run_node
 from hdrc3_base.stamps import stamp_s
 from hdrc3_control.ppc_modes import ImageProcessing
@@ -255,7 +255,7 @@ class SaliencyNode(Node):
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``hdrc3-saliency``; accepts ``--ros-args`` (e.g. ``-r __ns:=/uav0``)."""
-    apply_localhost_default()
+    apply_dds_defaults()
     try:
         return run_node(
             lambda context: SaliencyNode(context=context), sys.argv if argv is None else argv

@@ -39,7 +39,7 @@ from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import String
 
 from hdrc3_base.errors import Hdrc3Error
-from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_env import apply_dds_defaults
 from hdrc3_base.ros_runtime import run_node
 from hdrc3_base.stamps import stamp_s
 from hdrc3_control.ppc_modes import ImageProcessing
@@ -158,7 +158,7 @@ class PadPoseNode(Node):
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``hdrc3-pad-pose``; accepts ``--ros-args`` (e.g. ``-r __ns:=/uav0``)."""
-    apply_localhost_default()
+    apply_dds_defaults()
     try:
         return run_node(
             lambda context: PadPoseNode(context=context), sys.argv if argv is None else argv

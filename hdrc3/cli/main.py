@@ -13,7 +13,7 @@ from collections.abc import Sequence
 
 from hdrc3 import __version__
 from hdrc3_base.errors import Hdrc3Error
-from hdrc3_base.ros_env import apply_localhost_default
+from hdrc3_base.ros_env import apply_dds_defaults
 
 # Subcommand modules, in the order `hdrc3 --help` lists them.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -55,7 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the `hdrc3` command; bad input ends in a one-line error and exit code 2."""
-    apply_localhost_default()
+    apply_dds_defaults()
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
