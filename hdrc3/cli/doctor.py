@@ -8,7 +8,7 @@ import importlib.metadata
 import os
 import sys
 
-from hdrc3_base.ros_env import DISCOVERY_RANGE_VAR
+from hdrc3_base.ros_env import DISCOVERY_RANGE_VAR, PROFILES_VARS
 
 _DISTRIBUTIONS = (
     ("rclpy", "ros-jazzy-rclpy"),
@@ -75,6 +75,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"rmw implementation  UNAVAILABLE ({exc})")
     print(f"ROS_DOMAIN_ID       {os.environ.get('ROS_DOMAIN_ID', '0 (default)')}")
     print(f"{DISCOVERY_RANGE_VAR} {os.environ.get(DISCOVERY_RANGE_VAR)}")
+    for var in PROFILES_VARS:
+        if os.environ.get(var):
+            print(f"{var} {os.environ[var]}")
     for module in _INTERFACE_MODULES:
         try:
             importlib.import_module(module)

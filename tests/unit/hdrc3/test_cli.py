@@ -5,6 +5,7 @@ from pathlib import Path
 import pytest
 
 from hdrc3.cli.main import main
+from hdrc3_base.ros_env import PROFILES_VARS, discovery_profile
 
 
 @pytest.mark.parametrize(
@@ -49,11 +50,14 @@ def test_replay_names_a_topic_missing_from_the_recording(tmp_path: Path, capsys)
     assert "topic /b is not in the recording; it has: /a" in capsys.readouterr().err
 
 
-def test_doctor_reports_a_healthy_installation(capsys) -> None:
+def test_doctor_reports_a_healthy_installation(capsys, monkeypatch) -> None:
+    for var in PROFILES_VARS:
+        monkeypatch.delenv(var, raising=False)
     assert main(["doctor", "--no-selftest"]) == 0
     out = capsys.readouterr().out
     assert "rmw implementation  rmw_fastrtps_cpp" in out
     assert "import hdrc3_interfaces.msg" in out and "healthy" in out
+    assert f"FASTRTPS_DEFAULT_PROFILES_FILE {discovery_profile()}" in out  # main applied it
 
 
 @pytest.mark.parametrize(
