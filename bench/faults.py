@@ -147,6 +147,7 @@ class Rig:
     """The bench's side: FCL client, Data Interface, ground truth, launch status, sim services."""
 
     def __init__(self, process: Any) -> None:
+        from hdrc3_base.ros_runtime import STATUS_TOPIC
         from hdrc3_interfaces.msg import HelicopterState, LaunchStatus, TruthState
         from hdrc3_platform_server.client import PlatformClient
         from hdrc3_platform_server.geo_frame import frame_from_world
@@ -169,7 +170,7 @@ class Rig:
         self.node.create_subscription(
             TruthState, f"/{AGENT}/ground_truth/state", self._on_truth, 50
         )
-        self.node.create_subscription(LaunchStatus, "/hdrc3/launch_status", self._on_launch, 10)
+        self.node.create_subscription(LaunchStatus, STATUS_TOPIC, self._on_launch, 10)
 
     def _on_state(self, msg: Any) -> None:
         if self.states and stamp_s(msg.pfc_time) < stamp_s(self.states[-1].pfc_time) - 1.0:

@@ -12,17 +12,12 @@ from collections.abc import Callable, Sequence
 
 from rclpy.context import Context
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from hdrc3.launch_plan import RECORDER
 from hdrc3.supervisor import ProcessSpec, ProcessState, Supervisor
-from hdrc3_base.ros_runtime import node_name_counts, node_names
+from hdrc3_base.ros_runtime import STATUS_QOS, STATUS_TOPIC, node_name_counts, node_names
 from hdrc3_interfaces.msg import LaunchStatus, SupervisedProcess
 
-STATUS_TOPIC = "/hdrc3/launch_status"
-STATUS_QOS = QoSProfile(
-    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
-)
 STATUS_PERIOD_S = 0.5
 LAUNCHER_PREFIX = "hdrc3_launcher_"
 
@@ -77,8 +72,11 @@ class LauncherNode(Node):
 
     def tick(self) -> None:
         """Supervise: report exits/restarts, mark processes whose node is visible as running."""
-        for event in self.supervisor.poll(time.monotonic()):
+        events = self.supervisor.poll(time.monotonic())
+        for event in events:
             self._report(f"[launch] {event.name}: {event.message}")
+        if events:  # a crash is news at once (platform servers end the lost commands)
+            self.publish_status()
         present = node_names(self)
         for status in self.supervisor.snapshot():
             if status.state is ProcessState.STARTING and (

@@ -8,10 +8,9 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rclpy.context import Context
 from rclpy.node import Node
 
-from hdrc3.launcher import STATUS_QOS, STATUS_TOPIC
 from hdrc3.supervisor import ProcessState, ProcessStatus
 from hdrc3.system_health import HealthLevel, ResourceProbe, assess
-from hdrc3_base.ros_runtime import node_names, run_node
+from hdrc3_base.ros_runtime import STATUS_QOS, STATUS_TOPIC, node_names, run_node
 from hdrc3_interfaces.msg import LaunchStatus
 
 PUBLISH_PERIOD_S = 1.0

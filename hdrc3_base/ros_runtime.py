@@ -57,6 +57,14 @@ those that arrive while the executor is busy overwrite each other (issue 21: 18-
 never answered). 1,000 covers the bursts ``bench/service_burst.py`` measures.
 """
 
+STATUS_TOPIC = "/hdrc3/launch_status"
+"""The launcher's snapshot of the processes it supervises (``LaunchStatus``): the system monitor
+turns it into diagnostics, each Platform Server watches its own kernels on it."""
+STATUS_QOS = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
+)
+"""Latched: a late subscriber gets the latest snapshot."""
+
 
 class RosProcess:
     """Context manager owning an rclpy context, an executor and a stop event."""

@@ -182,6 +182,10 @@ class FlightCommandLayer:
         self.last_mode: int | None = None
         self.orphans: set[int] = set()
         """Commands of an earlier run of this server that the PFC reported and that were ended."""
+        self.pfc_lost = False
+        """The launcher saw the PFC die while a command ran: the command ended then, and the
+        Flight automaton goes back to Idle once the new PFC is heard (nothing is sent to a dead
+        PFC: an event for it would wait in the transport and reach the new one out of turn)."""
         self.earlier = earlier
         """Id -> command of the commands earlier runs left open (their journal, see
         :mod:`~hdrc3_platform_server.journal`); None without a journal: any id this run did not
@@ -520,9 +524,23 @@ class FlightCommandLayer:
         The notice comes with the new PFC's first events, before they are correlated: a
         command it is about to reply to (sent after the restart) has not been heard yet.
         """
-        if computer == "PFC" and self.current is not None and self.current.heard:
+        if computer != "PFC":
+            return
+        if self.pfc_lost or (self.current is not None and self.current.heard):
             self._end_current(EventKind.FAILED, RESTARTED_PFC)
             self._stop_pfc()
+            self.pfc_lost = False
+
+    def on_kernel_exit(self, reason: str, now: float) -> None:
+        """The PFC process died (the launcher saw it): the running command ends FAILED now.
+
+        The Flight automaton keeps its state (new commands are answered busy) until the new PFC
+        is heard (:meth:`on_restart`, or its boot mode in :meth:`resync`), which puts it back in
+        Idle and tells the new PFC to cancel, as for a restart the launcher did not report.
+        """
+        if self.current is not None:
+            self._end_current(EventKind.FAILED, reason)
+            self.pfc_lost = True
 
     def on_world_reset(self, reason: str, now: float) -> None:
         """The simulated world started over (sim/WORLD_SIM.md): the running command ends FAILED."""
@@ -544,9 +562,10 @@ class FlightCommandLayer:
         if self._orphan(sample.command_id, label, now) and self.current is None:
             self._stop_pfc()
         self._end_lost(sample, now)
-        if sample.mode == FlightMode.BOOT and self.current is not None:
+        if sample.mode == FlightMode.BOOT and (self.current is not None or self.pfc_lost):
             self._end_current(EventKind.FAILED, RESTARTED_PFC)
             self._stop_pfc()
+            self.pfc_lost = False
 
     def after_step(self, now: float) -> None:
         """End the command once the Flight automaton is back in Idle."""

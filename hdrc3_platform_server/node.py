@@ -26,7 +26,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from hdrc3_base.answer_memory import AnswerMemory, keyed, remembering
-from hdrc3_base.ros_runtime import SERVICE_QOS, run_events_node
+from hdrc3_base.ros_runtime import SERVICE_QOS, STATUS_QOS, STATUS_TOPIC, run_events_node
 from hdrc3_base.stamps import set_stamp_s, stamp_s
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import (
@@ -34,10 +34,12 @@ from hdrc3_interfaces.msg import (
     HelicopterState,
     HookCommand,
     HookState,
+    LaunchStatus,
     PfcState,
     PlatformEvent,
     PowerStatus,
     SimRun,
+    SupervisedProcess,
 )
 from hdrc3_interfaces.srv import (
     PpclControl,
@@ -53,6 +55,7 @@ from hdrc3_platform_server.data_interface import HelicopterStateData
 from hdrc3_platform_server.geo_frame import WorldFrame, frame_from_world
 from hdrc3_platform_server.hook_api import HookSample, HookSetpoint
 from hdrc3_platform_server.journal import CommandJournal
+from hdrc3_platform_server.kernel_watch import KernelWatch, ProcessReport
 from hdrc3_platform_server.platform_status import CameraSample, PfcSample
 from hdrc3_platform_server.server import PlatformServerCore
 
@@ -136,6 +139,8 @@ class PlatformServerNode(Node):
         self._run_id: str | None = None
         self.answers: AnswerMemory[Any] = AnswerMemory()
         self.create_subscription(SimRun, "/world_sim/run", self._on_world_run, RUN_QOS)
+        self._kernels = KernelWatch(self.get_namespace().strip("/"))
+        self.create_subscription(LaunchStatus, STATUS_TOPIC, self._on_launch_status, STATUS_QOS)
         for spec in FCL.values():
             name = f"fcl/{spec.command.value}"
             self._service(spec.service_type(), name, self._fcl_handler(spec), FclCode.NOT_ACCEPTED)
@@ -266,6 +271,16 @@ class PlatformServerNode(Node):
         known, self._run_id = self._run_id, str(msg.run_id)
         if msg.kind == SimRun.RESET and known is not None and known != self._run_id:
             self.core.on_world_reset(str(msg.reason) or "the world started over", self._now())
+
+    def _on_launch_status(self, msg: Any) -> None:
+        alive = (SupervisedProcess.STATE_STARTING, SupervisedProcess.STATE_RUNNING)
+        reports = [
+            ProcessReport(str(p.node_name), p.state in alive, int(p.restarts), p.last_exit_code)
+            for p in msg.processes
+        ]
+        for exited in self._kernels.update(reports):
+            self.get_logger().warning(exited.reason)
+            self.core.on_kernel_exit(exited, self._now())
 
     def _tick(self) -> None:
         self.core.tick(self._now())

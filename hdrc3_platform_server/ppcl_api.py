@@ -253,8 +253,16 @@ class PayloadCommandLayer:
 
     def on_world_reset(self, reason: str, now: float) -> None:
         """The simulated world started over: every pending command ends FAILED."""
+        self._fail_pending(f"simulation reset: {reason}")
+
+    def on_kernel_exit(self, reason: str, now: float) -> None:
+        """The PPC process died (the launcher saw it): every pending command ends FAILED now."""
+        self._fail_pending(reason)
+
+    def _fail_pending(self, reason: str) -> None:
+        """End every pending command FAILED once; the PTU is idle."""
         for cid, (command, _) in sorted(self.pending.items()):
-            self._emit(cid, command, EventKind.FAILED, f"simulation reset: {reason}")
+            self._emit(cid, command, EventKind.FAILED, reason)
         self.pending.clear()
         self.activity = PtuActivity.IDLE
 
@@ -264,9 +272,5 @@ class PayloadCommandLayer:
         The new PPC announces itself (``PPC-Started-EV``) with its first step, before any reply,
         so the notice comes before the new PPC can finish a command sent to it.
         """
-        if computer != "PPC":
-            return
-        for cid, (command, _) in sorted(self.pending.items()):
-            self._emit(cid, command, EventKind.FAILED, RESTARTED_PPC)
-        self.pending.clear()
-        self.activity = PtuActivity.IDLE
+        if computer == "PPC":
+            self._fail_pending(RESTARTED_PPC)

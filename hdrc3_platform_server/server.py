@@ -25,6 +25,7 @@ from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.hook_api import LABEL as HOOK_LABEL
 from hdrc3_platform_server.hook_api import HookCommandLayer, HookSample, HookSetpoint
 from hdrc3_platform_server.journal import CommandJournal
+from hdrc3_platform_server.kernel_watch import KernelExit
 from hdrc3_platform_server.limits import Limits
 from hdrc3_platform_server.platform_status import CameraSample, PfcSample, PlatformStatus
 from hdrc3_platform_server.ppcl_api import PayloadCommandLayer, PpclAnswer
@@ -127,6 +128,13 @@ class PlatformServerCore:
         self.fcl.on_world_reset(reason, now)
         self.ppcl.on_world_reset(reason, now)
         self.hook.on_world_reset(reason, now)
+
+    def on_kernel_exit(self, exited: KernelExit, now: float) -> None:
+        """The launcher saw this agent's PFC or PPC process die: its commands fail now."""
+        if exited.computer == "PFC":
+            self.fcl.on_kernel_exit(exited.reason, now)
+        else:
+            self.ppcl.on_kernel_exit(exited.reason, now)
 
     def on_camera(self, sample: CameraSample) -> None:
         """Take a PPC camera report."""

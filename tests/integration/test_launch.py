@@ -15,9 +15,9 @@ from mcap_ros2.decoder import DecoderFactory
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
-from hdrc3.launcher import STATUS_QOS, STATUS_TOPIC
 from hdrc3.mcap_recording import RecordingReader
 from hdrc3_base.errors import DataError
+from hdrc3_base.ros_runtime import STATUS_QOS, STATUS_TOPIC
 from hdrc3_interfaces.msg import LaunchStatus, SupervisedProcess
 
 pytestmark = pytest.mark.ros

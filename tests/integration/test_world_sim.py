@@ -537,7 +537,7 @@ def test_extreme_requests_get_an_answer_and_the_node_lives_on(hdrc3_cli, ros_con
 
 def test_world_sim_killed_mid_flight_resumes_its_checkpoint(hdrc3_cli, ros_context) -> None:
     """kill -9 of world_sim under the launcher: the restarted one goes on with the same flight."""
-    from hdrc3.launcher import STATUS_QOS, STATUS_TOPIC
+    from hdrc3_base.ros_runtime import STATUS_QOS, STATUS_TOPIC
     from hdrc3_interfaces.msg import LaunchStatus, SimRun
 
     launch = hdrc3_cli("launch", "--agents", "uav0", "--speed", "4", "--nodes", "world_sim")

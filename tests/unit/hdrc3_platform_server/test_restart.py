@@ -30,6 +30,7 @@ from hdrc3_platform_server.fcl_api import (
 )
 from hdrc3_platform_server.geo_frame import WorldFrame
 from hdrc3_platform_server.journal import CommandJournal
+from hdrc3_platform_server.kernel_watch import KernelExit
 from hdrc3_platform_server.ppcl_api import RESTARTED_PPC
 
 FRAME = WorldFrame(55.70, 13.47, 95.0)
@@ -177,3 +178,51 @@ def test_ppc_restart_fails_its_pending_commands_once_and_the_next_works(pending:
     assert final is not None and final.kind is EventKind.FINISHED
     rig.run(1.0)
     assert all(terminal(rig, cid) == [EventKind.FAILED] for cid in ids)
+
+
+PFC_EXIT = KernelExit("PFC", "control kernel (PFC) exited (code -9): the command was lost")
+PPC_EXIT = KernelExit("PPC", "perception kernel (PPC) exited (code -9): the command was lost")
+
+
+@pytest.mark.parametrize("announced", [True, False], ids=["announced", "boot_mode_only"])
+def test_a_pfc_exit_seen_by_the_launcher_fails_the_command_before_the_restart(
+    announced: bool,
+) -> None:
+    rig = FakeRig(FRAME, on_ground=False, timing=SLOW)
+    cid = start_flyto(rig)
+    rig.pfc_online = False  # dead: it sends nothing
+    rig.core.on_kernel_exit(PFC_EXIT, rig.t)
+    assert terminal(rig, cid) == [EventKind.FAILED]
+    assert rig.log.final(cid).reason == PFC_EXIT.reason  # type: ignore[union-attr]
+    # until the new PFC is heard: new commands are busy, and nothing is sent to the dead PFC
+    busy = rig.core.submit_fcl(C.YAW, (1.0,), rig.t)
+    assert busy.code is FclCode.BUSY, busy
+    rig.run(1.0)
+    assert rig.net.drain("PFC") == []
+    rig.pfc_online = True
+    if announced:
+        rig.restart_pfc()
+    else:  # no event from the new PFC yet: its state report (boot mode) tells
+        rig.pfc = type(rig.pfc)(rig.net.endpoint("PFC"), SLOW, on_ground=False)
+        rig.pfc.mode = FlightMode.BOOT
+    rig.run(0.1)
+    rig.pfc.mode = FlightMode.HOVER
+    rig.run(0.5)
+    next_command_works(rig)
+    rig.run(5.0)
+    assert terminal(rig, cid) == [EventKind.FAILED]  # the new PFC's notice ended nothing twice
+
+
+def test_a_ppc_exit_seen_by_the_launcher_fails_its_pending_commands_once() -> None:
+    rig = FakeRig(FRAME, on_ground=False)
+    assert rig.core.ppcl.control(Resource.PTU, True, "exec").code is PpclCode.OK
+    assert rig.ppc is not None
+    rig.ppc.move_time = 60.0
+    answer = rig.core.ppcl.submit(PpclCommand.TURN_TO, (0.5, 0.2), rig.t)
+    assert answer.code is PpclCode.OK, answer.reason
+    rig.run(0.5)
+    rig.core.on_kernel_exit(PPC_EXIT, rig.t)
+    rig.restart_ppc()
+    rig.run(0.5)
+    assert terminal(rig, answer.command_id) == [EventKind.FAILED]
+    assert rig.log.final(answer.command_id).reason == PPC_EXIT.reason  # type: ignore[union-attr]
