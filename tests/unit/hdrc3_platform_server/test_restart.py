@@ -63,15 +63,20 @@ def next_command_works(rig: FakeRig) -> int:
     return answer.command_id
 
 
+def new_pfc(rig: FakeRig, announced: bool) -> None:
+    """A new PFC process: it announces itself, or only its state report (boot mode) tells."""
+    if announced:
+        rig.restart_pfc()
+    else:
+        rig.pfc = type(rig.pfc)(rig.net.endpoint("PFC"), SLOW, on_ground=False)
+        rig.pfc.mode = FlightMode.BOOT
+
+
 @pytest.mark.parametrize("announced", [True, False], ids=["announced", "boot_mode_only"])
 def test_pfc_restart_fails_the_running_command_once(announced: bool) -> None:
     rig = FakeRig(FRAME, on_ground=False, timing=SLOW)
     cid = start_flyto(rig)
-    if announced:
-        rig.restart_pfc()
-    else:  # no event from the new PFC yet: its state report (boot mode) tells
-        rig.pfc = type(rig.pfc)(rig.net.endpoint("PFC"), SLOW, on_ground=False)
-        rig.pfc.mode = FlightMode.BOOT
+    new_pfc(rig, announced)
     rig.run(0.1)
     assert terminal(rig, cid) == [EventKind.FAILED]
     assert rig.log.final(cid).reason == RESTARTED_PFC  # type: ignore[union-attr]
@@ -200,11 +205,7 @@ def test_a_pfc_exit_seen_by_the_launcher_fails_the_command_before_the_restart(
     rig.run(1.0)
     assert rig.net.drain("PFC") == []
     rig.pfc_online = True
-    if announced:
-        rig.restart_pfc()
-    else:  # no event from the new PFC yet: its state report (boot mode) tells
-        rig.pfc = type(rig.pfc)(rig.net.endpoint("PFC"), SLOW, on_ground=False)
-        rig.pfc.mode = FlightMode.BOOT
+    new_pfc(rig, announced)
     rig.run(0.1)
     rig.pfc.mode = FlightMode.HOVER
     rig.run(0.5)
