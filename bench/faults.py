@@ -96,6 +96,12 @@ class Launch:
         with self._news:
             return next((t for t, line in self.lines if t > after and text in line), None)
 
+    def wait_seen(self, text: str, after: float, timeout: float) -> float | None:
+        """When the first line containing ``text`` arrived after ``after``, waiting for it."""
+        with self._news:
+            self._news.wait_for(lambda: self.seen(text, after) is not None, timeout)
+            return self.seen(text, after)
+
     def wait_ready(self, timeout: float) -> bool:
         """True once the launcher printed READY within ``timeout`` s (wall)."""
         with self._news:
@@ -475,7 +481,9 @@ def run_entry(entry: str, domain: int, speed: str) -> Row:
             if entry.startswith("kill_"):
                 node = entry.removeprefix("kill_")
                 name = node if node == "world_sim" else f"{AGENT}/{node}"
-                restarted = launch.seen(f"[launch] {name}: restarted", row.fault_at)
+                # the terminal event may come before the restart (a kernel's death the launcher
+                # reported at once)
+                restarted = launch.wait_seen(f"[launch] {name}: restarted", row.fault_at, 60.0)
                 if restarted is not None:  # the launcher's line, printed as it restarts
                     row.restart_wall = restarted - row.fault_at
                     warm = launch.seen(f"[launch] {name}: runs in the warm spare", row.fault_at)
@@ -536,9 +544,10 @@ def print_table(rows: list[Row]) -> None:
         if r.entry in ("kill_platform_server", "kill_control_kernel"):
             since = r.terminal_wall - r.restart_wall
             met = "met" if since <= RESTART_TARGET_S else "NOT met"
+            when = f"{since:.2f} s after" if since >= 0 else f"{-since:.2f} s before"
             log(
                 f"{r.entry}: terminal event {r.terminal_wall:.2f} s wall after the kill, "
-                f"{since:.2f} s after the restart {r.restart_wall:.2f} s after the kill "
+                f"{when} the restart {r.restart_wall:.2f} s after the kill "
                 f"(target <= {RESTART_TARGET_S:g} s after the restart: {met})"
             )
     safe = sum(r.outcome != "unsafe" for r in rows)
