@@ -45,6 +45,7 @@ def apply_dds_defaults(environ: MutableMapping[str, str] | None = None) -> str:
         The discovery range now in force.
     """
     env = os.environ if environ is None else environ
-    if not any(env.get(var) for var in PROFILES_VARS):
-        env[PROFILES_VARS[0]] = discovery_profile()
+    profile = discovery_profile()
+    if not any(env.get(var) for var in PROFILES_VARS) and os.path.isfile(profile):
+        env[PROFILES_VARS[0]] = profile  # (an install without the file: Fast DDS's own timing)
     return env.setdefault(DISCOVERY_RANGE_VAR, LOCALHOST)
