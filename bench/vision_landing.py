@@ -62,6 +62,8 @@ class Landing:
     """Touchdown: the CG east and north of the pad's centre, m (the scatter)."""
     sink: float | None
     """Vertical speed at the first skid contact, m/s (positive down)."""
+    searched: float | None = None
+    """How long the landing searched for the pattern before it was seen or given up, s."""
 
 
 class Camera:
@@ -179,14 +181,15 @@ def fly_one(
     cid = f.send("FCL-Land-EV", (math.radians(into_wind),))
 
     finished = run_until(f, camera, ended, 240.0)
+    searched = f.kernel.landing.core.search_time
     camera.off()
     outcome = next(((n, r) for n, r in f.answers(cid) if n in FINAL), ("none", "no reply"))
     said = f"{outcome[0]}: {outcome[1]}" if finished else "no final reply in 240 s"
     truth = f.sim.truth(f.agent)
     if not (truth.on_ground and contact):
-        return Landing(offset, said, None, None)
+        return Landing(offset, said, None, None, searched)
     miss = (truth.position_enu[0] - pad[0], truth.position_enu[1] - pad[1])
-    return Landing(offset, said, miss, contact[0])
+    return Landing(offset, said, miss, contact[0], searched)
 
 
 def main() -> None:
@@ -235,6 +238,16 @@ def main() -> None:
     sinks = [r.sink for r in on_vision if r.sink is not None]
     camera.renderer.release()
     print(f"landed on vision: {len(on_vision)}/{len(results)}", flush=True)
+    searches = [r.searched for r in results if r.searched is not None]
+    found = [r.searched for r in on_vision if r.searched is not None]
+    if searches:
+        took = (
+            f"; found in {statistics.mean(found):.1f} s mean, {max(found):.1f} s max"
+            if found
+            else ""
+        )
+        print(f"searched for the pattern: {len(searches)} landings, {len(found)} found it{took}, "
+              f"{len(searches) - len(found)} landed on GPS", flush=True)  # fmt: skip
     if errors:
         print(f"touchdown error: mean {statistics.mean(errors):.3f} m, max {max(errors):.3f} m "
               f"(target mean <= 0.20 m; chapter 0.42 m)", flush=True)  # fmt: skip
