@@ -152,15 +152,19 @@ class LandingConfig:
     """A vision fix accepted within this makes a vision landing; during one, fixes within this
     keep the position held on the pad below ``final_height``, s."""
     engage_radius: float = 20.0
-    """A vision landing engages within this distance of the pad's centre (§5.4 requirement 1), m;
-    also the highest the search climbs above the pad."""
-    search_position_error: float = 5.0
+    """A vision landing engages within this distance of the pad's centre (§5.4 requirement 1), m."""
+    search_position_error: float = 6.4
     """Horizontal error of the GPS position the search allows for, m (:func:`search_height`).
 
     The filter does not know it (its GPS model is white, ``EstimatorConfig``): standalone GPS
     is off by a correlated ~2 m in the open (§11.1.1, the simulator's receiver 1.5 m per axis);
-    multipath and masking near buildings make it several times that (``noise_up`` x3 in the
-    bench: 4.5 m per axis). 5 m puts the search at 17 m, inside the 20 m hemisphere."""
+    multipath and masking near buildings make it several times that. 6.4 m is the radial RMS
+    of three times the open-field error (4.5 m per axis, the bench's ``--gps-noise 3``)."""
+    search_ceiling: float = 22.0
+    """Highest search above the pad, m: a fix's 1-sigma grows with the squared range
+    (``hdrc3_perception.pad_fix.fix_sigma``: 0.14 m at 22 m); the filter takes the pad only when
+    ten fixes agree to ``EstimatorConfig.vision_reset_spread`` (0.3 m RMS in 3-D), which 0.14 m
+    per axis does with a margin (0.24 m) and 0.17 m (25 m) no longer does."""
     search_sigmas: float = 3.0
     """The filter's own error counts as this many of its position sigmas (when larger)."""
     search_timeout: float = 25.0
@@ -208,13 +212,14 @@ def search_height(config: LandingConfig, position_sigma: float) -> float:
     pattern (``PAD_HALF_WIDTH_M`` from its centre) is wholly in the image when
     ``e + r <= h tan(a)``, ``a`` half the camera's narrower field of view (the colour camera's
     vertical one at zoom 0: 19.6 deg). Hence ``h = (e + r) / tan(a)``, with ``e`` the larger of
-    ``search_position_error`` and ``search_sigmas`` filter sigmas; capped at ``engage_radius``
-    (the hemisphere the vision landing is made for). Defaults: (5 + 1.1) / tan(19.6 deg) = 17.1 m.
+    ``search_position_error`` and ``search_sigmas`` filter sigmas; capped at ``search_ceiling``
+    (above it the filter would not take the fixes). Defaults: (6.4 + 1.1) / tan(19.6 deg) =
+    21.1 m, just above the 20 m hemisphere the landing is engaged from.
     """
     c = config
     error = max(c.search_position_error, c.search_sigmas * position_sigma)
     half_angle = c.camera.vfov(0.0) / 2.0
-    return min(c.engage_radius, (error + PAD_HALF_WIDTH_M) / math.tan(half_angle))
+    return min(c.search_ceiling, (error + PAD_HALF_WIDTH_M) / math.tan(half_angle))
 
 
 def plan_landing(

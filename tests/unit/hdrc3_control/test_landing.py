@@ -24,8 +24,10 @@ from hdrc3_control.landing import (
 )
 from hdrc3_control.path_following import PathEvent, PathStatus
 from hdrc3_control.ppc_hardware import COLOR
+from hdrc3_control.state_estimator import EstimatorConfig
 from hdrc3_hcsm.control_function import HookResult, Phase
 from hdrc3_hcsm.memory import MemoryBank
+from hdrc3_perception.pad_fix import fix_sigma
 from sim.landing_pattern import PAD_HALF_WIDTH_M
 
 PAD = LandingTarget(0.0, 0.0, 0.0, 0.0)
@@ -125,8 +127,8 @@ L1 = LandingSite("L1", 100.0, 50.0, 2.0)
 FAR = LandingSite("F", 400.0, 50.0, 0.0)
 
 
-SEARCH_17 = (5.0 + PAD_HALF_WIDTH_M) / math.tan(COLOR.vfov(0.0) / 2.0)
-"""The default search height: 5 m of GPS error plus the pattern, in half the vertical FOV."""
+SEARCH_H = (6.4 + PAD_HALF_WIDTH_M) / math.tan(COLOR.vfov(0.0) / 2.0)
+"""The default search height: 6.4 m of GPS error plus the pattern, in half the vertical FOV."""
 OK, DEGRADED, LOST = EstimatorHealth.OK, EstimatorHealth.DEGRADED, EstimatorHealth.LOST
 NO_FIX = "no vision fix of pad L1"
 
@@ -136,8 +138,8 @@ NO_FIX = "no vision fix of pad L1"
     [
         ((110.0, 55.0, 14.0), 0.2, (L1, FAR), OK, LandingAid.VISION, "pad L1", None),
         # near the pad without a fix: a vision landing that searches first
-        ((110.0, 55.0, 14.0), 3.0, (L1,), OK, LandingAid.VISION, "pad L1", SEARCH_17),
-        ((110.0, 55.0, 14.0), math.inf, (L1,), OK, LandingAid.VISION, "pad L1", SEARCH_17),
+        ((110.0, 55.0, 14.0), 3.0, (L1,), OK, LandingAid.VISION, "pad L1", SEARCH_H),
+        ((110.0, 55.0, 14.0), math.inf, (L1,), OK, LandingAid.VISION, "pad L1", SEARCH_H),
         # no search when the navigation is not OK (the failsafe's emergency landing)
         (
             (110.0, 55.0, 14.0),
@@ -208,10 +210,10 @@ def test_the_final_descent_holds_the_pad_only_on_precise_positions(
 @pytest.mark.parametrize(
     ("position_sigma", "height"),
     [
-        (0.0, 17.13),  # (5 m + 1.1 m) / tan(19.6 deg)
-        (1.0, 17.13),  # 3 sigma below the GPS error allowance: the allowance
-        (2.0, 19.93),  # 3 sigma = 6 m
-        (4.0, 20.0),  # capped at the engage radius (the 20 m hemisphere)
+        (0.0, 21.06),  # (6.4 m + 1.1 m) / tan(19.6 deg)
+        (2.0, 21.06),  # 3 sigma below the GPS error allowance: the allowance
+        (2.3, 22.0),  # 3 sigma = 6.9 m: 22.46 m, capped at the ceiling
+        (4.0, 22.0),
     ],
 )
 def test_the_search_height_puts_the_pattern_inside_the_image(
@@ -222,10 +224,21 @@ def test_the_search_height_puts_the_pattern_inside_the_image(
     assert h == pytest.approx(height, abs=0.01)
     error = max(config.search_position_error, config.search_sigmas * position_sigma)
     edge = math.atan((error + PAD_HALF_WIDTH_M) / h)  # the pattern's far side, off the axis
-    if h < config.engage_radius:
+    if h < config.search_ceiling:
         assert edge == pytest.approx(COLOR.vfov(0.0) / 2.0)  # on the image's edge
     else:
-        assert edge > COLOR.vfov(0.0) / 2.0  # capped: the error is too large for the hemisphere
+        assert edge > COLOR.vfov(0.0) / 2.0  # capped: too large an error to search for
+
+
+@pytest.mark.parametrize(
+    ("height", "taken"), [(LandingConfig().search_ceiling, True), (25.0, False)]
+)
+def test_the_filter_takes_fixes_from_the_search_ceiling_but_not_much_higher(
+    height: float, taken: bool
+) -> None:
+    """Ten fixes with ``fix_sigma`` per axis agree to ``vision_reset_spread`` with a margin."""
+    spread = math.sqrt(3.0) * fix_sigma(height)  # expected 3-D RMS about their mean
+    assert (spread <= 0.85 * EstimatorConfig().vision_reset_spread) == taken
 
 
 def _at(e: float, n: float, up: float, health: EstimatorHealth = OK) -> EstimatedState:
@@ -235,16 +248,16 @@ def _at(e: float, n: float, up: float, health: EstimatorHealth = OK) -> Estimate
 @pytest.mark.parametrize(
     ("start_up", "climb", "phase"),
     [
-        (5.45, 2.5, LandingPhase.SEARCH),  # 5 m up: climbs at the loop's limit towards 17 m
-        (15.45, 1.7, LandingPhase.SEARCH),  # 15 m up: the last 2 m (k_alt 0.8)
-        (19.45, 0.0, LandingPhase.SEARCH),  # above the search height: holds, never lower
+        (5.45, 2.5, LandingPhase.SEARCH),  # 5 m up: climbs at the loop's limit towards 21 m
+        (19.45, 1.65, LandingPhase.SEARCH),  # 19 m up: the last 2 m (k_alt 0.8)
+        (23.45, 0.0, LandingPhase.SEARCH),  # above the search height: holds, never lower
     ],
 )
 def test_the_search_climbs_over_the_pad(start_up: float, climb: float, phase: LandingPhase) -> None:
     """8 m east of the pad, heading north: the search climbs and rolls left, towards the pad."""
     fn = Landing()
     here = _at(8.0, 0.0, start_up)
-    assert fn.start(here, PAD, search_height=SEARCH_17) is LandingPhase.SEARCH
+    assert fn.start(here, PAD, search_height=SEARCH_H) is LandingPhase.SEARCH
     out = fn.update(here, 0.0, 0.02)
     assert (out.phase, out.events) == (phase, ())
     assert out.command.vertical == pytest.approx(climb, abs=0.05)
@@ -265,8 +278,8 @@ def test_the_search_ends_on_a_fix_or_after_the_timeout(
     search_time: float,
 ) -> None:
     fn = Landing()
-    here = _at(0.0, 0.0, 17.6)
-    fn.start(here, PAD, search_height=SEARCH_17)
+    here = _at(0.0, 0.0, 21.6)
+    fn.start(here, PAD, search_height=SEARCH_H)
     seen: list[tuple[float, LandingEvent]] = []
     for k in range(1500):  # 30 s
         t = 100.0 + k * 0.02
@@ -279,8 +292,8 @@ def test_the_search_ends_on_a_fix_or_after_the_timeout(
 
 
 HOVER_L1 = _at(108.0, 54.0, 8.0)  # 8.9 m from L1's centre, 5.55 m above it
-FOUND = "landed on vision: pad L1 (found after a 6.0 s search from 17.1 m)"
-FAILED = f"landed on GPS and barometer: {NO_FIX}: the search from 17.1 m failed (25 s)"
+FOUND = "landed on vision: pad L1 (found after a 6.0 s search from 21.1 m)"
+FAILED = f"landed on GPS and barometer: {NO_FIX}: the search from 21.1 m failed (25 s)"
 
 
 @pytest.mark.parametrize(
