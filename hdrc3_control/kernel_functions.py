@@ -109,6 +109,8 @@ class FunctionContext:
     """The world's pads with the vision landing pattern."""
     vision_age: float = math.inf
     """Seconds since the navigation filter last accepted a vision fix (inf: never)."""
+    vision_seen_age: float = math.inf
+    """Seconds since the filter last received a vision fix, taken or rejected (inf: never)."""
     notes: dict[int, str] = field(default_factory=dict)
     """Text for a command's Cmd-Finished-EV, by command id (what the function used)."""
     target_fixes: deque[TargetFix] = field(default_factory=lambda: deque(maxlen=TARGET_FIXES))
@@ -541,10 +543,11 @@ class LandingFunction:
         state = ctx.state
         if state is None:
             return ctx.fail("landing: navigation solution lost")
-        precise = False
+        precise, recent = False, self.core.config.vision_recent
         if self.plan is not None and self.plan.aid is LandingAid.VISION:
-            precise = ctx.vision_age <= self.core.config.vision_recent
-        out = self.core.update(state, now, ctx.dt, precise=precise)
+            precise = ctx.vision_age <= recent
+        seen = ctx.vision_seen_age <= recent
+        out = self.core.update(state, now, ctx.dt, precise=precise, seen=seen)
         if out.events:
             self._searched(out.events)
         if precise and self.phase not in (LandingPhase.SEARCH, LandingPhase.APPROACH):

@@ -169,6 +169,10 @@ class LandingConfig:
     """The filter's own error counts as this many of its position sigmas (when larger)."""
     search_timeout: float = 25.0
     """Search this long (s of sim time: climb, then hover) for a fix before landing on GPS."""
+    search_patience: float = 25.0
+    """Search up to this much longer while fixes arrive that the filter has not taken yet (it
+    takes the pad once ten agree, ``EstimatorConfig.gate_reset_count``; on degraded GPS that
+    took up to 20 s in the bench), s."""
     camera: CameraSpec = COLOR
     """The camera the pattern is seen with (at zoom 0, the PTU pointed at the pad)."""
     touchdown_ticks: int = 3
@@ -309,9 +313,18 @@ class Landing:
         return self._phase
 
     def update(
-        self, state: EstimatedState, now: float, dt: float, *, precise: bool = False
+        self,
+        state: EstimatedState,
+        now: float,
+        dt: float,
+        *,
+        precise: bool = False,
+        seen: bool = False,
     ) -> LandingOutput:
-        """One tick; ``precise``: the position is good to centimetres (fresh vision fixes)."""
+        """One tick; ``precise``: the position is good to centimetres (fresh vision fixes).
+
+        ``seen``: the filter receives vision fixes, taken or not (the search waits longer).
+        """
         c = self.config
         tg = self._target
         if tg is None:
@@ -321,7 +334,7 @@ class Landing:
         heading_ok = abs(wrap_pi(tg.heading - state.heading)) < math.radians(10.0)
         events: tuple[LandingEvent, ...] = ()
         if self._phase is LandingPhase.SEARCH:
-            events = self._search(now, precise)
+            events = self._search(now, precise, seen)
         if self._phase is LandingPhase.APPROACH:
             settled = dist < c.approach_radius and state.horizontal_speed < c.approach_speed
             if settled and heading_ok:
@@ -339,14 +352,20 @@ class Landing:
             cmd, self._phase, agl, self._phase is LandingPhase.LANDED, self._touchdown, events
         )
 
-    def _search(self, now: float, precise: bool) -> tuple[LandingEvent, ...]:
-        """End the search on a fix (vision) or after ``search_timeout`` (GPS)."""
+    def _search(self, now: float, precise: bool, seen: bool) -> tuple[LandingEvent, ...]:
+        """End the search on a fix (vision) or after the timeout (GPS).
+
+        The timeout is ``search_timeout``, or up to ``search_patience`` more while fixes
+        arrive that the filter has not taken yet.
+        """
+        c = self.config
         if self._search_since is None:
             self._search_since = now
         searched = now - self._search_since
+        timeout = c.search_timeout + (c.search_patience if seen else 0.0)
         if precise:
             event = LandingEvent.PATTERN_FOUND
-        elif searched >= self.config.search_timeout:
+        elif searched >= timeout:
             event = LandingEvent.SEARCH_TIMED_OUT
         else:
             return ()

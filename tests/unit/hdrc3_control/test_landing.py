@@ -265,15 +265,20 @@ def test_the_search_climbs_over_the_pad(start_up: float, climb: float, phase: La
 
 
 @pytest.mark.parametrize(
-    ("fix_at", "phase", "events", "search_time"),
+    ("fix_at", "seen_from", "events", "search_time"),
     [
-        (4.0, LandingPhase.APPROACH, (LandingEvent.PATTERN_FOUND,), 4.0),
-        (None, LandingPhase.APPROACH, (LandingEvent.SEARCH_TIMED_OUT,), 25.0),
+        (4.0, None, (LandingEvent.PATTERN_FOUND,), 4.0),
+        (None, None, (LandingEvent.SEARCH_TIMED_OUT,), 25.0),
+        # fixes arrive from 7 s on that the filter takes only at 30 s: the search waits
+        (30.0, 7.0, (LandingEvent.PATTERN_FOUND,), 30.0),
+        # ... but not for ever: 25 s + 25 s of patience
+        (None, 7.0, (LandingEvent.SEARCH_TIMED_OUT,), 50.0),
+        (None, 40.0, (LandingEvent.SEARCH_TIMED_OUT,), 25.0),  # nothing seen by 25 s
     ],
 )
 def test_the_search_ends_on_a_fix_or_after_the_timeout(
     fix_at: float | None,
-    phase: LandingPhase,
+    seen_from: float | None,
     events: tuple[LandingEvent, ...],
     search_time: float,
 ) -> None:
@@ -281,14 +286,16 @@ def test_the_search_ends_on_a_fix_or_after_the_timeout(
     here = _at(0.0, 0.0, 21.6)
     fn.start(here, PAD, search_height=SEARCH_H)
     seen: list[tuple[float, LandingEvent]] = []
-    for k in range(1500):  # 30 s
+    for k in range(3000):  # 60 s
         t = 100.0 + k * 0.02
-        out = fn.update(here, t, 0.02, precise=fix_at is not None and t - 100.0 >= fix_at - 1e-9)
+        found = fix_at is not None and t - 100.0 >= fix_at - 1e-9
+        arriving = seen_from is not None and t - 100.0 >= seen_from - 1e-9
+        out = fn.update(here, t, 0.02, precise=found, seen=arriving)
         seen += [(t - 100.0, e) for e in out.events]
     assert [e for _, e in seen] == list(events)
     assert seen[0][0] == pytest.approx(search_time)
     assert fn.search_time == pytest.approx(search_time)
-    assert out.phase in (phase, LandingPhase.DESCENT)  # over the pad: settles, then descends
+    assert out.phase is LandingPhase.DESCENT  # over the pad: settles, then descends
 
 
 HOVER_L1 = _at(108.0, 54.0, 8.0)  # 8.9 m from L1's centre, 5.55 m above it
