@@ -16,8 +16,9 @@ Without a fix accepted by the land command (the pad outside the image: the PTU i
 filter pose metres off on degraded GPS, the pad low in the hemisphere) the landing searches
 first (``LandingPhase.SEARCH``, ``hdrc3_control/landing.py``): it climbs over the pad's GIS
 position to the height from which the pattern is in the image despite 6.4 m of position error
-(21.1 m) and lands on vision once the filter takes a fix, or on GPS after 25 s. A take-off that
-a GPS outage failed (failsafe hover) is flown on from its hover.
+(21.1 m) and lands on vision once the filter takes a fix, or on GPS after 25 s (up to 50 s while
+fixes arrive that the filter has not taken yet). A take-off that a GPS outage failed (failsafe
+hover) is flown on from its hover.
 
 Printed: per landing, what its ``Cmd-Finished-EV`` said (with the search's duration) and, from
 ground truth, the filter's horizontal error at the land command, when the camera gave its first
