@@ -12,10 +12,21 @@ GIS position), pointing jitter in the image and encoder noise in the angles read
 ``pad_pose.estimate`` and ``pad_fix.helicopter_fix`` turn it into a fix that reaches the
 kernel's filter ``--latency`` s after the image's time, as the nodes do.
 
-Printed: landings on vision and their touchdown error (the centre of gravity against the pad's
-centre, horizontally, ground truth used only to score), the vertical speed at the first skid
-contact, what each ``Cmd-Finished-EV`` said, the fixes per second of sim time, and the CPU
-time of estimate + fix per image. GPS is the simulator's nominal receiver (1.5 m Gauss-Markov
+Without a fix accepted by the land command (the pad outside the image: the PTU is pointed from a
+filter pose metres off on degraded GPS, the pad low in the hemisphere) the landing searches
+first (``LandingPhase.SEARCH``, ``hdrc3_control/landing.py``): it climbs over the pad's GIS
+position to the height from which the pattern is in the image despite 6.4 m of position error
+(21.1 m) and lands on vision once the filter takes a fix, or on GPS after 25 s (up to 50 s while
+fixes arrive that the filter has not taken yet). A take-off that a GPS outage failed (failsafe
+hover) is flown on from its hover.
+
+Printed: per landing, what its ``Cmd-Finished-EV`` said (with the search's duration) and, from
+ground truth, the filter's horizontal error at the land command, when the camera gave its first
+fix and when the filter took one (s after the command, height above the pad); then landings on
+vision and their touchdown error (the centre of gravity against the pad's centre, horizontally,
+ground truth used only to score), how many landings searched and how long until the pattern was
+found, the vertical speed at the first skid contact, the fixes per second of sim time, and the
+CPU time of estimate + fix per image. GPS is the simulator's nominal receiver (1.5 m Gauss-Markov
 per axis): vision landings use only its velocity. ``--gps-noise F`` degrades it as near
 buildings (the ``noise_up`` fault: every error, correlated, white and velocity, times F).
 
@@ -38,7 +49,7 @@ import numpy as np
 from hdrc3_control.event_protocol import FINAL
 from hdrc3_control.kernel_harness import KernelFlight
 from hdrc3_control.measurements import VisionPoseMeasurement
-from hdrc3_control.pfc_state import FlightMode
+from hdrc3_control.pfc_state import Failsafe, FlightMode
 from hdrc3_control.ppc_modes import Pose, look_at_angles
 from hdrc3_perception.camera import Intrinsics
 from hdrc3_perception.pad_fix import FixStatus, PadPlacement, helicopter_fix
@@ -62,6 +73,10 @@ class Landing:
     """Touchdown: the CG east and north of the pad's centre, m (the scatter)."""
     sink: float | None
     """Vertical speed at the first skid contact, m/s (positive down)."""
+    searched: float | None = None
+    """How long the landing searched for the pattern before it was seen or given up, s."""
+    seen: str = ""
+    """The filter's horizontal error at the land command and when fixes came (ground truth)."""
 
 
 class Camera:
@@ -149,8 +164,17 @@ def fly_one(
     run_until(f, camera, lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 30.0)
     f.run(12.0)  # rotor spin-up on the skids
     said = command(f, camera, "FCL-Takeoff-EV", ())
+    before = ""
     if said != "Cmd-Finished-EV":
-        return Landing((0.0, 0.0, 0.0), f"take-off: {said}", None, None)
+        # a GPS outage in the climb (failsafe: brake, hover on dead reckoning): once GPS is back
+        # and the aircraft hovers, it flies on from there (the next take-off would be refused)
+        def recovered() -> bool:
+            hover = f.kernel.machine_state("Mode-Switch") == "Hovering-ST"
+            return hover and f.kernel.failsafe is Failsafe.NONE
+
+        if f.sim.truth(f.agent).on_ground or not run_until(f, camera, recovered, 30.0):
+            return Landing((0.0, 0.0, 0.0), f"take-off: {said}", None, None)
+        before = f"(take-off: {said}; flown on from its hover) "
     distance = rng.uniform(6.0, 19.0)  # 1 m inside: the hover holds the point to about 1 m
     elevation = math.radians(rng.uniform(30.0, 90.0))
     azimuth = rng.uniform(0.0, math.tau)
@@ -168,25 +192,42 @@ def fly_one(
     into_wind = math.degrees(math.atan2(-we, -wn)) % 360.0 if (we or wn) else 0.0
     airborne = [0.0]  # sink rate of the latest tick in the air
     contact: list[float] = []  # the sink rate of the last tick before the skids touched
+    fixes = camera.fixes
+    firsts: dict[str, str] = {}  # first camera fix, first fix the filter took: when, how high
 
     def ended() -> bool:
         truth = f.sim.truth(f.agent)
         if not contact and truth.on_ground:
             contact.append(airborne[0])
         airborne[0] = -truth.velocity_enu[2]
+        when = f"+{f.sim.time - landed_at:.1f} s at {truth.position_enu[2] - pad[2]:.1f} m"
+        if camera.fixes > fixes:
+            firsts.setdefault("image", when)
+        if f.kernel.ctx.vision_age <= 1.0:
+            firsts.setdefault("filter", when)
         return f.finished(cid)
 
+    state = f.kernel.state
+    assert state is not None
+    now = f.sim.truth(f.agent).position_enu
+    error = math.hypot(state.position[0] - now[0], state.position[1] - now[1])
+    landed_at = f.sim.time
     cid = f.send("FCL-Land-EV", (math.radians(into_wind),))
 
     finished = run_until(f, camera, ended, 240.0)
+    searched = f.kernel.landing.core.search_time
+    seen = (
+        f"filter {error:.1f} m off at the command; first fix {firsts.get('image', 'none')}, "
+        f"taken {firsts.get('filter', 'never')}"
+    )
     camera.off()
     outcome = next(((n, r) for n, r in f.answers(cid) if n in FINAL), ("none", "no reply"))
-    said = f"{outcome[0]}: {outcome[1]}" if finished else "no final reply in 240 s"
+    said = before + (f"{outcome[0]}: {outcome[1]}" if finished else "no final reply in 240 s")
     truth = f.sim.truth(f.agent)
     if not (truth.on_ground and contact):
-        return Landing(offset, said, None, None)
+        return Landing(offset, said, None, None, searched, seen)
     miss = (truth.position_enu[0] - pad[0], truth.position_enu[1] - pad[1])
-    return Landing(offset, said, miss, contact[0])
+    return Landing(offset, said, miss, contact[0], searched, seen)
 
 
 def main() -> None:
@@ -230,11 +271,23 @@ def main() -> None:
         sink = "-" if result.sink is None else f"{result.sink:.2f} m/s"
         print(f"{i + 1:2d}: from ({where}) m: touchdown {error} off, sink {sink}; {result.said}",
               flush=True)  # fmt: skip
+        if result.seen:
+            print(f"    {result.seen}", flush=True)
     on_vision = [r for r in results if r.miss is not None and "landed on vision" in r.said]
     errors = [math.hypot(*r.miss) for r in on_vision if r.miss is not None]
     sinks = [r.sink for r in on_vision if r.sink is not None]
     camera.renderer.release()
     print(f"landed on vision: {len(on_vision)}/{len(results)}", flush=True)
+    searches = [r.searched for r in results if r.searched is not None]
+    found = [r.searched for r in on_vision if r.searched is not None]
+    if searches:
+        took = (
+            f"; found in {statistics.mean(found):.1f} s mean, {max(found):.1f} s max"
+            if found
+            else ""
+        )
+        print(f"searched for the pattern: {len(searches)} landings, {len(found)} found it{took}, "
+              f"{len(searches) - len(found)} landed on GPS", flush=True)  # fmt: skip
     if errors:
         print(f"touchdown error: mean {statistics.mean(errors):.3f} m, max {max(errors):.3f} m "
               f"(target mean <= 0.20 m; chapter 0.42 m)", flush=True)  # fmt: skip

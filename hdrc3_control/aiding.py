@@ -44,6 +44,8 @@ class SourceStats:
 
     counts: dict[Verdict, int]
     last_accepted: float = -math.inf
+    last_noted: float = -math.inf
+    """Time of the last measurement, whatever its verdict."""
     last_innovation: float = math.nan
     """Norm of the last innovation (measurement minus prediction), m."""
 
@@ -60,6 +62,7 @@ class AidingLog:
         """Count one measurement of ``source``."""
         stats = self.stats.setdefault(source, SourceStats({v: 0 for v in Verdict}))
         stats.counts[verdict] += 1
+        stats.last_noted = max(stats.last_noted, time)
         if math.isfinite(innovation):
             stats.last_innovation = innovation
         if verdict is Verdict.ACCEPTED:
@@ -77,6 +80,11 @@ class AidingLog:
         """Seconds from the last accepted measurement of ``source`` to ``now`` (inf: none)."""
         stats = self.stats.get(source)
         return math.inf if stats is None else now - stats.last_accepted
+
+    def seen_age(self, source: AidingSource, now: float) -> float:
+        """Seconds from the last measurement of ``source``, accepted or not, to ``now`` (inf)."""
+        stats = self.stats.get(source)
+        return math.inf if stats is None else now - stats.last_noted
 
     def count(self, source: AidingSource, verdict: Verdict) -> int:
         """How many measurements of ``source`` got ``verdict``."""

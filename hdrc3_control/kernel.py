@@ -451,6 +451,7 @@ class PfcKernel:
         self.state = self._estimate(now)
         self.ctx.state, self.ctx.command = self.state, None
         self.ctx.vision_age = self.estimator.aiding.age(AidingSource.VISION, now)
+        self.ctx.vision_seen_age = self.estimator.aiding.seen_age(AidingSource.VISION, now)
         self._write_slots(interp.memory, now)
         step = interp.execute(now)
         self._states = self._machine_states()

@@ -32,6 +32,7 @@ from hdrc3_control.landing import (
     Landing,
     LandingAid,
     LandingConfig,
+    LandingEvent,
     LandingPhase,
     LandingPlan,
     LandingSite,
@@ -108,6 +109,8 @@ class FunctionContext:
     """The world's pads with the vision landing pattern."""
     vision_age: float = math.inf
     """Seconds since the navigation filter last accepted a vision fix (inf: never)."""
+    vision_seen_age: float = math.inf
+    """Seconds since the filter last received a vision fix, taken or rejected (inf: never)."""
     notes: dict[int, str] = field(default_factory=dict)
     """Text for a command's Cmd-Finished-EV, by command id (what the function used)."""
     target_fixes: deque[TargetFix] = field(default_factory=lambda: deque(maxlen=TARGET_FIXES))
@@ -492,7 +495,10 @@ class TrackFunction:
 class LandingFunction:
     """Landing (Land-Mode-AC): on the pad's vision fixes or on GPS, touchdown, engine shutdown.
 
-    The Cmd-Finished-EV of the command says which aid the landing used (``FunctionContext.notes``).
+    Near a patterned pad without a recent fix it searches for the pattern first
+    (``LandingPhase.SEARCH``); when the search times out the plan becomes a GPS landing on the
+    pad's GIS position. The Cmd-Finished-EV of the command says which aid the landing used and
+    how a search went (``FunctionContext.notes``).
     """
 
     def __init__(self, ctx: FunctionContext, config: LandingConfig) -> None:
@@ -525,7 +531,9 @@ class LandingFunction:
                 state, heading, ground, ctx.vision_age, sites, self.core.config
             )
             self.command_id, self.lowest_fix = command_id_of(data), None
-            self.phase = self.core.start(state, self.plan.target, ctx.integral)
+            self.phase = self.core.start(
+                state, self.plan.target, ctx.integral, self.plan.search_height
+            )
             if self.phase is LandingPhase.REFUSED_ON_GROUND:
                 return ctx.fail("landing refused: already on the ground")
             self._note()
@@ -535,11 +543,14 @@ class LandingFunction:
         state = ctx.state
         if state is None:
             return ctx.fail("landing: navigation solution lost")
-        precise = False
+        precise, recent = False, self.core.config.vision_recent
         if self.plan is not None and self.plan.aid is LandingAid.VISION:
-            precise = ctx.vision_age <= self.core.config.vision_recent
-        out = self.core.update(state, now, ctx.dt, precise=precise)
-        if precise and self.phase is not LandingPhase.APPROACH:
+            precise = ctx.vision_age <= recent
+        seen = ctx.vision_seen_age <= recent
+        out = self.core.update(state, now, ctx.dt, precise=precise, seen=seen)
+        if out.events:
+            self._searched(out.events)
+        if precise and self.phase not in (LandingPhase.SEARCH, LandingPhase.APPROACH):
             lowest = max(0.0, out.height_above_ground)
             if self.lowest_fix is None or lowest < self.lowest_fix - 0.05:
                 self.lowest_fix = lowest
@@ -547,6 +558,20 @@ class LandingFunction:
         ctx.command = replace(out.command, engine_off=out.engine_shutdown)
         self.phase = out.phase
         return HookResult.BUSY
+
+    def _searched(self, events: tuple[LandingEvent, ...]) -> None:
+        """The search ended: a vision landing goes on, or the plan becomes a GPS landing."""
+        plan, took = self.plan, self.core.search_time
+        if plan is None or plan.search_height is None or took is None:
+            return
+        up = f"{plan.search_height:.1f} m"
+        if LandingEvent.SEARCH_TIMED_OUT in events:
+            reason = f"no vision fix of pad {plan.pad}: the search from {up} failed ({took:.0f} s)"
+            self.plan = replace(plan, aid=LandingAid.GPS, reason=reason)
+        else:
+            reason = f"{plan.reason} (found after a {took:.1f} s search from {up})"
+            self.plan = replace(plan, reason=reason)
+        self._note()
 
     def _note(self) -> None:
         """What the command's final reply says about the aid."""

@@ -1,17 +1,23 @@
 """Landing control mode (Landing automaton, fcl_land): controlled descent onto a landing point.
 
-Phases: APPROACH (hover over the landing point at the current height with the landing heading),
-DESCENT (descend with a rate that slows down with the estimated height above the ground) and
-TOUCHDOWN (skid switch closed for ``touchdown_ticks`` consecutive ticks, a timely detection:
-early detection loads the skids, late detection causes ground resonance), then LANDED with an
-engine shutdown request. The height above ground comes from the navigation filter; a vision pose
-(the landing pattern) enters through ``StateEstimator.update_vision`` (the hook of chapter 5.4).
+Phases: SEARCH (only without a recent vision fix near a patterned pad: climb over the pad until
+the pattern is seen, :func:`search_height`), APPROACH (hover over the landing point at the current
+height with the landing heading), DESCENT (descend with a rate that slows down with the estimated
+height above the ground) and TOUCHDOWN (skid switch closed for ``touchdown_ticks`` consecutive
+ticks, a timely detection: early detection loads the skids, late detection causes ground
+resonance), then LANDED with an engine shutdown request. The height above ground comes from the
+navigation filter; a vision pose (the landing pattern) enters through
+``StateEstimator.update_vision`` (the hook of chapter 5.4).
 
 Which aid (§5.4, :func:`plan_landing`): with a vision fix accepted within ``vision_recent`` and
 a patterned pad within ``engage_radius`` (the chapter's 20 m hemisphere) the landing point is
 the pad's centre and the position is held on it down to the skids while fixes keep coming;
-otherwise the aircraft lands where it is on GPS and the barometer, and below ``final_height``
-holds only its velocity (GPS position jitter would become horizontal speed at touchdown).
+near such a pad (within ``engage_radius``) without a recent fix, the pattern must be seen first:
+the landing starts with SEARCH over the pad and becomes a vision landing on the first accepted fix,
+or a GPS landing on the pad's GIS position after ``search_timeout``. Otherwise (no pad nearby, or
+navigation not OK) the aircraft lands where it is on GPS and the barometer, and below
+``final_height`` holds only its velocity (GPS position jitter would become horizontal speed at
+touchdown).
 """
 
 from __future__ import annotations
@@ -31,16 +37,30 @@ from hdrc3_control.commands import (
     wrap_pi,
 )
 from hdrc3_control.outer_loop import OuterLoop, OuterLoopGains, Reference
+from hdrc3_control.ppc_hardware import COLOR, CameraSpec
+from sim.landing_pattern import PAD_HALF_WIDTH_M
 
 
 class LandingPhase(enum.Enum):
     """Phase of the landing function."""
 
+    SEARCH = "search"
+    """Near a patterned pad without a recent vision fix: over the pad at the search height until
+    a fix is accepted or ``search_timeout`` (§5.4: the pattern is seen before a vision landing)."""
     APPROACH = "approach"
     DESCENT = "descent"
     TOUCHDOWN = "touchdown"
     LANDED = "landed"
     REFUSED_ON_GROUND = "refused_on_ground"
+
+
+class LandingEvent(enum.Enum):
+    """What happened in one tick (``LandingOutput.events``)."""
+
+    PATTERN_FOUND = "pattern_found"
+    """A vision fix ended the search: a vision landing on the pad."""
+    SEARCH_TIMED_OUT = "search_timed_out"
+    """No fix within ``search_timeout``: the landing goes on, on GPS and the barometer."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -133,6 +153,28 @@ class LandingConfig:
     keep the position held on the pad below ``final_height``, s."""
     engage_radius: float = 20.0
     """A vision landing engages within this distance of the pad's centre (§5.4 requirement 1), m."""
+    search_position_error: float = 6.4
+    """Horizontal error of the GPS position the search allows for, m (:func:`search_height`).
+
+    The filter does not know it (its GPS model is white, ``EstimatorConfig``): standalone GPS
+    is off by a correlated ~2 m in the open (§11.1.1, the simulator's receiver 1.5 m per axis);
+    multipath and masking near buildings make it several times that. 6.4 m is the radial RMS
+    of three times the open-field error (4.5 m per axis, the bench's ``--gps-noise 3``)."""
+    search_ceiling: float = 22.0
+    """Highest search above the pad, m: a fix's 1-sigma grows with the squared range
+    (``hdrc3_perception.pad_fix.fix_sigma``: 0.14 m at 22 m); the filter takes the pad only when
+    ten fixes agree to ``EstimatorConfig.vision_reset_spread`` (0.3 m RMS in 3-D), which 0.14 m
+    per axis does with a margin (0.24 m) and 0.17 m (25 m) no longer does."""
+    search_sigmas: float = 3.0
+    """The filter's own error counts as this many of its position sigmas (when larger)."""
+    search_timeout: float = 25.0
+    """Search this long (s of sim time: climb, then hover) for a fix before landing on GPS."""
+    search_patience: float = 25.0
+    """Search up to this much longer while fixes arrive that the filter has not taken yet (it
+    takes the pad once ten agree, ``EstimatorConfig.gate_reset_count``; on degraded GPS that
+    took up to 20 s in the bench), s."""
+    camera: CameraSpec = COLOR
+    """The camera the pattern is seen with (at zoom 0, the PTU pointed at the pad)."""
     touchdown_ticks: int = 3
     settle_time: float = 1.0
     """After touchdown: push down on the skids this long, then request engine shutdown, s."""
@@ -149,6 +191,7 @@ class LandingOutput:
     engine_shutdown: bool
     """True once the engine may be shut down."""
     touchdown_time: float | None
+    events: tuple[LandingEvent, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -158,6 +201,29 @@ class LandingPlan:
     target: LandingTarget
     aid: LandingAid
     reason: str
+    search_height: float | None = None
+    """Search for the pattern from this height above the pad first, m (None: no search)."""
+    pad: str = ""
+    """Name of the pad a vision landing is on ('' on GPS)."""
+
+
+def search_height(config: LandingConfig, position_sigma: float) -> float:
+    """Height above the pad from which the pattern is in the image despite the position error.
+
+    The PTU aims at the pad's GIS position from the filter's pose, but the camera is where the
+    aircraft really is: with a horizontal filter error ``e`` the line of sight meets the ground
+    ``e`` from the pad, wherever the aircraft is. Looking down from ``h`` over that point, the
+    pattern (``PAD_HALF_WIDTH_M`` from its centre) is wholly in the image when
+    ``e + r <= h tan(a)``, ``a`` half the camera's narrower field of view (the colour camera's
+    vertical one at zoom 0: 19.6 deg). Hence ``h = (e + r) / tan(a)``, with ``e`` the larger of
+    ``search_position_error`` and ``search_sigmas`` filter sigmas; capped at ``search_ceiling``
+    (above it the filter would not take the fixes). Defaults: (6.4 + 1.1) / tan(19.6 deg) =
+    21.1 m, just above the 20 m hemisphere the landing is engaged from.
+    """
+    c = config
+    error = max(c.search_position_error, c.search_sigmas * position_sigma)
+    half_angle = c.camera.vfov(0.0) / 2.0
+    return min(c.search_ceiling, (error + PAD_HALF_WIDTH_M) / math.tan(half_angle))
 
 
 def plan_landing(
@@ -170,8 +236,10 @@ def plan_landing(
 ) -> LandingPlan:
     """Choose the landing point: the nearest patterned pad on vision, else here on GPS.
 
-    ``vision_age``: seconds since the filter last accepted a vision fix (inf: never);
-    ``ground_height``: the terrain under the aircraft (the GPS landing point's height).
+    Within ``engage_radius`` of the pad but without a recent fix, the plan is a vision landing on
+    the pad that searches first (``search_height``), when the navigation is OK (not for an
+    emergency landing). ``vision_age``: seconds since the filter last accepted a vision fix (inf:
+    never); ``ground_height``: the terrain under the aircraft (the GPS landing point's height).
     """
     e, n, u = state.position
     here = LandingTarget(e, n, ground_height, heading)
@@ -183,13 +251,20 @@ def plan_landing(
 
     site = min(sites, key=distance)
     far = distance(site)
+    near = far <= config.engage_radius
+    target = LandingTarget(site.east, site.north, site.ground_height, heading)
     if vision_age > config.vision_recent:
-        return LandingPlan(here, LandingAid.GPS, f"no vision fix of pad {site.name}")
-    if far > config.engage_radius:
+        reason = f"no vision fix of pad {site.name}"
+        if not near:
+            return LandingPlan(here, LandingAid.GPS, reason)
+        if state.health is not EstimatorHealth.OK:
+            return LandingPlan(here, LandingAid.GPS, f"{reason} (navigation {state.health.value})")
+        height = search_height(config, state.position_sigma)
+        return LandingPlan(target, LandingAid.VISION, f"pad {site.name}", height, site.name)
+    if not near:
         away = f"{far:.1f} m away (over {config.engage_radius:g} m)"
         return LandingPlan(here, LandingAid.GPS, f"pad {site.name} {away}")
-    target = LandingTarget(site.east, site.north, site.ground_height, heading)
-    return LandingPlan(target, LandingAid.VISION, f"pad {site.name}")
+    return LandingPlan(target, LandingAid.VISION, f"pad {site.name}", pad=site.name)
 
 
 class Landing:
@@ -203,25 +278,53 @@ class Landing:
         self._phase = LandingPhase.APPROACH
         self._contacts = 0
         self._touchdown: float | None = None
+        self._search_up = 0.0
+        """ENU height of the search (the centre of gravity), m."""
+        self._search_since: float | None = None
+        self.search_time: float | None = None
+        """How long the search lasted, once it is over (found or timed out), s."""
 
     def start(
         self,
         state: EstimatedState,
         target: LandingTarget,
         integral: tuple[float, float] = (0.0, 0.0),
+        search_height: float | None = None,
     ) -> LandingPhase:
-        """Engage from hover (Ctrl-Init); refused when already on the ground."""
+        """Engage from hover (Ctrl-Init); refused when already on the ground.
+
+        ``search_height``: first search for the pattern over ``target`` from this height above
+        it (never lower than the aircraft already is); the search ends when :meth:`update` is
+        ``precise`` or after ``search_timeout``.
+        """
         self.loop.reset(integral)
         self._target = target
         self._contacts = 0
         self._touchdown = None
-        self._phase = LandingPhase.REFUSED_ON_GROUND if state.on_ground else LandingPhase.APPROACH
+        self._search_since, self.search_time = None, None
+        if state.on_ground:
+            self._phase = LandingPhase.REFUSED_ON_GROUND
+        elif search_height is not None:
+            self._phase = LandingPhase.SEARCH
+            floor = target.ground_height + self.config.cg_above_skids
+            self._search_up = max(state.position[2], floor + search_height)
+        else:
+            self._phase = LandingPhase.APPROACH
         return self._phase
 
     def update(
-        self, state: EstimatedState, now: float, dt: float, *, precise: bool = False
+        self,
+        state: EstimatedState,
+        now: float,
+        dt: float,
+        *,
+        precise: bool = False,
+        seen: bool = False,
     ) -> LandingOutput:
-        """One tick; ``precise``: the position is good to centimetres (fresh vision fixes)."""
+        """One tick; ``precise``: the position is good to centimetres (fresh vision fixes).
+
+        ``seen``: the filter receives vision fixes, taken or not (the search waits longer).
+        """
         c = self.config
         tg = self._target
         if tg is None:
@@ -229,6 +332,9 @@ class Landing:
         agl = state.position[2] - c.cg_above_skids - tg.ground_height
         dist = math.hypot(state.position[0] - tg.east, state.position[1] - tg.north)
         heading_ok = abs(wrap_pi(tg.heading - state.heading)) < math.radians(10.0)
+        events: tuple[LandingEvent, ...] = ()
+        if self._phase is LandingPhase.SEARCH:
+            events = self._search(now, precise, seen)
         if self._phase is LandingPhase.APPROACH:
             settled = dist < c.approach_radius and state.horizontal_speed < c.approach_speed
             if settled and heading_ok:
@@ -243,8 +349,28 @@ class Landing:
             self._phase = LandingPhase.LANDED
         cmd = self._command(state, tg, agl, dt, precise)
         return LandingOutput(
-            cmd, self._phase, agl, self._phase is LandingPhase.LANDED, self._touchdown
+            cmd, self._phase, agl, self._phase is LandingPhase.LANDED, self._touchdown, events
         )
+
+    def _search(self, now: float, precise: bool, seen: bool) -> tuple[LandingEvent, ...]:
+        """End the search on a fix (vision) or after the timeout (GPS).
+
+        The timeout is ``search_timeout``, or up to ``search_patience`` more while fixes
+        arrive that the filter has not taken yet.
+        """
+        c = self.config
+        if self._search_since is None:
+            self._search_since = now
+        searched = now - self._search_since
+        timeout = c.search_timeout + (c.search_patience if seen else 0.0)
+        if precise:
+            event = LandingEvent.PATTERN_FOUND
+        elif searched >= timeout:
+            event = LandingEvent.SEARCH_TIMED_OUT
+        else:
+            return ()
+        self._phase, self.search_time = LandingPhase.APPROACH, searched
+        return (event,)
 
     def _command(
         self, state: EstimatedState, tg: LandingTarget, agl: float, dt: float, precise: bool
@@ -256,12 +382,14 @@ class Landing:
         if self._phase is LandingPhase.REFUSED_ON_GROUND:
             return AttitudeCommand(vertical=-1.0)
         here: Vec3 = (tg.east, tg.north, state.position[2])
+        if self._phase is LandingPhase.SEARCH:
+            here = (tg.east, tg.north, self._search_up)
         if self._phase is LandingPhase.DESCENT and agl <= c.final_height and not precise:
             # final descent on GPS: velocity hold only; GPS position jitter would otherwise
             # become horizontal speed at touchdown
             here = state.position
         cmd = self.loop.update(state, Reference(position=here, heading=tg.heading), dt)
-        if self._phase is LandingPhase.APPROACH:
+        if self._phase in (LandingPhase.SEARCH, LandingPhase.APPROACH):
             rate = cmd.vertical
         elif state.health is EstimatorHealth.LOST:
             rate = -c.descent_final

@@ -55,6 +55,10 @@ class CameraSpec:
         """Horizontal field of view (rad) at ``zoom``."""
         return 2.0 * math.atan((self.width / 2.0) / self.focal(zoom))
 
+    def vfov(self, zoom: float) -> float:
+        """Vertical field of view (rad) at ``zoom`` (square pixels: the image's shorter side)."""
+        return 2.0 * math.atan((self.height / 2.0) / self.focal(zoom))
+
 
 COLOR = CameraSpec(0, 720, 576, math.radians(48.0), math.radians(2.0))
 THERMAL = CameraSpec(1, 160, 120, math.radians(25.0), math.radians(25.0))

@@ -62,3 +62,12 @@ def test_the_log_says_which_sources_were_used() -> None:
     assert vision["accepted"] == 1 and vision["innovation_m"] == 0.03 and vision["age_s"] == 0.0
     assert report["used"] == ["vision", "baro"]
     assert not math.isinf(log.stats[AidingSource.GPS].last_accepted)
+
+
+def test_seen_age_counts_every_verdict_age_only_accepted_ones() -> None:
+    log = AidingLog()
+    log.note(AidingSource.VISION, Verdict.ACCEPTED, 1.0)
+    log.note(AidingSource.VISION, Verdict.REJECTED, 4.0)
+    assert log.age(AidingSource.VISION, 5.0) == pytest.approx(4.0)
+    assert log.seen_age(AidingSource.VISION, 5.0) == pytest.approx(1.0)
+    assert log.seen_age(AidingSource.GPS, 5.0) == math.inf

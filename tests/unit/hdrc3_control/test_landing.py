@@ -1,23 +1,34 @@
-"""Landing: touchdown detection, refusal, and the take-off/hover/path/land sequence in the sim."""
+"""Landing: touchdown, refusal, the pad search, and the take-off/hover/path/land sequence."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from types import ModuleType
 
 import pytest
 
 from hdrc3_control.commands import EstimatedState, EstimatorHealth
+from hdrc3_control.event_codec import encode
+from hdrc3_control.kernel_functions import FunctionContext, LandingFunction
 from hdrc3_control.landing import (
     Landing,
     LandingAid,
     LandingConfig,
+    LandingEvent,
     LandingPhase,
     LandingSite,
     LandingTarget,
     plan_landing,
+    search_height,
 )
 from hdrc3_control.path_following import PathEvent, PathStatus
+from hdrc3_control.ppc_hardware import COLOR
+from hdrc3_control.state_estimator import EstimatorConfig
+from hdrc3_hcsm.control_function import HookResult, Phase
+from hdrc3_hcsm.memory import MemoryBank
+from hdrc3_perception.pad_fix import fix_sigma
+from sim.landing_pattern import PAD_HALF_WIDTH_M
 
 PAD = LandingTarget(0.0, 0.0, 0.0, 0.0)
 
@@ -116,26 +127,65 @@ L1 = LandingSite("L1", 100.0, 50.0, 2.0)
 FAR = LandingSite("F", 400.0, 50.0, 0.0)
 
 
+SEARCH_H = (6.4 + PAD_HALF_WIDTH_M) / math.tan(COLOR.vfov(0.0) / 2.0)
+"""The default search height: 6.4 m of GPS error plus the pattern, in half the vertical FOV."""
+OK, DEGRADED, LOST = EstimatorHealth.OK, EstimatorHealth.DEGRADED, EstimatorHealth.LOST
+NO_FIX = "no vision fix of pad L1"
+
+
 @pytest.mark.parametrize(
-    ("at", "vision_age", "sites", "aid", "reason"),
+    ("at", "vision_age", "sites", "health", "aid", "reason", "search"),
     [
-        ((110.0, 55.0, 14.0), 0.2, (L1, FAR), LandingAid.VISION, "pad L1"),
-        ((110.0, 55.0, 14.0), 3.0, (L1,), LandingAid.GPS, "no vision fix of pad L1"),
-        ((110.0, 55.0, 14.0), math.inf, (L1,), LandingAid.GPS, "no vision fix of pad L1"),
-        ((120.0, 60.0, 14.0), 0.2, (L1,), LandingAid.GPS, "pad L1 25.4 m away (over 20 m)"),
-        ((110.0, 55.0, 14.0), 0.2, (), LandingAid.GPS, "no patterned pad in the world"),
+        ((110.0, 55.0, 14.0), 0.2, (L1, FAR), OK, LandingAid.VISION, "pad L1", None),
+        # near the pad without a fix: a vision landing that searches first
+        ((110.0, 55.0, 14.0), 3.0, (L1,), OK, LandingAid.VISION, "pad L1", SEARCH_H),
+        ((110.0, 55.0, 14.0), math.inf, (L1,), OK, LandingAid.VISION, "pad L1", SEARCH_H),
+        # no search when the navigation is not OK (the failsafe's emergency landing)
+        (
+            (110.0, 55.0, 14.0),
+            math.inf,
+            (L1,),
+            DEGRADED,
+            LandingAid.GPS,
+            f"{NO_FIX} (navigation degraded)",
+            None,
+        ),
+        (
+            (110.0, 55.0, 14.0),
+            math.inf,
+            (L1,),
+            LOST,
+            LandingAid.GPS,
+            f"{NO_FIX} (navigation lost)",
+            None,
+        ),
+        # too far to search: as before
+        ((120.0, 60.0, 14.0), math.inf, (L1,), OK, LandingAid.GPS, NO_FIX, None),
+        (
+            (120.0, 60.0, 14.0),
+            0.2,
+            (L1,),
+            OK,
+            LandingAid.GPS,
+            "pad L1 25.4 m away (over 20 m)",
+            None,
+        ),
+        ((110.0, 55.0, 14.0), 0.2, (), OK, LandingAid.GPS, "no patterned pad in the world", None),
     ],
 )
 def test_the_landing_point_is_the_pad_on_a_recent_fix_within_20_m(
     at: tuple[float, float, float],
     vision_age: float,
     sites: tuple[LandingSite, ...],
+    health: EstimatorHealth,
     aid: LandingAid,
     reason: str,
+    search: float | None,
 ) -> None:
-    state = EstimatedState(0.0, at, (0.0, 0.0, 0.0), 0.0, 0.0, 0.3)
+    state = EstimatedState(0.0, at, (0.0, 0.0, 0.0), 0.0, 0.0, 0.3, health=health)
     plan = plan_landing(state, 0.3, 1.0, vision_age, sites, LandingConfig())
     assert (plan.aid, plan.reason) == (aid, reason)
+    assert plan.search_height == (None if search is None else pytest.approx(search))
     expected = (L1.east, L1.north, L1.ground_height) if aid is LandingAid.VISION else (*at[:2], 1.0)
     target = plan.target
     assert (target.east, target.north, target.ground_height, target.heading) == (*expected, 0.3)
@@ -155,3 +205,167 @@ def test_the_final_descent_holds_the_pad_only_on_precise_positions(
     assert out.phase is LandingPhase.DESCENT
     roll = out.command.roll  # heading north: the pad to the west is a left (negative) roll
     assert (roll < -1e-3, abs(roll) < 1e-3) == (roll_towards_pad, not roll_towards_pad), roll
+
+
+@pytest.mark.parametrize(
+    ("position_sigma", "height"),
+    [
+        (0.0, 21.06),  # (6.4 m + 1.1 m) / tan(19.6 deg)
+        (2.0, 21.06),  # 3 sigma below the GPS error allowance: the allowance
+        (2.3, 22.0),  # 3 sigma = 6.9 m: 22.46 m, capped at the ceiling
+        (4.0, 22.0),
+    ],
+)
+def test_the_search_height_puts_the_pattern_inside_the_image(
+    position_sigma: float, height: float
+) -> None:
+    config = LandingConfig()
+    h = search_height(config, position_sigma)
+    assert h == pytest.approx(height, abs=0.01)
+    error = max(config.search_position_error, config.search_sigmas * position_sigma)
+    edge = math.atan((error + PAD_HALF_WIDTH_M) / h)  # the pattern's far side, off the axis
+    if h < config.search_ceiling:
+        assert edge == pytest.approx(COLOR.vfov(0.0) / 2.0)  # on the image's edge
+    else:
+        assert edge > COLOR.vfov(0.0) / 2.0  # capped: too large an error to search for
+
+
+@pytest.mark.parametrize(
+    ("height", "taken"), [(LandingConfig().search_ceiling, True), (25.0, False)]
+)
+def test_the_filter_takes_fixes_from_the_search_ceiling_but_not_much_higher(
+    height: float, taken: bool
+) -> None:
+    """Ten fixes with ``fix_sigma`` per axis agree to ``vision_reset_spread`` with a margin."""
+    spread = math.sqrt(3.0) * fix_sigma(height)  # expected 3-D RMS about their mean
+    assert (spread <= 0.85 * EstimatorConfig().vision_reset_spread) == taken
+
+
+def _at(e: float, n: float, up: float, health: EstimatorHealth = OK) -> EstimatedState:
+    return EstimatedState(0.0, (e, n, up), (0.0, 0.0, 0.0), 0.0, 0.0, 0.0, health=health)
+
+
+@pytest.mark.parametrize(
+    ("start_up", "climb", "phase"),
+    [
+        (5.45, 2.5, LandingPhase.SEARCH),  # 5 m up: climbs at the loop's limit towards 21 m
+        (19.45, 1.65, LandingPhase.SEARCH),  # 19 m up: the last 2 m (k_alt 0.8)
+        (23.45, 0.0, LandingPhase.SEARCH),  # above the search height: holds, never lower
+    ],
+)
+def test_the_search_climbs_over_the_pad(start_up: float, climb: float, phase: LandingPhase) -> None:
+    """8 m east of the pad, heading north: the search climbs and rolls left, towards the pad."""
+    fn = Landing()
+    here = _at(8.0, 0.0, start_up)
+    assert fn.start(here, PAD, search_height=SEARCH_H) is LandingPhase.SEARCH
+    out = fn.update(here, 0.0, 0.02)
+    assert (out.phase, out.events) == (phase, ())
+    assert out.command.vertical == pytest.approx(climb, abs=0.05)
+    assert out.command.roll < -0.1
+
+
+@pytest.mark.parametrize(
+    ("fix_at", "seen_from", "events", "search_time"),
+    [
+        (4.0, None, (LandingEvent.PATTERN_FOUND,), 4.0),
+        (None, None, (LandingEvent.SEARCH_TIMED_OUT,), 25.0),
+        # fixes arrive from 7 s on that the filter takes only at 30 s: the search waits
+        (30.0, 7.0, (LandingEvent.PATTERN_FOUND,), 30.0),
+        # ... but not for ever: 25 s + 25 s of patience
+        (None, 7.0, (LandingEvent.SEARCH_TIMED_OUT,), 50.0),
+        (None, 40.0, (LandingEvent.SEARCH_TIMED_OUT,), 25.0),  # nothing seen by 25 s
+    ],
+)
+def test_the_search_ends_on_a_fix_or_after_the_timeout(
+    fix_at: float | None,
+    seen_from: float | None,
+    events: tuple[LandingEvent, ...],
+    search_time: float,
+) -> None:
+    fn = Landing()
+    here = _at(0.0, 0.0, 21.6)
+    fn.start(here, PAD, search_height=SEARCH_H)
+    seen: list[tuple[float, LandingEvent]] = []
+    for k in range(3000):  # 60 s
+        t = 100.0 + k * 0.02
+        found = fix_at is not None and t - 100.0 >= fix_at - 1e-9
+        arriving = seen_from is not None and t - 100.0 >= seen_from - 1e-9
+        out = fn.update(here, t, 0.02, precise=found, seen=arriving)
+        seen += [(t - 100.0, e) for e in out.events]
+    assert [e for _, e in seen] == list(events)
+    assert seen[0][0] == pytest.approx(search_time)
+    assert fn.search_time == pytest.approx(search_time)
+    assert out.phase is LandingPhase.DESCENT  # over the pad: settles, then descends
+
+
+HOVER_L1 = _at(108.0, 54.0, 8.0)  # 8.9 m from L1's centre, 5.55 m above it
+FOUND = "landed on vision: pad L1 (found after a 6.0 s search from 21.1 m)"
+FAILED = f"landed on GPS and barometer: {NO_FIX}: the search from 21.1 m failed (25 s)"
+
+
+@pytest.mark.parametrize(
+    ("at", "age_at_land", "ages", "phases", "aid", "note"),
+    [
+        # a recent fix: no search, the vision landing of before
+        (
+            HOVER_L1,
+            0.2,
+            lambda t: 0.2,
+            [LandingPhase.APPROACH],
+            LandingAid.VISION,
+            "landed on vision: pad L1",
+        ),
+        # no fix: searches; the first fix (6 s on) makes it a vision landing on the pad
+        (
+            HOVER_L1,
+            math.inf,
+            lambda t: 0.1 if t >= 6.0 else math.inf,
+            [LandingPhase.SEARCH, LandingPhase.APPROACH],
+            LandingAid.VISION,
+            FOUND,
+        ),
+        # no fix in 25 s: lands on GPS (on the pad's GIS position) and says the search failed
+        (
+            HOVER_L1,
+            math.inf,
+            lambda t: math.inf,
+            [LandingPhase.SEARCH, LandingPhase.APPROACH],
+            LandingAid.GPS,
+            FAILED,
+        ),
+        # far from the pad: no search, on GPS where it is, as before
+        (
+            _at(140.0, 50.0, 8.0),
+            math.inf,
+            lambda t: math.inf,
+            [LandingPhase.APPROACH, LandingPhase.DESCENT],
+            LandingAid.GPS,
+            f"landed on GPS and barometer: {NO_FIX}",
+        ),
+    ],
+)
+def test_the_landing_function_searches_for_the_pattern_before_falling_back_to_gps(
+    at: EstimatedState,
+    age_at_land: float,
+    ages: Callable[[float], float],
+    phases: list[LandingPhase],
+    aid: LandingAid,
+    note: str,
+) -> None:
+    """Driven as the kernel does (20 ms steps, 30 s), the aircraft held still: the phases it
+    goes through, the aid it ends on and what the command's Cmd-Finished-EV would say."""
+    ctx = FunctionContext(terrain=lambda e, n: 1.0, landing_sites=(L1,))
+    ctx.state, ctx.vision_age = at, age_at_land
+    fn = LandingFunction(ctx, LandingConfig())
+    memory = MemoryBank({"Land-DO": 64})
+    memory.write("Land-DO", encode(7, (0.0,)))  # command 7: land, heading north
+    assert fn.step(Phase.INITIALIZING, memory, 0.0) is HookResult.DONE
+    seen = [fn.phase]
+    for k in range(1, 1501):
+        ctx.vision_age = ages(k * 0.02)
+        assert fn.step(Phase.RUNNING, memory, k * 0.02) is HookResult.BUSY
+        if fn.phase is not seen[-1]:
+            seen.append(fn.phase)
+    assert seen == phases
+    assert fn.plan is not None and fn.plan.aid is aid
+    assert ctx.notes[7] == note
