@@ -162,8 +162,8 @@ class ColorTrackerNode(Node):
         out.direction.x = out.direction.y = out.direction.z = nan
         out.position.x = out.position.y = out.position.z = nan
         if result.status is TrackStatus.TRACKING:
-            if self._intrinsics is None:
-                reason += "; not located: no usable camera_info"
+            if self._intrinsics is None:  # then ``view`` says so
+                reason += f"; not located: {view}"
             else:
                 fix = locate(self._intrinsics, result.x, result.y, view, self._ground)
                 out.direction.x, out.direction.y, out.direction.z = (

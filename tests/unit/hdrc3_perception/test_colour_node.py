@@ -106,14 +106,18 @@ class Rig:
             5.0,
         )
 
-    def image(self, t: int, pixels: np.ndarray, encoding: str = "rgb8") -> ColorTrack:
-        """Publish calibration and one image stamped ``t`` s; the node's track of it."""
+    def image(
+        self, t: int, pixels: np.ndarray, encoding: str = "rgb8", calibrated: bool = True
+    ) -> ColorTrack:
+        """Publish calibration (unless not ``calibrated``) and one image stamped ``t`` s; the
+        node's track of it."""
         info = CameraInfo(width=K.width, height=K.height, k=list(K.k()))
         msg = Image(height=K.height, width=K.width, encoding=encoding, step=3 * K.width)
         msg.header.stamp.sec = t
         msg.data = pixels.tobytes()
         for _ in range(5):  # sensor-data QoS is best effort: publish until one is taken
-            self.pubs["info"].publish(info)
+            if calibrated:
+                self.pubs["info"].publish(info)
             self.pubs["image"].publish(msg)
             if spin_until(self.executor, lambda: self._track(t) is not None, 2.0):
                 break
@@ -193,14 +197,22 @@ def test_a_seed_waits_for_an_image_taken_at_or_after_it(rig: Rig) -> None:
     assert rig.image(6, pixels).status == ColorTrack.STATUS_TRACKING
 
 
-def test_without_state_the_track_is_not_located(rig: Rig) -> None:
+@pytest.mark.parametrize(
+    ("with_state", "calibrated", "why"),
+    [(False, True, "helicopter_state"), (True, False, "no usable camera_info")],
+)
+def test_without_state_or_calibration_the_track_is_not_located(
+    rig: Rig, with_state: bool, calibrated: bool, why: str
+) -> None:
     rig.mode(ImageProcessing.COLOR_TRACKER)
     pixels, uv = scene(5, np.random.default_rng(4), ground_point(*TARGET))
     rig.seed(float(uv[0]), float(uv[1]), 5)
-    track = rig.image(5, pixels)
+    if with_state:
+        rig.state(5)
+    track = rig.image(5, pixels, calibrated=calibrated)
     assert track.status == ColorTrack.STATUS_TRACKING and not track.located
-    assert "helicopter_state" in track.reason and math.isnan(track.position.x)
-    assert track.direction.z > 0.0
+    assert why in track.reason and math.isnan(track.position.x)
+    assert track.direction.z > 0.0 if calibrated else math.isnan(track.direction.z)
 
 
 def test_bad_seeds_and_images_get_a_status(rig: Rig) -> None:
