@@ -40,7 +40,7 @@ from hdrc3.emergency_mission import (
     leg1_text,
     leg2_text,
 )
-from hdrc3.launch_plan import CAMERA_NODES, CATALOG, EXECUTION_MONITOR
+from hdrc3.launch_plan import CAMERA_NODES, CATALOG, EXECUTION_MONITOR, RAW_IMAGES
 from hdrc3.launched_system import LaunchedSystem
 from hdrc3.mission_run import Flown, Outcome, fly, settle, status_line, write_timeline
 from hdrc3.safety_pilot import hand_over
@@ -59,8 +59,6 @@ PLAN_TIMEOUT_S = 60.0
 """TALplanner's budget for leg II (CPU seconds on the planner's side)."""
 PLAN_WAIT_S = 120.0
 STATE_WAIT_S = 30.0
-IMAGES = r"/camera/[^/]+/image_raw$"
-"""The cameras' raw images: not recorded (about 16 MB per sim second with two aircraft)."""
 LEG_TIMEOUT_S = 3600.0
 """Wall seconds a leg may take before it is aborted."""
 
@@ -141,7 +139,7 @@ class Flagship:
             self.nodes(),
             self.log,
             seed,
-            ["--record-exclude", IMAGES],
+            ["--record-exclude", RAW_IMAGES],
         )
         with system, RosProcess() as process:
             client = TstClient(process)

@@ -4,9 +4,9 @@
 constraint network, then prints the tree with each node's earliest/latest start and end.
 ``run FILE`` creates the mission on the TST manager of every agent it names, executes its root
 and prints one line per node state change until the root ends; with ``--launch`` it starts the
-system first (recorded to ``--out``) and hands every aircraft to autonomous mode the way
-``hdrc3 demo`` does. ``abort``, ``pause``, ``resume`` and ``set`` act on a running mission on
-every agent given.
+system first (recorded to ``--out``, by default without the cameras' raw images) and hands
+every aircraft to autonomous mode the way ``hdrc3 demo`` does. ``abort``, ``pause``, ``resume``
+and ``set`` act on a running mission on every agent given.
 
 Exit codes: 0 ok (run: the mission succeeded), 1 the mission failed or was aborted (the failing
 node and its reason are printed), 3 a TST manager refused or could not be reached, 4 invalid
@@ -24,7 +24,14 @@ from typing import Any
 from rich.console import Console
 
 from hdrc3.fault_trigger import FaultTrigger, TimedFault, parse_fault
-from hdrc3.launch_plan import CAMERA_NODES, CATALOG, EXECUTION_MONITOR, LASER_MAPPER
+from hdrc3.launch_plan import (
+    CAMERA_NODES,
+    CATALOG,
+    EXECUTION_MONITOR,
+    LASER_MAPPER,
+    RAW_IMAGES,
+    check_topic_pattern,
+)
 from hdrc3.launched_system import LaunchedSystem
 from hdrc3.mission_run import Outcome, fly, replies_ok, settle, status_line, write_timeline
 from hdrc3.safety_pilot import hand_over
@@ -85,6 +92,13 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         "--out",
         default=None,
         help="directory for run.mcap, timeline.csv and (a launched scan) saliency.geojson",
+    )
+    run.add_argument(
+        "--record-exclude",
+        metavar="REGEX",
+        default=RAW_IMAGES,
+        help="with --launch --out: topics the recording leaves out (default: the cameras' raw"
+        " images, %(default)r; '' records every topic)",
     )
     run.add_argument(
         "--timeout", type=float, default=3600.0, help="wall seconds to wait for the root"
@@ -191,6 +205,7 @@ def _run(args: argparse.Namespace) -> int:
     agents = parse_agents(args.agents) if args.agents else check.tst.agents
     mission = args.mission or f"{path.stem}-{int(time.time())}"
     faults = [parse_fault(text) for text in args.fault]
+    exclude = check_topic_pattern(args.record_exclude)
     out = Path(args.out) if args.out else None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
@@ -209,6 +224,8 @@ def _run(args: argparse.Namespace) -> int:
         nodes.append(LASER_MAPPER)  # the elevation map goes to the path planner's GIS (11.2)
     record = out / "run.mcap" if out is not None else None
     extra = ["--sim-world", args.sim_world] if args.sim_world else []
+    if record is not None and exclude:
+        extra += ["--record-exclude", exclude]
     system = LaunchedSystem(
         agents, world, args.speed, args.domain_id, record, nodes, console.print, args.seed, extra
     )

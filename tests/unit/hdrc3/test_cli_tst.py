@@ -7,6 +7,9 @@ from pathlib import Path
 import pytest
 
 from hdrc3.cli.main import main
+from hdrc3.launch_plan import RAW_IMAGES
+from hdrc3.launched_system import LaunchedSystem
+from hdrc3_base.errors import ConfigError
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "tst"
 
@@ -51,3 +54,41 @@ def test_agents_option_adds_agents(tmp_path: Path, capsys: pytest.CaptureFixture
     assert main(["tst", "check", str(file), "--agents", "uav3"]) == 0
     assert main(["tst", "check", str(file), "--agents", "UAV"]) == 2  # malformed agent name
     assert "invalid agent name" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("options", "excluded"),
+    [
+        (["--out", "OUT"], RAW_IMAGES),
+        (["--out", "OUT", "--record-exclude", ""], None),
+        (["--out", "OUT", "--record-exclude", "saliency$"], "saliency$"),
+        ([], None),  # nothing recorded without --out
+    ],
+)
+def test_run_launch_records_without_raw_images_by_default(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, options: list[str], excluded: str | None
+) -> None:
+    commands: list[list[str]] = []
+
+    def refuse(system: LaunchedSystem) -> LaunchedSystem:
+        commands.append(system.command)
+        raise ConfigError("not launched in a unit test")
+
+    monkeypatch.setattr(LaunchedSystem, "__enter__", refuse)
+    argv = [str(tmp_path) if word == "OUT" else word for word in options]
+    assert main(["tst", "run", str(EXAMPLES / "example_6_1.tst"), "--launch", *argv]) == 2
+    (command,) = commands
+    if excluded is None:
+        assert "--record-exclude" not in command
+    else:
+        assert command[command.index("--record-exclude") + 1] == excluded
+
+
+def test_run_rejects_a_malformed_exclude_pattern_before_creating_anything(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "out"
+    args = ["--launch", "--out", str(out), "--record-exclude", "image_raw["]
+    assert main(["tst", "run", str(EXAMPLES / "example_6_1.tst"), *args]) == 2
+    assert "--record-exclude 'image_raw[' is not a regular expression" in capsys.readouterr().err
+    assert not out.exists()
