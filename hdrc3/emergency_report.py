@@ -26,10 +26,12 @@ from shapely.geometry import Point, Polygon
 
 from hdrc3.emergency_mission import Body
 from hdrc3.mcap_recording import RecordingReader
-from hdrc3.message_types import message_class
+from hdrc3.message_types import constant_names, message_class
+from hdrc3.mission_log import MissionLog, NodeSpan, plot_timeline
 from hdrc3.mission_report import read_mission
 from hdrc3.recovery_record import stamp_ms
 from hdrc3.report_page import write_report
+from hdrc3_interfaces.msg import PfcState
 from hdrc3_platform_server.geo_frame import frame_from_world
 from sim.world import ObjectKind
 from sim.world_loader import load_world
@@ -38,21 +40,6 @@ FOUND_WITHIN_M = 3.0
 """m: a person counts as found with a confirmed map point this close (chapter: ~2 m bias)."""
 DELIVERED_WITHIN_M = 5.0
 """m of its drop point where a box must lie, no longer held, to count as delivered."""
-MODES = {
-    0: "boot",
-    1: "manual",
-    2: "ground idle",
-    3: "braking",
-    4: "hover",
-    5: "take-off",
-    6: "traj3d",
-    7: "fly-to",
-    8: "land",
-    9: "switching",
-}
-"""``PfcState.mode`` values by name (the message's constants)."""
-VIOLATION = 1
-REPLANNED = 5
 
 
 @dataclass(frozen=True)
@@ -89,13 +76,13 @@ class Evaluation:
     false_positives: list[Body] = field(default_factory=list)
     deliveries: list[Delivery] = field(default_factory=list)
     violations: list[Any] = field(default_factory=list)
+    """The execution monitors' ``MonitorViolation`` messages of kind violation."""
     unrecovered: list[Any] = field(default_factory=list)
     recoveries: list[Any] = field(default_factory=list)
     tracks: dict[str, list[tuple[float, float, float, float]]] = field(default_factory=dict)
     """Per agent (sim s, east, north, up) in the world's frame."""
-    nodes: dict[str, list[tuple[str, str, float, float, str]]] = field(default_factory=dict)
-    """Per agent (mission/node, kind, start s, end s, final state) of elementary action nodes
-    (a goal node's are its plan's steps)."""
+    nodes: dict[str, list[NodeSpan]] = field(default_factory=dict)
+    """Per agent its elementary action nodes (a goal node's are its plan's steps)."""
     modes: dict[str, list[tuple[float, str]]] = field(default_factory=dict)
     min_separation: float = math.inf
     """m: the closest two aircraft came to each other in the air."""
@@ -192,12 +179,15 @@ def _read(
     drops: dict[str, tuple[str, tuple[float, float]]],
 ) -> None:
     reader = RecordingReader.open(recording)
-    suffixes = ("/helicopter_state", "/tst_status", "/pfc/state", "/monitor_violations")
-    wanted = (*suffixes, "/recovery_events", "/world_sim/objects")
-    topics = {t: s for t, s in reader.topics().items() if t.endswith(wanted)}
+    wanted = ("/helicopter_state", "/pfc/state", "/world_sim/objects")
+    topics = {t: s for t, s in reader.topics().items() if t.endswith(wanted) or MissionLog.reads(t)}
     last_objects: Any = None
-    running: dict[tuple[str, str], float] = {}
+    log = MissionLog()
+    mode_names = constant_names(PfcState, "MODE_")
     for m in reader.messages(list(topics)):
+        if MissionLog.reads(m.topic):
+            log.add(m)
+            continue
         msg = deserialize_message(m.data, message_class(topics[m.topic]))
         agent = m.topic.split("/")[1]
         if m.topic == "/world_sim/objects":
@@ -207,44 +197,21 @@ def _read(
             if position is not None:
                 t = stamp_ms(msg.header.stamp) / 1e3
                 ev.tracks.setdefault(agent, []).append((t, *position))
-        elif m.topic.endswith("/pfc/state"):
-            name = MODES.get(int(msg.mode), str(msg.mode))
+        else:
+            name = mode_names.get(int(msg.mode), str(msg.mode))
             modes = ev.modes.setdefault(agent, [])
             if not modes or modes[-1][1] != name:
                 modes.append((stamp_ms(msg.header.stamp) / 1e3, name))
-        elif m.topic.endswith("/tst_status"):
-            _node_status(ev, running, msg)
-        elif m.topic.endswith("/monitor_violations") and msg.kind == VIOLATION:
-            ev.violations.append(msg)
-        elif m.topic.endswith("/recovery_events"):
-            ev.recoveries.append(msg)
-    replanned = {
-        (r.agent, r.monitor_id, stamp_ms(r.header.stamp))
-        for r in ev.recoveries
-        if r.step == REPLANNED
-    }
-    for v in ev.violations:
-        t = stamp_ms(v.header.stamp)
-        if not any(a == v.agent and mid == v.monitor_id and s >= t for a, mid, s in replanned):
-            ev.unrecovered.append(v)
+    ev.nodes = log.nodes
+    ev.violations = log.violations
+    ev.recoveries = log.recoveries
+    ev.unrecovered = log.unrecovered()
     objects = {o.id: o for o in last_objects.objects} if last_objects is not None else {}
     for box, (body, target) in sorted(drops.items()):
         o = objects.get(box)
         final = (o.east, o.north) if o is not None else None
         ev.deliveries.append(Delivery(box, body, target, final, o.held_by if o else ""))
     ev.min_separation = min_separation(ev.tracks)
-
-
-def _node_status(ev: Evaluation, running: dict[tuple[str, str], float], msg: Any) -> None:
-    if msg.kind in ("sequence", "concurrent", "if", "while", "foreach", "goal", "call"):
-        return
-    key = (msg.mission, msg.node_id)
-    t = stamp_ms(msg.header.stamp) / 1e3
-    if msg.state == "running" and math.isfinite(msg.start):  # not while it waits to begin
-        running.setdefault(key, t)
-    elif msg.state in ("succeeded", "failed", "aborted") and key in running:
-        label = f"{msg.mission}/{msg.node_id} {msg.kind}"
-        ev.nodes.setdefault(msg.agent, []).append((label, msg.kind, running.pop(key), t, msg.state))
 
 
 def min_separation(tracks: dict[str, list[tuple[float, float, float, float]]]) -> float:
@@ -274,7 +241,7 @@ def write_page(
     """``out/index.html`` with ``map.png``, ``timeline.png`` and the recording's own figures."""
     out.mkdir(parents=True, exist_ok=True)
     _plot_map(out / "map.png", ev, region, bodies)
-    _plot_timeline(out / "timeline.png", ev)
+    plot_timeline(out / "timeline.png", ev.nodes, ev.modes)
     general = write_report(read_mission(recording), out / "recording")
     esc = html.escape
     rows = "".join(
@@ -345,43 +312,6 @@ def _plot_map(
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(True)
     ax.legend(loc="best", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-
-
-def _plot_timeline(path: Path, ev: Evaluation) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    agents = sorted(set(ev.nodes) | set(ev.modes))
-    fig, ax = plt.subplots(figsize=(14, 1.6 + 1.4 * len(agents)))
-    colours = {"succeeded": "#b5e3b5", "failed": "tab:red", "aborted": "tab:orange"}
-    palette = plt.get_cmap("tab10")
-    for row, agent in enumerate(agents):
-        y = 2 * row
-        for label, _, start, end, state in ev.nodes.get(agent, []):
-            ax.barh(y + 0.5, end - start, left=start, height=0.8, color=colours.get(state, "grey"),
-                    edgecolor="white")  # fmt: skip
-            ax.text(
-                start + 0.5, y + 0.5, label.split(" ")[-1], fontsize=7, va="center", rotation=30
-            )
-        modes = ev.modes.get(agent, [])
-        for i, (t, name) in enumerate(modes):
-            end = modes[i + 1][0] if i + 1 < len(modes) else t
-            colour = (
-                palette(sorted(MODES.values()).index(name) % 10) if name in MODES.values() else "k"
-            )
-            ax.barh(y - 0.4, max(end - t, 0.1), left=t, height=0.6, color=colour)
-    for name in sorted({n for modes in ev.modes.values() for _, n in modes}):
-        if name in MODES.values():
-            ax.barh(0, 0, color=palette(sorted(MODES.values()).index(name) % 10), label=name)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, title="flight mode")
-    ax.set_yticks([2 * r for r in range(len(agents))], agents)
-    ax.set_xlabel("sim time [s] (upper bar: TST nodes; lower: flight modes)")
-    ax.grid(True, axis="x")
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)

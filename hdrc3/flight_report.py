@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from rclpy.serialization import deserialize_message
 
 from hdrc3.mcap_recording import RecordedMessage, RecordingReader
-from hdrc3.message_types import message_class
+from hdrc3.message_types import constant_names, message_class
 from hdrc3_base.errors import DataError
 from hdrc3_base.stamps import stamp_s
 from hdrc3_control.path_segment import PathSegment
@@ -63,6 +63,8 @@ class FlightReport:
     """Distance of each in-path sample to the planned path, m."""
     modes: list[tuple[float, str]] = field(default_factory=list)
     """(time, PFC flight mode) at every mode change, from `<agent>/pfc/state`."""
+    start: float = math.nan
+    """Sim time of the first sample, s (the zero of the other times)."""
 
     @property
     def distance(self) -> float:
@@ -172,11 +174,7 @@ class FlightReportBuilder:
         if cls is None:
             cls = self._classes[message.topic] = message_class(message.type_name)
             if message.topic == self.pfc_topic:
-                self._mode_names = {
-                    getattr(cls, name): name.removeprefix("MODE_")
-                    for name in dir(cls)
-                    if name.startswith("MODE_")
-                }
+                self._mode_names = constant_names(cls, "MODE_")
         return deserialize_message(message.data, cls)
 
     def add(self, message: RecordedMessage) -> None:
@@ -191,7 +189,8 @@ class FlightReportBuilder:
             if not report.modes or report.modes[-1][1] != mode:
                 report.modes.append((stamp - self._t0, mode))
         elif message.topic == self.state_topic:
-            self._t0 = stamp if self._t0 is None else self._t0
+            if self._t0 is None:
+                self._t0 = report.start = stamp
             if self.origin is None:
                 self.origin = (msg.latitude, msg.longitude, msg.altitude)
             e, n, u = _to_enu(self.origin, msg.latitude, msg.longitude, msg.altitude)

@@ -69,6 +69,18 @@ def message_class(type_name: str) -> type:
     return cls
 
 
+def constant_names(cls: type, prefix: str) -> dict[int, str]:
+    """A message's constants ``PREFIX_NAME = value`` as value -> readable name.
+
+    E.g. ``PfcState``'s ``MODE_GROUND_IDLE = 2`` -> ``{2: "ground idle", ...}``.
+    """
+    return {
+        getattr(cls, name): name.removeprefix(prefix).lower().replace("_", " ")
+        for name in dir(cls)
+        if name.startswith(prefix) and isinstance(getattr(cls, name), int)
+    }
+
+
 def share_directories() -> list[Path]:
     """Install prefixes' ``share`` directories, AMENT_PREFIX_PATH first, then this venv."""
     prefixes = [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]

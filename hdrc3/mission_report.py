@@ -1,5 +1,8 @@
 """What a recording says about a mission: every agent's flight, its events and modes, the topics.
 
+Above the platform (:mod:`hdrc3.mission_log`): the TST nodes that ran, the execution monitors'
+verdicts, the recoveries and the saliency maps' detections.
+
 Reads any MCAP recording written by ``hdrc3 record`` / ``hdrc3 launch --record`` in one pass. The
 agents are found from their Data Interface topics (``/<agent>/helicopter_state``); all tracks share
 one local ENU frame whose origin is the first Data Interface sample in the file. A recording that
@@ -17,6 +20,7 @@ from mcap.reader import make_reader
 
 from hdrc3.flight_report import FlightReport, FlightReportBuilder
 from hdrc3.mcap_recording import RecordingReader
+from hdrc3.mission_log import Detection, MissionLog
 from hdrc3_base.errors import DataError
 
 STATE_SUFFIX = "/helicopter_state"
@@ -51,6 +55,10 @@ class MissionData:
     flights: dict[str, FlightReport] = field(default_factory=dict)
     origin: tuple[float, float, float] | None = None
     """(latitude, longitude, altitude) of the common ENU frame."""
+    log: MissionLog = field(default_factory=MissionLog)
+    """TST nodes, monitor verdicts, recoveries and saliency maps."""
+    detections: list[Detection] = field(default_factory=list)
+    """The points of every agent's last saliency map."""
     problems: list[str] = field(default_factory=list)
 
     @property
@@ -95,6 +103,8 @@ def read_mission(path: Path, progress: Progress | None = None) -> MissionData:
                 )
             stats.count += 1
             stats.last_ns = message.log_time_ns
+            if MissionLog.reads(message.topic):
+                data.log.add(message)
             builder = _builder_of(message.topic, builders, data)
             if builder is not None:
                 if builder.origin is None and data.origin is not None:
@@ -117,6 +127,8 @@ def read_mission(path: Path, progress: Progress | None = None) -> MissionData:
             "no Data Interface topic (/<agent>/helicopter_state): no flights to show"
         )
     data.flights = {agent: b.report for agent, b in sorted(builders.items())}
+    data.detections = data.log.detections()
+    data.problems += data.log.problems
     if progress is not None:
         progress(data.messages, total)
     return data

@@ -1,8 +1,10 @@
 """The mission report as files: one self-contained HTML page beside its PNG figures.
 
-``index.html`` shows the summary per agent, a map of every track with altitude over time, one
-figure per agent (track, speed and altitude with the command outcomes, PFC flight modes), the
-platform events, the problems met while reading, and the recorded topics with their rates. The
+``index.html`` shows the summary per agent, a map of every track (with the saliency maps'
+points) and altitude over time, one figure per agent (track, speed and altitude with the command
+outcomes, PFC flight modes), a timeline of the TST nodes and flight modes over sim time, the
+platform events, the TST nodes, the execution monitor's verdicts, the recoveries, the saliency
+map points, the problems met while reading, and the recorded topics with their rates. The
 page needs no server and no network: figures are files next to it, text is escaped. A short
 script states how many figures the browser loaded (a broken image shows at once).
 """
@@ -10,11 +12,14 @@ script states how many figures the browser loaded (a broken image shows at once)
 from __future__ import annotations
 
 import html
+import math
 from collections.abc import Iterable
 from pathlib import Path
 
-from hdrc3.flight_report import FlightReport, plot_report
+from hdrc3.flight_report import plot_report
+from hdrc3.mission_log import MONITOR_KINDS, RECOVERY_STEPS, plot_timeline
 from hdrc3.mission_report import MissionData
+from hdrc3_base.stamps import stamp_s
 
 _QUIET_KINDS = ("SEGMENT_REQUEST",)
 """Event kinds counted but not listed one by one (a path asks for every segment)."""
@@ -25,26 +30,37 @@ def write_report(data: MissionData, out: Path) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     figures: list[tuple[str, str]] = []
     if data.flights:
-        figures.append(("overview.png", "All agents: tracks and altitude"))
-        _plot_overview(data.flights.values(), out / "overview.png")
+        caption = "All agents: tracks and altitude"
+        if data.detections:
+            caption += "; saliency map points (x confirmed, dot not)"
+        figures.append(("overview.png", caption))
+        _plot_overview(data, out / "overview.png")
         for agent, flight in data.flights.items():
             if flight.track:
                 name = f"flight_{agent}.png"
                 plot_report(flight, out / name)
                 figures.append((name, f"{agent}: track, speed and altitude, flight modes"))
+    modes = {
+        agent: [(f.start + t, mode) for t, mode in f.modes]
+        for agent, f in data.flights.items()
+        if f.modes and math.isfinite(f.start)
+    }
+    if data.log.nodes or modes:
+        figures.append(("timeline.png", "TST nodes and flight modes over sim time"))
+        plot_timeline(out / "timeline.png", data.log.nodes, modes)
     page = out / "index.html"
     page.write_text(_page(data, figures), encoding="utf-8")
     return page
 
 
-def _plot_overview(flights: Iterable[FlightReport], out: Path) -> None:
+def _plot_overview(data: MissionData, out: Path) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, (ax_map, ax_alt) = plt.subplots(1, 2, figsize=(14, 6), width_ratios=(1, 1.3))
-    for flight in flights:
+    for flight in data.flights.values():
         if not flight.track:
             continue
         east = [p.east for p in flight.track]
@@ -55,6 +71,14 @@ def _plot_overview(flights: Iterable[FlightReport], out: Path) -> None:
         ax_alt.plot(
             [p.time for p in flight.track], [p.up for p in flight.track], label=flight.agent
         )
+    if data.origin is not None:
+        for confirmed, style in ((True, "x"), (False, ".")):
+            points = [d.enu(data.origin) for d in data.detections if d.confirmed is confirmed]
+            if points:
+                xs, ys = zip(*points, strict=True)
+                label = "confirmed map points" if confirmed else "unconfirmed map points"
+                colour = "tab:red" if confirmed else "grey"
+                ax_map.plot(xs, ys, style, color=colour, ms=8, label=label)
     ax_map.set_xlabel("east [m]")
     ax_map.set_ylabel("north [m]")
     ax_map.set_aspect("equal", adjustable="datalim")
@@ -131,6 +155,7 @@ def _page(data: MissionData, figures: list[tuple[str, str]]) -> str:
         parts.append("<h2>Platform events</h2>")
         parts.append(f"<p>plus {quiet} segment requests (not listed)</p>")
         parts.append(_table(("time [s]", "agent", "command", "kind", "reason"), events))
+    parts += _upper_layers(data)
     parts.append("<h2>Topics</h2>")
     parts.append(
         _table(
@@ -149,3 +174,98 @@ def _page(data: MissionData, figures: list[tuple[str, str]]) -> str:
     )
     parts.append("</body></html>\n")
     return "".join(parts)
+
+
+def _upper_layers(data: MissionData) -> list[str]:
+    """Tables of the TST nodes, monitor verdicts, recoveries and saliency map points."""
+    log, parts = data.log, []
+    spans = sorted((n for nodes in log.nodes.values() for n in nodes), key=lambda n: n.start)
+    if spans:
+        parts.append("<h2>TST nodes</h2>")
+        parts.append(
+            _table(
+                ("agent", "mission", "node", "action", "start [s]", "end [s]", "state", "reason"),
+                (
+                    (
+                        n.agent,
+                        n.mission,
+                        n.node_id,
+                        n.action,
+                        f"{n.start:.1f}",
+                        f"{n.end:.1f}",
+                        n.state,
+                        n.reason,
+                    )
+                    for n in spans
+                ),
+            )
+        )
+    if log.monitor:
+        parts.append("<h2>Execution monitor</h2>")
+        parts.append(
+            _table(
+                ("time [s]", "agent", "verdict", "formula", "node", "recovery", "reason"),
+                (
+                    (
+                        f"{stamp_s(v.header.stamp):.1f}",
+                        v.agent,
+                        MONITOR_KINDS.get(v.kind, v.kind),
+                        v.monitor_id,
+                        v.node_id or "-",
+                        v.recovery or "-",
+                        v.reason or v.formula,
+                    )
+                    for v in log.monitor
+                ),
+            )
+        )
+        unrecovered = log.unrecovered()
+        parts.append(f"<p>{len(unrecovered)} violation(s) not followed by a new plan.</p>")
+    if log.recoveries:
+        parts.append("<h2>Recoveries</h2>")
+        parts.append(
+            _table(
+                ("time [s]", "agent", "node", "formula", "step", "attempt", "reason", "plan"),
+                (
+                    (
+                        f"{stamp_s(r.header.stamp):.1f}",
+                        r.agent,
+                        r.node_id,
+                        r.monitor_id,
+                        RECOVERY_STEPS.get(r.step, r.step),
+                        r.attempt,
+                        r.reason,
+                        "; ".join(r.plan),
+                    )
+                    for r in log.recoveries
+                ),
+            )
+        )
+    if data.detections and data.origin is not None:
+        origin = data.origin
+        parts.append("<h2>Saliency map points</h2>")
+        parts.append(
+            _table(
+                (
+                    "agent",
+                    "east [m]",
+                    "north [m]",
+                    "certainty",
+                    "frames",
+                    "confirmed",
+                    "first seen [s]",
+                ),
+                (
+                    (
+                        d.agent,
+                        *(f"{v:.1f}" for v in d.enu(origin)),
+                        f"{d.certainty:.2f}",
+                        d.frames,
+                        "yes" if d.confirmed else "no",
+                        f"{d.first_seen:.1f}",
+                    )
+                    for d in data.detections
+                ),
+            )
+        )
+    return parts

@@ -21,10 +21,10 @@ CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 def test_report_command_writes_a_page_whose_figures_all_load(hdrc3_cli, tmp_path: Path) -> None:
     if CHROMIUM is None:
         pytest.skip("Debian's chromium is not installed (.ci/run installs it)")
-    rec = write_fake_flights(tmp_path / "run.mcap")
+    rec = write_fake_flights(tmp_path / "run.mcap", upper_layers=True)
     report = hdrc3_cli("report", str(rec), "--out", str(tmp_path / "report"))
     assert report.finish(timeout=120) == 0, report.lines
-    assert "read 47 messages on 6 topics" in report.lines
+    assert "read 58 messages on 11 topics" in report.lines
     page = tmp_path / "report" / "index.html"
     assert f"report: {page}" in report.lines
     dom = subprocess.run(
@@ -44,7 +44,7 @@ def test_report_command_writes_a_page_whose_figures_all_load(hdrc3_cli, tmp_path
     ).stdout
     figures = re.search(r"figures: (\d+) of (\d+) loaded", dom)
     assert figures is not None, dom[:2000]
-    assert figures.groups() == ("3", "3")
+    assert figures.groups() == ("4", "4")  # overview, two flights, timeline
 
 
 def test_report_of_a_missing_file_is_a_one_line_error(hdrc3_cli, tmp_path: Path) -> None:

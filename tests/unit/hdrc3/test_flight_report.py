@@ -54,7 +54,7 @@ def test_report_measures_track_speed_and_cross_track(tmp_path: Path) -> None:
     text = "\n".join(report.summary())
     assert "distance flown         100.0 m" in text
     assert "fcl_traj3d             FINISHED" in text
-    assert "modes               HOVER -> TRAJ3D" in text
+    assert "modes               hover -> traj3d" in text
     png = plot_report(report, tmp_path / "flight.png", plan)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 

@@ -30,3 +30,24 @@ def test_page_without_flights_names_the_problem(tmp_path: Path) -> None:
     text = page.read_text(encoding="utf-8")
     assert "no flights to show" in text and "<img" not in text
     assert "/clock" not in text  # a topic without messages is not listed
+
+
+def test_page_shows_the_upper_layers(tmp_path: Path) -> None:
+    rec = write_fake_flights(tmp_path / "run.mcap", upper_layers=True)
+    page = write_report(read_mission(rec), tmp_path / "report")
+    text = page.read_text(encoding="utf-8")
+    assert (page.parent / "timeline.png").read_bytes()[:8] == PNG
+    assert "src='timeline.png'" in text and "x confirmed" in text
+    for heading in ("TST nodes", "Execution monitor", "Recoveries", "Saliency map points"):
+        assert f"<h2>{heading}</h2>" in text
+    assert "<td>scan-area</td><td>102.0</td><td>108.0</td><td>failed</td>" in text
+    assert "<td>stale data</td>" in text and "<td>hovering</td>" in text
+    assert "1 violation(s) not followed by a new plan" in text
+    assert "<td>50.0</td><td>5.0</td><td>0.83</td><td>6</td><td>yes</td>" in text
+
+
+def test_page_without_upper_layers_has_no_empty_sections(tmp_path: Path) -> None:
+    rec = write_fake_flights(tmp_path / "run.mcap")
+    text = write_report(read_mission(rec), tmp_path / "report").read_text(encoding="utf-8")
+    for heading in ("TST nodes", "Execution monitor", "Recoveries", "Saliency map points"):
+        assert f"<h2>{heading}</h2>" not in text
