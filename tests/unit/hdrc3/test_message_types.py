@@ -6,9 +6,11 @@ from hdrc3.message_types import (
     DefinitionResolver,
     MessageTypeError,
     MessageTypeName,
+    constant_names,
     field_types,
     message_class,
 )
+from hdrc3_interfaces.msg import MonitorViolation, PfcState
 
 
 @pytest.mark.parametrize(
@@ -91,3 +93,18 @@ def test_missing_definition_names_the_search_path(tmp_path) -> None:
     resolver = DefinitionResolver(search_path=[tmp_path])
     with pytest.raises(MessageTypeError, match=str(tmp_path)):
         resolver.full_definition("std_msgs/msg/String")
+
+
+@pytest.mark.parametrize(
+    ("cls", "prefix", "some"),
+    [
+        (PfcState, "MODE_", {2: "ground idle", 7: "flyto"}),
+        (MonitorViolation, "KIND_", {1: "violation", 2: "stale data", 3: "refused"}),
+    ],
+)
+def test_constant_names_read_the_message_constants(
+    cls: type, prefix: str, some: dict[int, str]
+) -> None:
+    names = constant_names(cls, prefix)
+    assert names.items() >= some.items()
+    assert all(name == name.lower() for name in names.values())
