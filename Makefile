@@ -36,6 +36,7 @@ help:
 setup: $(DEPS_STAMP) $(IFACE_STAMP)
 
 $(DEPS_STAMP):
+	@echo "setup 1/2: Python packages into $(VENV) (ROS 2 Jazzy wheels, JSBSim, OMPL, ...: minutes on a fresh machine)"
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade 'pip>=24' 'setuptools>=68,<81' wheel
 	$(PY) -m pip install --quiet -e '.[dev,interfaces]' --config-settings editable_mode=compat
@@ -49,6 +50,7 @@ $(DEPS_STAMP):
 	@touch $@
 
 $(IFACE_STAMP): | $(DEPS_STAMP)
+	@echo "setup 2/2: hdrc3_interfaces (rosidl generation and a C build: minutes on a fresh machine)"
 	@rm -rf $(BUILD)/hdrc3_interfaces && mkdir -p $(BUILD)/hdrc3_interfaces
 	cd $(BUILD)/hdrc3_interfaces && \
 	  PATH=$(CURDIR)/$(VENV)/bin:$$PATH CMAKE_PREFIX_PATH=$(CURDIR)/$(VENV) AMENT_PREFIX_PATH=$(CURDIR)/$(VENV) \

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import IO
 
 from mcap.exceptions import EndOfFile
+from mcap.reader import make_reader
 from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
@@ -192,6 +193,25 @@ class RecordingReader:
             if channel.message_encoding == MESSAGE_ENCODING:
                 found[channel.topic] = schema.name if schema else ""
         return found
+
+    def message_count(self, topics: Iterable[str] | None = None) -> int | None:
+        """Messages (of ``topics``, or all) by the file's summary; None without one (truncated)."""
+        try:
+            with self.path.open("rb") as stream:
+                summary = make_reader(stream).get_summary()
+        except Exception:  # a file without a footer or summary: the caller counts as it reads
+            return None
+        if summary is None or summary.statistics is None:
+            return None
+        if topics is None:
+            return int(summary.statistics.message_count)
+        wanted = set(topics)
+        counts = summary.statistics.channel_message_counts
+        return sum(
+            int(counts.get(channel_id, 0))
+            for channel_id, channel in summary.channels.items()
+            if channel.topic in wanted
+        )
 
     def messages(self, topics: Iterable[str] | None = None) -> Iterator[RecordedMessage]:
         """Yield the recorded messages in file order, optionally only those of ``topics``."""

@@ -16,8 +16,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mcap.reader import make_reader
-
 from hdrc3.flight_report import FlightReport, FlightReportBuilder
 from hdrc3.mcap_recording import RecordingReader
 from hdrc3.mission_log import Detection, MissionLog
@@ -76,22 +74,10 @@ class MissionData:
         return (last - first) * 1e-9
 
 
-def message_total(path: Path) -> int | None:
-    """Message count from the file's summary, or None (no summary: a truncated file)."""
-    try:
-        with path.open("rb") as stream:
-            summary = make_reader(stream).get_summary()
-    except Exception:  # a file without a footer or summary: count as we go
-        return None
-    if summary is None or summary.statistics is None:
-        return None
-    return int(summary.statistics.message_count)
-
-
 def read_mission(path: Path, progress: Progress | None = None) -> MissionData:
     """Read ``path`` once; raises DataError only when it is not a readable MCAP file at all."""
     reader = RecordingReader.open(path)
-    total = message_total(path)
+    total = reader.message_count()
     data = MissionData(path)
     builders: dict[str, FlightReportBuilder] = {}
     try:

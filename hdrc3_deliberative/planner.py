@@ -12,7 +12,15 @@ from hdrc3_deliberative.grounding import Grounder
 from hdrc3_deliberative.model import ControlSpec, Domain, Problem
 from hdrc3_deliberative.motion_plan_info import MotionPlanInfo
 from hdrc3_deliberative.pddl import PddlReader
-from hdrc3_deliberative.result import Occurrence, PlanResult, PlanStatus, Statistics
+from hdrc3_deliberative.result import (
+    Occurrence,
+    PlanningPhase,
+    PlanningProgress,
+    PlanResult,
+    PlanStatus,
+    ProgressHook,
+    Statistics,
+)
 from hdrc3_deliberative.search import SearchConfig, TalPlanner
 from hdrc3_deliberative.tal_language import TalReader
 from hdrc3_deliberative.task import Task
@@ -85,12 +93,19 @@ class TaskPlanner:
         request: PlanRequest,
         timeout: float = 10.0,
         sequential: bool = False,
+        progress: ProgressHook | None = None,
     ) -> PlanResult:
-        """Plan; bad input becomes an INVALID_INPUT result with a readable reason."""
+        """Plan; bad input becomes an INVALID_INPUT result with a readable reason.
+
+        ``progress`` hears each phase as it begins and the search's effort as it goes.
+        """
         t0 = time.perf_counter()
         cpu0 = time.process_time()  # CPU time too: wall time is noisy on a shared machine
         try:
             domain, problem, spec = self.read(request)
+            if progress is not None:
+                phase = PlanningPhase.GROUNDING
+                progress(PlanningProgress(phase, Statistics(), time.perf_counter() - t0))
             task = self.ground(domain, problem, t0 + timeout)
             program = ControlCompiler(task, spec).compile()
         except GroundingTimeout:
@@ -103,7 +118,7 @@ class TaskPlanner:
         grounding = time.perf_counter() - t0
         remaining = max(0.0, timeout - grounding)
         config = SearchConfig(timeout=remaining, sequential=sequential, prefer=spec.prefer)
-        result = TalPlanner(task, program, config).solve()
+        result = TalPlanner(task, program, config, progress=progress, started=t0).solve()
         plan = label_agents(result.plan, task, spec.agent_types)
         stats = replace(
             result.stats, grounding_seconds=grounding, cpu_seconds=time.process_time() - cpu0

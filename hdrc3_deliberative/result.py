@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
 
@@ -53,6 +54,38 @@ class Statistics:
     grounding_seconds: float = 0.0
     search_seconds: float = 0.0
     cpu_seconds: float = 0.0
+
+
+class PlanningPhase(Enum):
+    """What a planning call is doing (reported to a progress hook)."""
+
+    GROUNDING = "grounding"
+    SEARCHING = "searching"
+
+
+@dataclass(frozen=True)
+class PlanningProgress:
+    """A planning call's phase and effort so far."""
+
+    phase: PlanningPhase
+    stats: Statistics
+    elapsed: float
+    """Wall seconds since the call began."""
+
+    def line(self) -> str:
+        """One line for a status display."""
+        s = self.stats
+        if self.phase is PlanningPhase.GROUNDING:  # reported once: no clock that stands still
+            return f"grounding (reading took {self.elapsed:.1f} s)"
+        return (
+            f"searching: {s.nodes_expanded:,} expanded, {s.nodes_generated:,} generated, "
+            f"{s.pruned_by_control:,} pruned by control rules ({self.elapsed:.1f} s)"
+        )
+
+
+ProgressHook = Callable[[PlanningProgress], None]
+"""Called at the start of each phase, then about every :data:`PROGRESS_PERIOD_S` of search."""
+PROGRESS_PERIOD_S = 0.25
 
 
 @dataclass(frozen=True)

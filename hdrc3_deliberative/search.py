@@ -22,13 +22,23 @@ queued constraints are checked only when it is popped (lines 7-11).
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
 from hdrc3_deliberative.model import EffectTime
 from hdrc3_deliberative.pruning import ControlProgram
-from hdrc3_deliberative.result import Occurrence, PlanResult, PlanStatus, Statistics
+from hdrc3_deliberative.result import (
+    PROGRESS_PERIOD_S,
+    Occurrence,
+    PlanningPhase,
+    PlanningProgress,
+    PlanResult,
+    PlanStatus,
+    ProgressHook,
+    Statistics,
+)
 from hdrc3_deliberative.task import GroundOp, Task
 
 
@@ -140,11 +150,20 @@ class TalPlanner:
         control: ControlProgram | None,
         config: SearchConfig,
         clock: Callable[[], float] = time.perf_counter,
+        progress: ProgressHook | None = None,
+        started: float | None = None,
     ) -> None:
+        """Index the operators by their rarest precondition.
+
+        ``progress`` hears the effort about every PROGRESS_PERIOD_S of the search, with the time
+        elapsed since ``started`` on ``clock`` (None: since :meth:`solve` began).
+        """
         self.task = task
         self.control = control
         self.config = config
         self._clock = clock
+        self._progress = progress
+        self._started = started
         self._rank = {name: i for i, name in enumerate(config.prefer)}
         self._index: dict[int, list[GroundOp]] = {}
         self._unindexed: list[GroundOp] = []
@@ -380,12 +399,19 @@ class TalPlanner:
         visited: dict[tuple[object, ...], list[tuple[float, ...]]] = {}
         stack: list[tuple[_Node, GroundOp | None, float]] = [(root, None, 0.0)]
         iterations = 0
+        started = t0 if self._started is None else self._started
+        reported = -math.inf
         while stack:
             iterations += 1
-            if iterations & 63 == 0 and self._clock() > deadline:
-                return PlanResult(
-                    PlanStatus.TIMEOUT, (), stats(), f"no plan within {self.config.timeout:g} s"
-                )
+            if iterations & 63 == 0:
+                now = self._clock()
+                if now > deadline:
+                    reason = f"no plan within {self.config.timeout:g} s"
+                    return PlanResult(PlanStatus.TIMEOUT, (), stats(), reason)
+                if self._progress is not None and now - reported >= PROGRESS_PERIOD_S:
+                    reported = now
+                    searching = PlanningPhase.SEARCHING
+                    self._progress(PlanningProgress(searching, stats(), now - started))
             parent, op, start = stack.pop()
             if op is None:
                 node = parent

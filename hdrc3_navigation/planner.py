@@ -25,7 +25,13 @@ from hdrc3_navigation.cost import Criterion, FlightModel
 from hdrc3_navigation.gis import DEFAULT_MARGIN, Gis, Point3
 from hdrc3_navigation.multilevel import JOIN_STEPS, Checks, Smoothed, multilevel, sample
 from hdrc3_navigation.ompl_space import OmplSpace
-from hdrc3_navigation.roadmap import DEFAULT_NODES, Roadmap, RoadmapCache, default_cache_dir
+from hdrc3_navigation.roadmap import (
+    DEFAULT_NODES,
+    BuildProgress,
+    Roadmap,
+    RoadmapCache,
+    default_cache_dir,
+)
 from hdrc3_navigation.rrt import rrt_connect
 from hdrc3_navigation.search import Deadline, Query, edge_costs
 from sim.world import World
@@ -137,12 +143,14 @@ class PathPlanner:
         self._cost_cache: dict[tuple[str, Criterion, float], tuple[list[float], list[float]]] = {}
         """Edge costs per (roadmap, criterion, speed)."""
 
-    def roadmap(self, rebuild: bool = False) -> tuple[Roadmap, bool]:
+    def roadmap(
+        self, rebuild: bool = False, progress: BuildProgress | None = None
+    ) -> tuple[Roadmap, bool]:
         """The roadmap (loaded from the cache or built); True if it was built now."""
         if self._roadmap is not None and not rebuild:
             return self._roadmap, False
         self._roadmap, built = self.cache.load_or_build(
-            self.gis, self.roadmap_nodes, rebuild=rebuild
+            self.gis, self.roadmap_nodes, rebuild=rebuild, progress=progress
         )
         return self._roadmap, built
 

@@ -14,6 +14,7 @@ import json
 import os
 import time
 import zipfile
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -71,8 +72,15 @@ class Roadmap:
         return h.hexdigest()
 
 
+BuildProgress = Callable[[int, int], None]
+"""Hears (milestones so far, milestones wanted) while a roadmap grows, about every 0.1 s."""
+
+
 def build_roadmap(
-    gis: Gis, nodes: int = DEFAULT_NODES, neighbours: int = DEFAULT_NEIGHBOURS
+    gis: Gis,
+    nodes: int = DEFAULT_NODES,
+    neighbours: int = DEFAULT_NEIGHBOURS,
+    progress: BuildProgress | None = None,
 ) -> Roadmap:
     """Grow OMPL's PRM until it has ``nodes`` milestones; return its graph."""
     start = time.perf_counter()
@@ -83,6 +91,8 @@ def build_roadmap(
     prm.setup()
     while prm.milestoneCount() < nodes:
         prm.growRoadmap(0.1)
+        if progress is not None:
+            progress(min(int(prm.milestoneCount()), nodes), nodes)
     data = ob.PlannerData(space.si)
     prm.getPlannerData(data)
     n = data.numVertices()
@@ -157,13 +167,14 @@ class RoadmapCache:
         nodes: int = DEFAULT_NODES,
         neighbours: int = DEFAULT_NEIGHBOURS,
         rebuild: bool = False,
+        progress: BuildProgress | None = None,
     ) -> tuple[Roadmap, bool]:
         """The cached roadmap, or a freshly built (and saved) one; True if built."""
         key = cache_key(gis, nodes, neighbours)
         cached = None if rebuild else self.load(key)
         if cached is not None:
             return cached, False
-        roadmap = build_roadmap(gis, nodes, neighbours)
+        roadmap = build_roadmap(gis, nodes, neighbours, progress)
         self.save(roadmap)
         return roadmap, True
 

@@ -19,13 +19,14 @@ from typing import Any
 
 from rich.console import Console
 
+from hdrc3.cli.progress import message_bar
 from hdrc3_base.errors import ConfigError
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_navigation.constraints import Constraints
 from hdrc3_navigation.cost import Criterion
 from hdrc3_navigation.gis import DEFAULT_MARGIN, Gis
 from hdrc3_navigation.planner import PathPlanner, PlannerKind, PlanRequest, PlanResult, PlanStatus
-from hdrc3_navigation.roadmap import DEFAULT_NODES
+from hdrc3_navigation.roadmap import DEFAULT_NODES, Roadmap
 from sim.world_loader import WorldError, load_world
 
 EXIT_CODES = {PlanStatus.SOLVED: 0, PlanStatus.NO_PATH: 2, PlanStatus.TIMEOUT: 3}
@@ -172,10 +173,8 @@ def _plan(args: argparse.Namespace) -> int:
         parse_point(args.start_direction, "--start-direction") if args.start_direction else None,
     )
     planner = _planner(args)
-    console = Console(stderr=True)
     if request.planner is not PlannerKind.RRT:
-        with console.status("loading the roadmap (building it if not cached)"):
-            planner.roadmap()
+        _roadmap_of(planner, rebuild=False)
     result = planner.plan(request)
     if args.json:
         print(json.dumps(result_json(result, request.planner)), flush=True)
@@ -201,11 +200,20 @@ def _plan(args: argparse.Namespace) -> int:
     return EXIT_CODES.get(result.status, INVALID_EXIT)
 
 
+def _roadmap_of(planner: PathPlanner, rebuild: bool) -> tuple[Roadmap, bool]:
+    """The planner's roadmap from its cache, or built with a progress bar on a terminal."""
+    with message_bar(Console(stderr=True), "roadmap of") as bar:
+        task = bar.add_task("roadmap", total=planner.roadmap_nodes, name=planner.gis.world.name)
+
+        def progress(milestones: int, wanted: int) -> None:
+            bar.update(task, completed=milestones, total=wanted)
+
+        return planner.roadmap(rebuild=rebuild, progress=progress)
+
+
 def _roadmap(args: argparse.Namespace) -> int:
     planner = _planner(args)
-    console = Console(stderr=True)
-    with console.status(f"roadmap of {planner.gis.world.name}"):
-        roadmap, built = planner.roadmap(rebuild=args.rebuild)
+    roadmap, built = _roadmap_of(planner, args.rebuild)
     nodes, edges = roadmap.size
     verb = "built" if built else "cached"
     print(

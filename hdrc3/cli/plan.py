@@ -8,9 +8,11 @@ import math
 import sys
 from pathlib import Path
 
+from rich.console import Console
+
 from hdrc3_deliberative.errors import PlanningInputError
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner, is_pddl
-from hdrc3_deliberative.result import PlanStatus
+from hdrc3_deliberative.result import PlanningProgress, PlanStatus
 from hdrc3_deliberative.tst_export import plan_to_tst
 
 EXIT_CODES = {
@@ -58,7 +60,15 @@ def run(args: argparse.Namespace) -> int:
     except PlanningInputError as exc:
         print(f"hdrc3 plan: error: {exc}", file=sys.stderr)
         return EXIT_CODES[PlanStatus.INVALID_INPUT]
-    result = TaskPlanner().plan(request, timeout=args.timeout, sequential=args.sequential)
+    console = Console(stderr=True)
+    with console.status("planning") as status:  # drawn on a terminal only
+
+        def progress(report: PlanningProgress) -> None:
+            status.update(report.line())
+
+        result = TaskPlanner().plan(
+            request, timeout=args.timeout, sequential=args.sequential, progress=progress
+        )
     if result.status is PlanStatus.INVALID_INPUT:
         print(f"hdrc3 plan: error: {result.reason}", file=sys.stderr)
         return EXIT_CODES[result.status]

@@ -4,7 +4,11 @@ from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
 
+from rich.console import Console
+
+from hdrc3.cli.progress import message_bar
 from hdrc3.mcap_recording import RecordingReader
 from hdrc3.replayer import ReplayerNode, paced, select_topics
 from hdrc3_base.errors import ConfigError
@@ -37,7 +41,10 @@ def run(args: argparse.Namespace) -> int:
     if not topics:
         raise ConfigError(f"{args.input} contains no messages")
     published = 0
-    with RosProcess() as process:
+    total = reader.message_count(topics)
+    console = Console(stderr=True)
+    with RosProcess() as process, message_bar(console, "replaying") as bar:
+        task = bar.add_task("replay", total=total, name=Path(args.input).name)
         node = ReplayerNode(process.context, topics)
         process.add_node(node)
         if args.wait_for_subscribers > 0 and not process.spin_until(
@@ -47,11 +54,13 @@ def run(args: argparse.Namespace) -> int:
                 t for t, p in node.publishers_by_topic.items() if p.get_subscription_count() == 0
             ]
             if lonely and not process.stop_requested.is_set():
-                print(f"no subscriber for {', '.join(lonely)}; replaying anyway")
+                print(f"no subscriber for {', '.join(lonely)}; replaying anyway", flush=True)
         while not process.stop_requested.is_set():
+            bar.reset(task, total=total)  # a loop plays the file again
             for message in paced(reader.messages(topics), args.speed, process.stop_requested.wait):
                 node.publish(message)
                 published += 1
+                bar.advance(task)
             if not args.loop:
                 break
         node.wait_for_acknowledgements(timeout_s=2.0)
@@ -59,5 +68,5 @@ def run(args: argparse.Namespace) -> int:
     note = (
         " (recording truncated: played up to its last complete chunk)" if reader.truncated else ""
     )
-    print(f"replayed {published} messages on {len(topics)} topics{note}")
+    print(f"replayed {published} messages on {len(topics)} topics{note}", flush=True)
     return 0

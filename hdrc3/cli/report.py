@@ -7,8 +7,8 @@ import sys
 from pathlib import Path
 
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
+from hdrc3.cli.progress import message_bar
 from hdrc3.mission_report import read_mission
 from hdrc3.report_page import write_report
 
@@ -32,15 +32,7 @@ def _report(args: argparse.Namespace) -> int:
     recording: Path = args.recording
     out: Path = args.out or recording.with_name(recording.stem + "_report")
     console = Console(stderr=True)
-    with Progress(
-        TextColumn("reading {task.fields[name]}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        console=console,
-        transient=True,
-        disable=not console.is_terminal,  # piped: the summary lines below only
-    ) as bar:
+    with message_bar(console, "reading") as bar:
         task = bar.add_task("read", total=None, name=recording.name)
 
         def progress(done: int, total: int | None) -> None:

@@ -61,6 +61,27 @@ def test_reader_returns_messages_and_topics(tmp_path: Path) -> None:
     assert not reader.truncated
 
 
+@pytest.mark.parametrize(
+    ("topics", "count"), [(None, 7), ([TOPIC], 5), (["/uav0/other"], 2), (["/none"], 0)]
+)
+def test_message_count_comes_from_the_summary(
+    tmp_path: Path, topics: list[str] | None, count: int
+) -> None:
+    path = tmp_path / "run.mcap"
+    writer = _write(path, 5)
+    writer.add_topic(TopicInfo("/uav0/other", TYPE))
+    for i in range(2):
+        writer.write("/uav0/other", _state(i), log_time_ns=2_000 + i)
+    writer.close()
+    assert RecordingReader.open(path).message_count(topics) == count
+
+
+def test_a_file_without_summary_has_no_message_count(tmp_path: Path) -> None:
+    path = tmp_path / "killed.mcap"
+    _write(path, 20, flush_every=10)  # no close(): no footer, no summary
+    assert RecordingReader.open(path).message_count() is None
+
+
 def test_killed_writer_leaves_file_readable_up_to_last_chunk(tmp_path: Path) -> None:
     path = tmp_path / "killed.mcap"
     writer = _write(path, 30, flush_every=10)  # three complete chunks on disk

@@ -16,7 +16,13 @@ from hdrc3_deliberative.generators import (
     logistics_problem,
 )
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
-from hdrc3_deliberative.result import Occurrence, PlanResult, PlanStatus
+from hdrc3_deliberative.result import (
+    Occurrence,
+    PlanningPhase,
+    PlanningProgress,
+    PlanResult,
+    PlanStatus,
+)
 from hdrc3_deliberative.search import SearchConfig, TalPlanner
 from hdrc3_deliberative.task import Task
 
@@ -208,6 +214,38 @@ def test_timeout_with_injected_clock(planner: TaskPlanner) -> None:
     result = search.solve()
     assert result.status is PlanStatus.TIMEOUT
     assert result.stats.nodes_expanded < 64 * 6
+
+
+def test_progress_is_reported_while_searching(planner: TaskPlanner) -> None:
+    request = PlanRequest(
+        LOGISTICS_DOMAIN.read_text(), logistics_problem(LogisticsSize(12, 4, 2), 1)
+    )
+    task = _task(planner, request)
+    ticks = itertools.count()
+    heard: list[PlanningProgress] = []
+    search = TalPlanner(
+        task,
+        None,
+        SearchConfig(timeout=5.0),
+        clock=lambda: float(next(ticks)),
+        progress=heard.append,
+        started=-10.0,
+    )
+    assert search.solve().status is PlanStatus.TIMEOUT
+    assert len(heard) >= 3 and {h.phase for h in heard} == {PlanningPhase.SEARCHING}
+    expanded = [h.stats.nodes_expanded for h in heard]
+    assert expanded == sorted(expanded) and expanded[-1] > expanded[0]
+    assert heard[0].elapsed > 10.0  # since ``started``, not since the search began
+    assert "expanded" in heard[-1].line()
+
+
+def test_planning_reports_grounding_first(planner: TaskPlanner) -> None:
+    request = PlanRequest(
+        LOGISTICS_DOMAIN.read_text(), logistics_problem(LogisticsSize(3, 2, 1), 1)
+    )
+    heard: list[PlanningProgress] = []
+    assert planner.plan(request, timeout=10, progress=heard.append).solved
+    assert heard[0].phase is PlanningPhase.GROUNDING and heard[0].line().startswith("grounding")
 
 
 def test_timeout_is_respected_in_wall_clock_time(planner: TaskPlanner) -> None:

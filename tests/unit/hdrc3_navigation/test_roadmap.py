@@ -87,7 +87,11 @@ def test_the_key_follows_the_world_content_and_parameters(
 
 
 def test_build_grows_to_the_requested_size(small_world: World) -> None:
-    roadmap = build_roadmap(Gis(small_world), nodes=50, neighbours=5)
+    heard: list[tuple[int, int]] = []
+    roadmap = build_roadmap(
+        Gis(small_world), nodes=50, neighbours=5, progress=lambda n, w: heard.append((n, w))
+    )
     assert roadmap.size[0] >= 50
+    assert heard and heard[-1] == (50, 50) and all(w == 50 and n <= 50 for n, w in heard)
     assert roadmap.build_seconds > 0.0
     assert all(len(a) > 0 for a in roadmap.adjacency[:10]) or roadmap.size[1] > 0
