@@ -241,7 +241,8 @@ def write_page(
     """``out/index.html`` with ``map.png``, ``timeline.png`` and the recording's own figures."""
     out.mkdir(parents=True, exist_ok=True)
     _plot_map(out / "map.png", ev, region, bodies)
-    plot_timeline(out / "timeline.png", ev.nodes, ev.modes)
+    ends = {agent: track[-1][0] for agent, track in ev.tracks.items() if track}
+    plot_timeline(out / "timeline.png", ev.nodes, ev.modes, ends)
     general = write_report(read_mission(recording), out / "recording")
     esc = html.escape
     rows = "".join(

@@ -85,9 +85,10 @@ def write_fake_flights(
 def _upper_layers(writer: RecordingWriter, agents: list[str]) -> None:
     """TST nodes, monitor verdicts, a recovery and a saliency map of uav0 and uav1.
 
-    uav0 flies node ``fly`` (fly-to) from 101 to 109 s of sim time under a sequence and its
-    saliency map holds DETECTIONS; uav1's ``scan`` (scan-area) fails at 108 s with FAILURE after
-    the speed limit was violated at 105 s (a hover recovery, no new plan) and a stale stream.
+    uav0 flies node ``fly`` (fly-to) from 101 to 109 s of sim time under a sequence, then
+    ``look`` (look-at) runs until the recording ends, and its saliency map holds DETECTIONS;
+    uav1's ``scan`` (scan-area) fails at 108 s with FAILURE after the speed limit was violated at
+    105 s (a hover recovery, no new plan) and a stale stream.
     """
     if agents[:2] != ["uav0", "uav1"]:
         return
@@ -112,6 +113,8 @@ def _upper_layers(writer: RecordingWriter, agents: list[str]) -> None:
                                       state="succeeded", start=101.0, end=109.0)),
         (109.0, "uav0", TstNodeStatus(mission="m", agent="uav0", node_id="root", kind="sequence",
                                       state="succeeded", start=100.0, end=109.0)),
+        (109.5, "uav0", TstNodeStatus(mission="m", agent="uav0", node_id="look", kind="look-at",
+                                      state="running", start=109.5, end=nan)),
         (102.0, "uav1", TstNodeStatus(mission="m", agent="uav1", node_id="scan",
                                       kind="scan-area", state="running", start=102.0, end=nan)),
         (105.0, "uav1", MonitorViolation(agent="uav1", monitor_id="speed_limit",

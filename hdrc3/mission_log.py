@@ -89,7 +89,8 @@ class MissionLog:
     maps: dict[str, str] = field(default_factory=dict)
     """Agent -> the text of its last saliency map."""
     problems: list[str] = field(default_factory=list)
-    _running: dict[tuple[str, str, str], float] = field(default_factory=dict)
+    _running: dict[tuple[str, str, str], tuple[float, str]] = field(default_factory=dict)
+    """(agent, mission, node) -> (start, action) of nodes running but not ended yet."""
     _classes: dict[str, Any] = field(default_factory=dict)
 
     @staticmethod
@@ -119,19 +120,21 @@ class MissionLog:
         key = (msg.agent, msg.mission, msg.node_id)
         t = stamp_s(msg.header.stamp)
         if msg.state == NodeState.RUNNING.value and math.isfinite(msg.start):
-            self._running.setdefault(key, t)  # not while it waits to begin
+            self._running.setdefault(key, (t, msg.kind))  # not while it waits to begin
         elif msg.state in {s.value for s in NodeState if s.finished} and key in self._running:
+            start, action = self._running.pop(key)
             span = NodeSpan(
-                msg.mission,
-                msg.agent,
-                msg.node_id,
-                msg.kind,
-                self._running.pop(key),
-                t,
-                msg.state,
-                msg.reason,
+                msg.mission, msg.agent, msg.node_id, action, start, t, msg.state, msg.reason
             )
             self.nodes.setdefault(msg.agent, []).append(span)
+
+    def unfinished(self) -> list[NodeSpan]:
+        """Nodes still running when the recording ends (end: nan, state: running)."""
+        running = NodeState.RUNNING.value
+        return [
+            NodeSpan(mission, agent, node, action, start, math.nan, running, "")
+            for (agent, mission, node), (start, action) in self._running.items()
+        ]
 
     @property
     def violations(self) -> list[Any]:
@@ -189,13 +192,16 @@ def plot_timeline(
     path: Any,
     nodes: Mapping[str, Sequence[NodeSpan]],
     modes: Mapping[str, Sequence[tuple[float, str]]],
+    ends: Mapping[str, float],
 ) -> None:
     """Per agent its elementary nodes (upper bar) and flight modes (lower bar) over sim time.
 
     Args:
         path: The PNG to write.
-        nodes: Agent -> its node spans.
+        nodes: Agent -> its node spans; a span without an end (still running) is hatched.
         modes: Agent -> (sim time, flight mode) at every mode change.
+        ends: Agent -> its last sim time in the recording, where its last mode and its
+            unfinished nodes end.
     """
     import matplotlib
 
@@ -213,13 +219,17 @@ def plot_timeline(
     fig, ax = plt.subplots(figsize=(14, 1.6 + 1.4 * max(1, len(agents))))
     for row, agent in enumerate(agents):
         y = 2 * row
+        last = ends.get(agent, math.nan)
         for span in nodes.get(agent, ()):
-            ax.barh(y + 0.5, span.end - span.start, left=span.start, height=0.8,
-                    color=colours.get(span.state, "grey"), edgecolor="white")  # fmt: skip
+            open_ended = math.isnan(span.end)
+            end = last if open_ended else span.end
+            ax.barh(y + 0.5, end - span.start, left=span.start, height=0.8,
+                    color=colours.get(span.state, "#cfe2f3"), edgecolor="white",
+                    hatch="//" if open_ended else None)  # fmt: skip
             ax.text(span.start + 0.5, y + 0.5, span.action, fontsize=7, va="center", rotation=30)
         changes = modes.get(agent, ())
         for i, (t, name) in enumerate(changes):
-            end = changes[i + 1][0] if i + 1 < len(changes) else t
+            end = changes[i + 1][0] if i + 1 < len(changes) else max(t, last)
             colour = palette(names.index(name) % 10)
             ax.barh(y - 0.4, max(end - t, 0.1), left=t, height=0.6, color=colour)
     for name in names:
@@ -227,7 +237,9 @@ def plot_timeline(
     if names:
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, title="flight mode")
     ax.set_yticks([2 * r for r in range(len(agents))], agents)
-    ax.set_xlabel("sim time [s] (upper bar: TST nodes; lower: flight modes)")
+    ax.set_xlabel(
+        "sim time [s] (upper bar: TST nodes, hatched: still running; lower: flight modes)"
+    )
     ax.grid(True, axis="x")
     fig.tight_layout()
     fig.savefig(path, dpi=90)

@@ -17,7 +17,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from hdrc3.flight_report import plot_report
-from hdrc3.mission_log import MONITOR_KINDS, RECOVERY_STEPS, plot_timeline
+from hdrc3.mission_log import MONITOR_KINDS, RECOVERY_STEPS, NodeSpan, plot_timeline
 from hdrc3.mission_report import MissionData
 from hdrc3_base.stamps import stamp_s
 
@@ -45,9 +45,11 @@ def write_report(data: MissionData, out: Path) -> Path:
         for agent, f in data.flights.items()
         if f.modes and math.isfinite(f.start)
     }
-    if data.log.nodes or modes:
+    nodes = _spans_by_agent(data)
+    if nodes or modes:
+        ends = {a: f.start + f.duration for a, f in data.flights.items() if f.track}
         figures.append(("timeline.png", "TST nodes and flight modes over sim time"))
-        plot_timeline(out / "timeline.png", data.log.nodes, modes)
+        plot_timeline(out / "timeline.png", nodes, modes, ends)
     page = out / "index.html"
     page.write_text(_page(data, figures), encoding="utf-8")
     return page
@@ -176,10 +178,20 @@ def _page(data: MissionData, figures: list[tuple[str, str]]) -> str:
     return "".join(parts)
 
 
+def _spans_by_agent(data: MissionData) -> dict[str, list[NodeSpan]]:
+    """Every agent's ended and still running nodes."""
+    out = {agent: list(spans) for agent, spans in data.log.nodes.items()}
+    for span in data.log.unfinished():
+        out.setdefault(span.agent, []).append(span)
+    return out
+
+
 def _upper_layers(data: MissionData) -> list[str]:
     """Tables of the TST nodes, monitor verdicts, recoveries and saliency map points."""
     log, parts = data.log, []
-    spans = sorted((n for nodes in log.nodes.values() for n in nodes), key=lambda n: n.start)
+    spans = sorted(
+        (n for nodes in _spans_by_agent(data).values() for n in nodes), key=lambda n: n.start
+    )
     if spans:
         parts.append("<h2>TST nodes</h2>")
         parts.append(
@@ -192,7 +204,7 @@ def _upper_layers(data: MissionData) -> list[str]:
                         n.node_id,
                         n.action,
                         f"{n.start:.1f}",
-                        f"{n.end:.1f}",
+                        "-" if math.isnan(n.end) else f"{n.end:.1f}",
                         n.state,
                         n.reason,
                     )

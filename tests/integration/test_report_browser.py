@@ -24,7 +24,7 @@ def test_report_command_writes_a_page_whose_figures_all_load(hdrc3_cli, tmp_path
     rec = write_fake_flights(tmp_path / "run.mcap", upper_layers=True)
     report = hdrc3_cli("report", str(rec), "--out", str(tmp_path / "report"))
     assert report.finish(timeout=120) == 0, report.lines
-    assert "read 58 messages on 11 topics" in report.lines
+    assert "read 59 messages on 11 topics" in report.lines
     page = tmp_path / "report" / "index.html"
     assert f"report: {page}" in report.lines
     dom = subprocess.run(

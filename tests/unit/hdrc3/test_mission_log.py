@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
@@ -24,6 +25,9 @@ def test_the_upper_layers_nodes_verdicts_recoveries_and_detections(tmp_path: Pat
         "uav1": [("scan", "scan-area", 102.0, 108.0, "failed")],
     }
     assert log.nodes["uav1"][0].reason == FAILURE
+    (look,) = log.unfinished()
+    assert (look.agent, look.node_id, look.action, look.start) == ("uav0", "look", "look-at", 109.5)
+    assert look.state == "running" and math.isnan(look.end)
     assert [v.monitor_id for v in log.monitor] == ["speed_limit", "held"]
     assert [v.monitor_id for v in log.unrecovered()] == ["speed_limit"]  # hovered, no new plan
     assert [r.node_id for r in log.recoveries] == ["scan"]

@@ -41,6 +41,7 @@ def test_page_shows_the_upper_layers(tmp_path: Path) -> None:
     for heading in ("TST nodes", "Execution monitor", "Recoveries", "Saliency map points"):
         assert f"<h2>{heading}</h2>" in text
     assert "<td>scan-area</td><td>102.0</td><td>108.0</td><td>failed</td>" in text
+    assert "<td>look-at</td><td>109.5</td><td>-</td><td>running</td>" in text
     assert "<td>stale data</td>" in text and "<td>hovering</td>" in text
     assert "1 violation(s) not followed by a new plan" in text
     assert "<td>50.0</td><td>5.0</td><td>0.83</td><td>6</td><td>yes</td>" in text
