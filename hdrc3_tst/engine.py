@@ -70,11 +70,14 @@ from hdrc3_tst.recovery import (
 )
 from hdrc3_tst.recovery_spec import RecoverySpec
 from hdrc3_tst.resolver import InstanceStatus, Place, ResolvedTst
-from hdrc3_tst.stn import Inconsistent
+from hdrc3_tst.stn import TICKS_PER_S, Inconsistent
 
 TICK_TOLERANCE_S = 1.0
 """Mission seconds a start or end may be seen after its latest time (one tick of the manager
 at high sim speeds); it is then recorded at that latest time."""
+SAME_TICK_S = 1e-6
+"""Mission seconds an end may be seen before its earliest time when both fall in one tick: the
+nanoseconds that strict bounds (``TS < TE``) add up to along a chain of ends seen at once."""
 
 
 @dataclass
@@ -959,11 +962,22 @@ class ExecutionEngine:
 
         The engine sees time at its ticks, so an end due between two ticks (a wait's or a
         hover's, fixed by its duration) is seen up to a tick late; within
-        :data:`TICK_TOLERANCE_S` it is recorded at the latest time the network allows.
+        :data:`TICK_TOLERANCE_S` it is recorded at the latest time the network allows. An end
+        seen in the very tick of its lower bound (an action done at once: a PTU already pointed,
+        a fly-to to where the aircraft is; then its parent) happened within that tick, after the
+        bound: it is recorded at the bound, one STN tick (1 ns) later when strict (``TS < TE``).
         """
-        latest = self.tst.network.window(var).latest
-        if latest < self.now <= latest + TICK_TOLERANCE_S:
-            return latest
+        window = self.tst.network.window(var)
+        if window.latest < self.now <= window.latest + TICK_TOLERANCE_S:
+            return window.latest
+        if not math.isfinite(window.earliest):
+            return self.now
+        # in the network's whole nanoseconds: a float ``now`` a hair past the bound is the bound
+        earliest = round(window.earliest * TICKS_PER_S)
+        early = earliest - round(self.now * TICKS_PER_S)
+        strict = window.earliest_strict
+        if 0 <= early <= SAME_TICK_S * TICKS_PER_S and (early > 0 or strict):
+            return (earliest + strict) / TICKS_PER_S
         return self.now
 
     def _finish(

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Generator
 from pathlib import Path
 
 import pytest
@@ -13,7 +13,7 @@ from hdrc3_platform_server.geo_frame import frame_from_world
 from hdrc3_tst.check import CheckStatus, load_file, load_text
 from hdrc3_tst.distribution import bind_open_agents
 from hdrc3_tst.engine import EngineContext, ExecutionEngine
-from hdrc3_tst.executor import ActionContext, ActionExecutor
+from hdrc3_tst.executor import SUCCEEDED, ActionContext, ActionExecutor, Status
 from hdrc3_tst.fake_platform import FakePlanner, FakePlatform, RecordingSink
 from hdrc3_tst.model import NodeRef, NodeState
 from hdrc3_tst.platform_port import Command, PlatformState
@@ -155,6 +155,35 @@ def test_an_end_seen_a_tick_late_is_recorded_at_its_due_time() -> None:
     record = rig.engine.records["m"]
     assert (record.start, record.end) == (0.0, 3.0)
     assert rig.engine.tst.network.values[rig.engine.tst.variable("m", "TE")] == 3.0
+
+
+class AtOnce(ActionExecutor):
+    """Done as soon as it runs: a fly-to to where the aircraft already is, a PTU already there."""
+
+    def run(self, ctx: ActionContext) -> Generator[None, None, Status]:
+        return SUCCEEDED
+        yield  # a generator that never waits
+
+
+@pytest.mark.parametrize("tick", [0.02, 0.1])  # 0.1: mission times a hair past the ns grid
+def test_actions_done_in_the_tick_they_started_end_just_after_their_start(tick: float) -> None:
+    """``TS < TE`` holds: such an end is seen in its start's tick, so it lies within that tick."""
+    text = "m(TS, TE) = with TS1, TE1, TS2, TE2, TS3, TE3 sequence\n"
+    text += "  a(TS1, TE1) = wait(TS1, TE1, 0.05);\n"
+    text += "  b(TS2, TE2) = ptu-turn-to(TS2, TE2, 0, 30);\n"
+    text += "  c(TS3, TE3) = fly-to(TS3, TE3, 3, Sq)\n"
+    text += "where TS <= TS1 and TS1 < TE1 and TE1 <= TS2 and TS2 < TE2 and TE2 <= TS3\n"
+    text += "  and TS3 < TE3 and TE3 <= TE\n"
+    rig = Rig(mission(text), executors={**RMAX_EXECUTORS, "ptu-turn-to": AtOnce, "fly-to": AtOnce})
+    rig.start("m")
+    for _ in range(8):
+        rig.t += tick
+        rig.engine.tick(rig.t)
+    for node in ("b", "c"):
+        record = rig.engine.records[node]
+        assert record.state is NodeState.SUCCEEDED, record.reason
+        assert 0.0 < record.end - record.start <= 2e-9
+    assert rig.state("m") is NodeState.SUCCEEDED, rig.reason("m")
 
 
 def test_abort_stops_commands_and_aborts_remote_children() -> None:
