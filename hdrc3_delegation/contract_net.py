@@ -55,6 +55,8 @@ ANSWERS = frozenset(
 LANGUAGE = "hdrc3-delegation+json"
 ONTOLOGY = "hdrc3-tst"
 PROTOCOL = "fipa-contract-net"
+WHOLE = "*"
+"""The one unit of a whole-mission delegation (every node to one responsible agent)."""
 
 
 @dataclass(frozen=True)
@@ -78,7 +80,12 @@ class Phase(enum.Enum):
     """Where a delegation is."""
 
     AUCTION = "auction"
+    PRICED = "priced"
+    """Every unit has a winner; held until :meth:`Delegation.award` (a contractor's own
+    delegation waits for its delegator's award)."""
     AWARD = "award"
+    AGREED = "agreed"
+    """Every winner agreed; held until :meth:`Delegation.begin`."""
     STARTING = "starting"
     EXECUTING = "executing"
     DONE = "done"
@@ -137,8 +144,15 @@ class Delegation:
         candidates: Sequence[str],
         max_agents: int | None = None,
         timing: Timing | None = None,
+        whole: bool = False,
+        hold: bool = False,
     ) -> None:
-        """``tst`` is the loaded mission (its open ``P`` variables are what is auctioned)."""
+        """``tst`` is the loaded mission (its open ``P`` variables are what is auctioned).
+
+        ``whole``: one agent is asked to take responsibility for the whole mission; it may
+        re-delegate parts of it (the cfp says so). ``hold``: stop at :attr:`Phase.PRICED` and
+        :attr:`Phase.AGREED` until :meth:`award` and :meth:`begin` (a re-delegating contractor).
+        """
         self.me = me
         self.conversation = conversation
         self.mission = mission
@@ -147,6 +161,8 @@ class Delegation:
         self.candidates = tuple(candidates)
         self.max_agents = max_agents
         self.timing = timing or Timing()
+        self.whole = whole
+        self._award_held = self._start_held = hold
         self.phase = Phase.AUCTION
         self.round = 0
         self.reason = ""
@@ -156,11 +172,15 @@ class Delegation:
         self.units = self._units()
         self.winners: dict[str, str] = {}
         """Unit variable -> agent."""
+        self.won: dict[str, Bid] = {}
+        """Unit variable -> the winning bid."""
         self.fixes: list[str] = []
         self.agreed: set[str] = set()
         self.done: dict[str, str] = {}
         """Agent -> outcome of all its nodes."""
         self.node_states: dict[str, str] = {}
+        self.node_reasons: dict[str, str] = {}
+        """Node -> why it failed or was aborted, as its agent reported."""
         self._auction: _Auction | None = None
         self._deadline = math.inf
         self._held_by: dict[str, str] = {}
@@ -170,6 +190,9 @@ class Delegation:
 
     # --- the mission's units ---------------------------------------------------------------
     def _units(self) -> list[_Unit]:
+        if self.whole:
+            everything = tuple(n.node_id for _, n in self.tst.tree.walk())
+            return [_Unit(WHOLE, everything)]
         units: dict[str, _Unit] = {}
         values = self.tst.network.values
         for _, node in self.tst.tree.walk():
@@ -186,11 +209,43 @@ class Delegation:
         values = self.tst.network.values
         out: dict[str, str] = {}
         for _, node in self.tst.tree.walk():
-            var = node.params["P"]
+            var = WHOLE if self.whole else node.params["P"]
             agent = self.winners.get(var) or values.get(var)
             if agent:
                 out[node.node_id] = str(agent)
         return out
+
+    @property
+    def bid(self) -> Bid | None:
+        """The winners' bids together, None before every unit has one.
+
+        The last completion, the work and the energy summed, the smallest slack.
+        """
+        if not self.units or len(self.won) < len(self.units):
+            return None
+        bids = list(self.won.values())
+        return Bid(
+            max(b.completion for b in bids),
+            sum(b.duration for b in bids),
+            sum(b.energy for b in bids),
+            min(b.slack for b in bids),
+        )
+
+    def award(self, now: float) -> list[AclMessage]:
+        """Release a held award (every unit priced: the awards go out now, else when they are)."""
+        self._award_held = False
+        return self._award(now) if self.phase is Phase.PRICED else []
+
+    def begin(self, now: float) -> list[AclMessage]:
+        """Release a held start (every winner agreed: execution starts now, else when they do)."""
+        self._start_held = False
+        return self._start(now) if self.phase is Phase.AGREED else []
+
+    def cancel(self, reason: str) -> list[AclMessage]:
+        """End the delegation: every awarded agent is cancelled."""
+        if self.phase.finished:
+            return []
+        return self._fail_and_cancel(reason)
 
     @property
     def instance(self) -> str:
@@ -265,6 +320,10 @@ class Delegation:
     def _next_unit(self, now: float) -> list[AclMessage]:
         index = sum(u.var in self.winners for u in self.units)
         if index == len(self.units):
+            if self._award_held:
+                self.phase = Phase.PRICED
+                self.events.append("priced: every unit has a winner")
+                return []
             return self._award(now)
         unit = self.units[index]
         asked = self._eligible(unit)
@@ -277,7 +336,13 @@ class Delegation:
             Performative.CFP,
             self.me,
             tuple(asked),
-            content(mission=self.instance, tst=self.text, fixes=self.fixes, nodes=list(unit.nodes)),
+            content(
+                mission=self.instance,
+                tst=self.text,
+                fixes=self.fixes,
+                nodes=list(unit.nodes),
+                **({"whole": True} if self.whole else {}),
+            ),
             LANGUAGE,
             ONTOLOGY,
             PROTOCOL,
@@ -326,7 +391,8 @@ class Delegation:
             auction.bids, key=lambda a: (auction.bids[a].completion, auction.bids[a].energy, a)
         )
         self.winners[unit.var] = winner
-        if not unit.fixed:
+        self.won[unit.var] = auction.bids[winner]
+        if not unit.fixed and not self.whole:
             self.fixes.append(f"{unit.nodes[0]}.P={winner}")
         self.events.append(f"won {', '.join(unit.nodes)}: {winner}")
         return self._next_unit(now)
@@ -337,6 +403,8 @@ class Delegation:
 
     def _bind_composites(self) -> None:
         """``P`` of nodes only composites use: the agent of their first action."""
+        if self.whole:  # one agent answers for every node: no P is bound here
+            return
         values = self.tst.network.values
         for _, node in self.tst.tree.walk():
             var = node.params["P"]
@@ -367,7 +435,13 @@ class Delegation:
                     Performative.ACCEPT_PROPOSAL,
                     self.me,
                     (agent,),
-                    content(mission=self.instance, tst=self.text, fixes=self.fixes, nodes=nodes),
+                    content(
+                        mission=self.instance,
+                        tst=self.text,
+                        fixes=self.fixes,
+                        nodes=nodes,
+                        **({"whole": True} if self.whole else {}),
+                    ),
                     LANGUAGE,
                     ONTOLOGY,
                     PROTOCOL,
@@ -402,6 +476,10 @@ class Delegation:
             self.agreed.add(msg.sender)
             self.events.append(f"agree {msg.sender}")
             if self.agreed >= set(self._award_agents()):
+                if self._start_held:
+                    self.phase = Phase.AGREED
+                    self.events.append("agreed: every winner committed")
+                    return []
                 return self._start(now)
             return []
         if msg.performative not in _REFUSALS:
@@ -421,6 +499,7 @@ class Delegation:
         self.events.append(f"round {self.round}: reallocating without {', '.join(sorted(failed))}")
         self.phase = Phase.AUCTION
         self.winners = {}
+        self.won = {}
         self.fixes = []
         self.agreed = set()
         return out + self._next_unit(now)
@@ -560,6 +639,7 @@ class Delegation:
             return []
         node, state = str(body["node"]), str(body.get("state", ""))
         self.node_states[node] = state
+        self.node_reasons[node] = str(body.get("reason", ""))
         reason = f": {body['reason']}" if body.get("reason") else ""
         self.events.append(f"{msg.sender}: {node} {state}{reason}")
         if self.phase in (Phase.STARTING, Phase.EXECUTING):
@@ -631,19 +711,60 @@ class _Contract:
 
 
 @dataclass
+class _Responsibility:
+    """A whole mission this agent answers for, allocated by its own delegation (section 10)."""
+
+    upward: AclMessage
+    """The delegator's cfp: every answer goes to its conversation."""
+    mission: str
+    nodes: tuple[str, ...]
+    nested: Delegation
+    expires: float
+    """Until the award: when the proposal lapses."""
+    proposed: bool = False
+    awarded: AclMessage | None = None
+    agreed: bool = False
+    request: AclMessage | None = None
+    relayed: dict[str, str] = field(default_factory=dict)
+    logged: int = 0
+    """The own delegation's events already copied into the contractor's."""
+
+
+@dataclass
 class Contractor:
-    """A contractor's side: bids from the constraint server, commitments, progress reports."""
+    """A contractor's side: bids from the constraint server, commitments, progress reports.
+
+    With ``peers``, a cfp for a whole mission (``whole`` in its content) is not priced by this
+    agent alone: it delegates the mission itself, held (:class:`Delegation` with ``hold``), to
+    itself and its peers (never back to its delegator). It proposes the winners' bids together
+    once every part has a winner, awards them when it is awarded, starts them when asked, and
+    informs its delegator of their progress: a network of responsibilities (section 10).
+    """
 
     me: str
     server: ConstraintServer
     port: ContractorPort
     timing: Timing = field(default_factory=Timing)
+    peers: tuple[str, ...] = ()
+    """Agents this one may re-delegate to."""
     contracts: dict[str, _Contract] = field(default_factory=dict)
     """Mission -> what this agent agreed to."""
+    responsible: dict[str, _Responsibility] = field(default_factory=dict)
+    """Delegator's conversation -> a whole mission this agent re-delegates."""
     events: list[str] = field(default_factory=list)
 
     def handle(self, msg: AclMessage, now: float) -> list[AclMessage]:
         """One authenticated message addressed to this agent."""
+        nested = next(
+            (r for r in self.responsible.values() if r.nested.conversation == msg.conversation_id),
+            None,
+        )
+        if nested is not None and msg.performative in ANSWERS:  # to this agent as delegator
+            return nested.nested.handle(msg, now) + self._relay(nested, now)
+        duty = self.responsible.get(msg.conversation_id)
+        asks = msg.performative is not Performative.CFP and msg.performative not in ANSWERS
+        if duty is not None and asks:
+            return self._as_responsible(duty, msg, now)
         if msg.performative in ANSWERS:
             self.events.append(f"unexpected {msg} (an answer; not answered)")
             return []
@@ -677,6 +798,13 @@ class Contractor:
     def tick(self, now: float) -> list[AclMessage]:
         """Report the state changes of the nodes this agent holds, and when all are done."""
         out: list[AclMessage] = []
+        for key, duty in list(self.responsible.items()):
+            if duty.awarded is None and now > duty.expires:
+                self.events.append(f"{duty.mission}: proposal lapsed, re-delegation dropped")
+                del self.responsible[key]
+                out += duty.nested.cancel("the proposal lapsed")
+                continue
+            out += duty.nested.tick(now) + self._relay(duty, now)
         for mission, contract in list(self.contracts.items()):
             reports = self.port.node_states(mission)
             for node in contract.nodes:
@@ -714,6 +842,8 @@ class Contractor:
             return [_answer(self.me, msg, Performative.NOT_UNDERSTOOD, fields)]
         if msg.reply_by and now > msg.reply_by:
             return [_answer(self.me, msg, Performative.REFUSE, "the cfp's reply-by has passed")]
+        if body.get("whole") is True and self.peers:
+            return self._take_whole(msg, fields, now)
         mission, text, fixes, nodes = fields
         evaluation = self.server.evaluate(mission, text, fixes, nodes, now)
         if evaluation.status is EvaluationStatus.NOT_UNDERSTOOD:
@@ -746,11 +876,151 @@ class Contractor:
         )
         return [_with_deadline(proposal, now + self.timing.proposal_valid_s)]
 
+    # --- re-delegation (section 10: a network of responsibilities) -----------------------
+    def _take_whole(
+        self, msg: AclMessage, fields: tuple[str, str, list[str], list[str]], now: float
+    ) -> list[AclMessage]:
+        """Delegate a whole mission on, held until this agent's own delegator decides."""
+        mission, text, _, nodes = fields
+        if msg.conversation_id in self.responsible:
+            return []  # a cfp sent again: the first one is being answered
+        tst = self.server.load(mission, text)
+        if isinstance(tst, str):
+            return [_answer(self.me, msg, Performative.NOT_UNDERSTOOD, tst)]
+        others = [p for p in self.peers if p not in (self.me, msg.sender)]
+        nested = Delegation(
+            self.me,
+            f"{msg.conversation_id}/{self.me}",
+            mission,
+            text,
+            tst,
+            (self.me, *others),
+            timing=self.timing,
+            hold=True,
+        )
+        window = (msg.reply_by - now) if msg.reply_by else self.timing.answer_s
+        # the inner auctions share the delegator's reply-by, one after the other
+        nested.timing = replace(self.timing, answer_s=window / (len(nested.units) + 1))
+        duty = _Responsibility(
+            msg, mission, tuple(nodes), nested, now + window + self.timing.proposal_valid_s
+        )
+        self.responsible[msg.conversation_id] = duty
+        self.events.append(
+            f"{mission}: re-delegating the whole mission among {', '.join(nested.candidates)}"
+        )
+        return nested.start(now) + self._relay(duty, now)
+
+    def _as_responsible(
+        self, duty: _Responsibility, msg: AclMessage, now: float
+    ) -> list[AclMessage]:
+        """The delegator's award, rejection, cancel or start of a mission re-delegated here."""
+        nested, key = duty.nested, duty.upward.conversation_id
+        if msg.performative is Performative.ACCEPT_PROPOSAL:
+            if msg.reply_by and now > msg.reply_by:
+                del self.responsible[key]
+                late = _answer(self.me, msg, Performative.FAILURE, "the award arrived late")
+                return [*nested.cancel("the award arrived late"), late]
+            duty.awarded = msg
+            if msg.reply_by:  # the parts' agrees must come before this agent's own
+                nested.timing = replace(nested.timing, award_s=0.8 * (msg.reply_by - now))
+            return nested.award(now) + self._relay(duty, now)
+        if msg.performative is Performative.REQUEST:
+            node = parse_content(msg)
+            execute = node.get("execute") if isinstance(node, dict) else None
+            if execute not in duty.nodes or not duty.agreed:
+                return [_answer(self.me, msg, Performative.REFUSE, f"{execute!r} is not held")]
+            duty.request = msg
+            agree = msg.reply(
+                self.me, Performative.AGREE, content(mission=duty.mission, execute=execute)
+            )
+            return [*nested.begin(now), agree, *self._relay(duty, now)]
+        if msg.performative in (Performative.REJECT_PROPOSAL, Performative.CANCEL):
+            del self.responsible[key]
+            self.events.append(f"{duty.mission}: {msg.performative.value} by {msg.sender}")
+            out = nested.cancel(f"{msg.performative.value} by {msg.sender}")
+            if msg.performative is Performative.CANCEL:
+                out.append(
+                    msg.reply(
+                        self.me, Performative.INFORM, content(mission=duty.mission, cancelled=True)
+                    )
+                )
+            return out
+        return [
+            _answer(
+                self.me,
+                msg,
+                Performative.NOT_UNDERSTOOD,
+                f"{msg.performative.value} is not part of {PROTOCOL} for a contractor",
+            )
+        ]
+
+    def _relay(self, duty: _Responsibility, now: float) -> list[AclMessage]:
+        """Tell the delegator what the re-delegated mission's own delegation reached."""
+        nested, upward = duty.nested, duty.upward
+        self.events += [f"{duty.mission} re-delegation: {e}" for e in nested.events[duty.logged :]]
+        duty.logged = len(nested.events)
+        out = self._relay_states(duty)
+        if nested.phase is Phase.FAILED:
+            del self.responsible[upward.conversation_id]
+            why = f"re-delegation failed: {nested.reason}"
+            self.events.append(f"{duty.mission}: {why}")
+            asked = duty.request or duty.awarded or (None if duty.proposed else upward)
+            failure = Performative.REFUSE if asked is upward else Performative.FAILURE
+            return out + ([_answer(self.me, asked, failure, why)] if asked is not None else [])
+        bid = nested.bid
+        if not duty.proposed and nested.phase is Phase.PRICED and bid is not None:
+            duty.proposed = True
+            duty.expires = now + self.timing.proposal_valid_s
+            proposal = upward.reply(
+                self.me,
+                Performative.PROPOSE,
+                content(
+                    nodes=list(duty.nodes),
+                    completion=bid.completion,
+                    duration=bid.duration,
+                    energy=bid.energy,
+                    slack=bid.slack if math.isfinite(bid.slack) else 1e18,
+                    parts=nested.assignment,
+                ),
+            )
+            out.append(_with_deadline(proposal, duty.expires))
+        awarded = duty.awarded
+        if awarded is not None and not duty.agreed and nested.phase is Phase.AGREED:
+            duty.agreed = True
+            agree = content(mission=duty.mission, nodes=list(duty.nodes))
+            out.append(awarded.reply(self.me, Performative.AGREE, agree))
+        if awarded is not None and nested.phase is Phase.DONE:
+            del self.responsible[upward.conversation_id]
+            self.events.append(f"{duty.mission}: done (re-delegated)")
+            done = content(mission=duty.mission, done=True, outcome=NodeState.SUCCEEDED.value)
+            out.append(replace(awarded.reply(self.me, Performative.INFORM), content=done))
+        return out
+
+    def _relay_states(self, duty: _Responsibility) -> list[AclMessage]:
+        """Inform the delegator of every node state the parts reported since the last time."""
+        nested, awarded = duty.nested, duty.awarded
+        if awarded is None or duty.request is None:
+            return []
+        states = dict(nested.node_states)
+        if nested.phase is Phase.DONE:  # the spanning root, run by this agent's own delegation
+            states[nested.tst.tree.root] = NodeState.SUCCEEDED.value
+        template, out = awarded.reply(self.me, Performative.INFORM), []
+        for node, state in states.items():
+            if duty.relayed.get(node) != state:
+                duty.relayed[node] = state
+                reason = nested.node_reasons.get(node, "")
+                body = content(mission=duty.mission, node=node, state=state, reason=reason)
+                out.append(replace(template, content=body))
+        return out
+
     def _on_award(self, msg: AclMessage, body: dict[str, Any], now: float) -> list[AclMessage]:
         fields = self._fields(body)
         if isinstance(fields, str):
             return [_answer(self.me, msg, Performative.NOT_UNDERSTOOD, fields)]
         mission, text, fixes, nodes = fields
+        if body.get("whole") is True and self.peers:  # its responsibility lapsed or never was
+            why = "no proposal of this agent for the whole mission stands"
+            return [_answer(self.me, msg, Performative.FAILURE, why)]
         if msg.reply_by and now > msg.reply_by:
             self.events.append(f"{mission}: award arrived {now - msg.reply_by:.1f} s late, refused")
             return [

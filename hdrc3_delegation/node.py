@@ -283,7 +283,7 @@ class GatewayNode(Node):
         self.agent = self.get_namespace().strip("/")
         keystore = str(self.declare_parameter("keystore", "").value)
         world = str(self.declare_parameter("world", "revinge").value)
-        self.declare_parameter("agents", [""])
+        agents = [str(a) for a in self.declare_parameter("agents", [""]).value if a]
         self.declare_parameter("speed", 1.0)
         caps = self.declare_parameter("capabilities", [c.value for c in Capability]).value
         budget = float(self.declare_parameter("energy_budget", 40e6).value)
@@ -299,7 +299,8 @@ class GatewayNode(Node):
         coster = TaskCoster(RosMotion(caller, self.agent), self.frame.ground_up)
         self.server = ConstraintServer(profile, coster, None)
         port = TstManagerPort(self, caller, self.agent)
-        self.contractor = Contractor(self.agent, self.server, port)
+        peers = tuple(a for a in agents if a != self.agent)  # a whole mission may go on to them
+        self.contractor = Contractor(self.agent, self.server, port, peers=peers)
         self.bus = AclBus(self.agent, acl_domain, acl_discovery) if acl_domain >= 0 else None
         acl_node = self.bus.node if self.bus is not None else self
         self.outbox = Outbox(acl_node, self.auth)

@@ -5,8 +5,11 @@ candidates' gateways (FIPA contract net, see ``hdrc3_delegation.contract_net``),
 nodes to the winners, which commit through their constraint servers and create the mission on
 their TST managers, and starts the root; one line per protocol step, then one per node state
 the contractors report, until all are done. ``--to any`` asks the file's agents; ``--max-agents``
-caps how many of them share the mission. With ``--launch`` the system is started first (with a
-gateway per agent) and the aircraft are handed to autonomous mode as ``hdrc3 tst run`` does.
+caps how many of them share the mission. ``--responsible AGENT`` asks AGENT alone to answer for
+the whole mission: its gateway auctions the nodes among itself and its peers, proposes their
+bids together, awards them when awarded and relays their progress. With ``--launch`` the system
+is started first (with a gateway per agent) and the aircraft are handed to autonomous mode as
+``hdrc3 tst run`` does.
 
 Exit codes: 0 the mission was delegated and succeeded, 1 it failed (or no allocation exists;
 the reasons are printed), 3 a candidate's gateway is not running, 4 invalid input (the file, as
@@ -51,6 +54,13 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("file", help="a .tst file whose nodes leave their agent open")
     parser.add_argument("--to", default="any", help="'any' (the file's agents) or AGENT[,AGENT]")
     parser.add_argument("--max-agents", type=int, default=None, help="at most N agents share it")
+    parser.add_argument(
+        "--responsible",
+        metavar="AGENT",
+        default=None,
+        help="make AGENT answer for the whole mission: its gateway delegates it on to itself and"
+        " the other agents of its launch (a network of responsibilities, section 10)",
+    )
     parser.add_argument("--keystore", required=True, help="agent keys (hdrc3 keys generate)")
     parser.add_argument("--as", dest="operator", default="gcs", help="the delegating agent")
     parser.add_argument("--mission", default=None, help="mission id (default: FILE stem + time)")
@@ -87,6 +97,10 @@ def _delegate(args: argparse.Namespace) -> int:
         raise ConfigError(f"{path} declares no agents: give --to AGENT[,AGENT]")
     if args.max_agents is not None and args.max_agents < 1:
         raise ConfigError(f"--max-agents must be >= 1, not {args.max_agents}")
+    if args.responsible is not None and args.responsible not in candidates:
+        raise ConfigError(
+            f"--responsible {args.responsible} is not one of the agents {', '.join(candidates)}"
+        )
     auth = Authenticator(args.operator, load_keystore(args.keystore))
     mission = args.mission or f"{path.stem}-{int(time.time())}"
     if not args.launch:
@@ -136,17 +150,20 @@ def _run(
                 hand_over(process, operator.node, agent)
                 console.print(f"safety pilot: {agent} engine on, RC switch to autonomous")
         timing = Timing(answer_s=args.answer_s, award_s=2 * args.answer_s, execution_s=args.timeout)
+        asked = (args.responsible,) if args.responsible else candidates
         delegation = Delegation(
             auth.agent,
             f"{mission}@{auth.agent}",
             mission,
             text,
             tst,
-            candidates,
+            asked,
             args.max_agents,
             timing,
+            whole=args.responsible is not None,
         )
-        console.print(f"delegating {mission} to {', '.join(candidates)}")
+        whole = f" (the whole mission; {args.responsible} re-delegates)" if args.responsible else ""
+        console.print(f"delegating {mission} to {', '.join(asked)}{whole}")
         operator.run(delegation, args.timeout, console.print)
         for line in operator.refusals:
             console.print(f"refused: {line}")

@@ -10,7 +10,10 @@ manager, path planner and PPC; the test is the ground operator ``gcs``. It check
 - the same mission again while the winner of a branch is cut off right before its award (the
   award is held back, as a partitioned network would, and delivered after its reply-by): the
   operator reallocates to the third aircraft, and the late award is refused, so the cut-off
-  agent's TST manager never holds the mission (nothing runs twice).
+  agent's TST manager never holds the mission (nothing runs twice);
+- the whole mission delegated to uav0 alone: uav0's gateway cannot fly both concurrent branches,
+  so it auctions them among itself and its peers, proposes their bids together, awards them when
+  awarded and relays their progress; the TST managers of two aircraft run the branches.
 """
 
 from __future__ import annotations
@@ -50,15 +53,22 @@ class Rig:
         self.operator = RosDelegator(process, Authenticator("gcs", self.keys))
         self.client = TstClient(process)
 
-    def delegation(self, mission: str) -> Any:
+    def delegation(self, mission: str, responsible: str = "") -> Any:
+        """To any two of the agents, or the whole mission to ``responsible``."""
         from hdrc3_delegation.contract_net import Delegation, Timing
         from hdrc3_tst.check import load_file
 
         tst = load_file(MISSION).tst
         assert tst is not None
         timing = Timing(answer_s=TIMING_S, award_s=2 * TIMING_S, execution_s=FLIGHT_WAIT_S)
+        if responsible:  # its own auction of the two branches must fit in the cfp's reply-by
+            timing = dataclasses.replace(timing, answer_s=4 * TIMING_S, award_s=4 * TIMING_S)
         text = MISSION.read_text(encoding="utf-8")
-        return Delegation("gcs", f"{mission}@gcs", mission, text, tst, AGENTS, 2, timing)
+        asked, most = ((responsible,), None) if responsible else (AGENTS, 2)
+        conversation = f"{mission}@gcs"
+        return Delegation(
+            "gcs", conversation, mission, text, tst, asked, most, timing, whole=bool(responsible)
+        )
 
     def answers(self, conversation: str) -> list[Any]:
         return [m for m in self.operator.received if m.conversation_id == conversation]
@@ -85,6 +95,7 @@ def rig(
         try:
             assert rig.operator.wait_for_gateways(AGENTS, 60.0) == ()
             for agent in AGENTS:
+                rig.client.follow(agent)  # which TST manager holds and runs which node
                 hand_over(process, rig.client.node, agent)
             yield rig, launch
         finally:
@@ -206,3 +217,17 @@ def test_gateways_refuse_bad_speech_acts_then_delegate_and_reallocate_around_a_p
     assert "after its reply-by" in late[0].content
     created = r.client.latest("two-pads-cut")
     assert not any(status.agent == cut for status in created.values()), created
+
+    # --- the whole mission to uav0, which re-delegates a branch it cannot fly at the same time
+    third = r.delegation("two-pads-whole", responsible="uav0")
+    r.operator.run(third, FLIGHT_WAIT_S)
+    assert third.phase is Phase.DONE, "\n".join(third.events)
+    assert set(third.assignment.values()) == {"uav0"}, "the operator contracted uav0 only"
+    assert third.node_states["m"] == "succeeded"
+    assert r.process.spin_until(
+        lambda: {"a2", "b2"} <= set(r.client.latest("two-pads-whole")), 30.0
+    )
+    ran = r.client.latest("two-pads-whole")
+    assert ran["a2"].agent != ran["b2"].agent, "the branches ran on two aircraft"
+    assert {ran[n].state for n in ("a2", "b2")} == {"succeeded"}
+    launch.wait_for_line("two-pads-whole re-delegation: won", timeout=30)  # uav0's auction

@@ -36,6 +36,11 @@ def test_keys_generate_writes_a_private_keystore_and_never_prints_a_key(
         (["delegate", "{ex}", "--keystore", "{keys}", "--to", "Uav!"], 2, "invalid agent"),
         (["delegate", "{ex}", "--keystore", "{keys}", "--max-agents", "0"], 2, "--max-agents"),
         (["delegate", "{ex}", "--keystore", "{keys}", "--as", "nobody"], 2, "no key for nobody"),
+        (
+            ["delegate", "{ex}", "--keystore", "{keys}", "--to", "uav0", "--responsible", "uav1"],
+            2,
+            "--responsible uav1 is not one of the agents uav0",
+        ),
     ],
 )
 def test_delegate_refuses_bad_input_before_anything_starts(

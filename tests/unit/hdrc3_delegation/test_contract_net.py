@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -189,6 +190,105 @@ def test_the_execution_deadline_fails_the_delegation() -> None:
     delegation = start(bus)
     bus.tick(TIMING.execution_s + 10.0)
     assert delegation.phase is Phase.FAILED and "in time" in delegation.reason
+
+
+# --- re-delegation: the operator makes one agent responsible for the whole mission ----------
+def responsible_fleet(no_camera: tuple[str, ...]) -> tuple[LocalBus, Contractor]:
+    """uav0 answers for Example 6.1 and may re-delegate to uav1 and uav2."""
+    bus = fleet(no_camera=no_camera, max_agents=None)
+    for contractor_, _ in bus.contractors.values():
+        contractor_.peers = tuple(POSITIONS)
+    tst = load_text(MISSION).tst
+    assert tst is not None
+    bus.delegation = Delegation("gcs", "c1", "m", MISSION, tst, ["uav0"], None, TIMING, whole=True)
+    return bus, bus.contractors["uav0"][0]
+
+
+def nested(uav0: Contractor) -> Delegation:
+    (duty,) = uav0.responsible.values()
+    return duty.nested
+
+
+def test_a_responsible_agent_re_delegates_what_it_cannot_fly() -> None:
+    bus, uav0 = responsible_fleet(no_camera=("uav0",))
+    delegation = start(bus)
+    assert delegation.phase is Phase.EXECUTING, delegation.events
+    assert set(delegation.assignment.values()) == {"uav0"}, "the operator sees one contractor"
+    parts = nested(uav0)
+    assignment = parts.assignment
+    assert parts.phase is Phase.EXECUTING and parts.conversation == "c1/uav0"
+    assert {assignment["tau2"], assignment["tau3"]} == {"uav1", "uav2"}, "uav0 has no camera"
+    scans = sorted((assignment[n], "m", n) for n in ("tau2", "tau3"))
+    assert executed(bus) == scans
+    for node in ("tau2", "tau3"):
+        manager(bus, assignment[node]).states.setdefault("m", {})[node] = "succeeded"
+    bus.tick(bus.now + 1.0)
+    assert executed(bus) == sorted([*scans, (assignment["tau4"], "m", "tau4")])
+    assert delegation.node_states["tau2"] == "succeeded", "progress is relayed to the operator"
+    manager(bus, assignment["tau4"]).states.setdefault("m", {})["tau4"] = "succeeded"
+    bus.tick(bus.now + 1.0)
+    bus.tick(bus.now + 1.0)
+    assert delegation.phase is Phase.DONE, delegation.events
+    assert uav0.responsible == {}
+    assert all(check.accepted for _, _, check in bus.log)
+    proposal = next(
+        m for m, r, _ in bus.log if r == "gcs" and m.performative is Performative.PROPOSE
+    )
+    assert '"parts"' in proposal.content
+
+
+def test_a_responsible_agent_that_finds_nobody_refuses_with_the_reason() -> None:
+    bus, uav0 = responsible_fleet(no_camera=tuple(POSITIONS))
+    delegation = start(bus)
+    assert delegation.phase is Phase.FAILED
+    assert "re-delegation failed: nobody can take tau2" in delegation.reason
+    assert uav0.responsible == {}
+
+
+def test_a_failed_part_fails_the_operators_delegation_with_the_reason() -> None:
+    bus, uav0 = responsible_fleet(no_camera=("uav0",))
+    delegation = start(bus)
+    assignment = nested(uav0).assignment
+    manager(bus, assignment["tau2"]).states.setdefault("m", {})["tau2"] = "failed"
+    bus.tick(bus.now + 1.0)
+    bus.tick(bus.now + 1.0)
+    assert delegation.phase is Phase.FAILED and "re-delegation failed" in delegation.reason
+    assert any("tau2 failed: set by the test" in e for e in delegation.events), "reason relayed"
+    aborted = [a for a in ("uav1", "uav2") if manager(bus, a).aborted]
+    assert aborted, "the parts are cancelled"
+
+
+def test_an_operators_cancel_reaches_the_parts() -> None:
+    bus, uav0 = responsible_fleet(no_camera=("uav0",))
+    delegation = start(bus)
+    assignment = nested(uav0).assignment
+    bus.send(bus.delegator_auth, delegation.cancel("operator abort"))
+    assert uav0.responsible == {}
+    assert manager(bus, assignment["tau2"]).aborted and manager(bus, assignment["tau3"]).aborted
+
+
+def test_an_award_after_the_proposal_lapsed_is_a_failure() -> None:
+    bus, uav0 = responsible_fleet(no_camera=("uav0",))
+    uav0.timing = replace(TIMING, proposal_valid_s=3.0)  # lapses before the award's reply-by
+    bus.cut = (Performative.ACCEPT_PROPOSAL, "uav0", 0)  # the operator's award is held back
+    delegation = start(bus)
+    assert delegation.phase is Phase.AWARD and uav0.responsible
+    bus.tick(5.0)
+    assert uav0.responsible == {}, "the proposal lapsed: nothing is held for the operator"
+    before = len(bus.log)
+    bus.heal()
+    late = [m for m, r, _ in bus.log[before:] if r == "gcs" and m.sender == "uav0"]
+    assert [m.performative for m in late] == [Performative.FAILURE]
+    assert "no proposal of this agent for the whole mission stands" in late[0].content
+    assert all(not manager(bus, a).created for a in POSITIONS), "nobody committed"
+
+
+def test_without_peers_a_whole_mission_is_priced_alone() -> None:
+    bus, uav0 = responsible_fleet(no_camera=())
+    uav0.peers = ()
+    delegation = start(bus)
+    assert delegation.phase is Phase.FAILED, "one aircraft cannot scan A and B concurrently"
+    assert uav0.responsible == {}
 
 
 def contractor() -> Contractor:
