@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import enum
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import shapely
@@ -54,6 +55,7 @@ from hdrc3_tst.syntax import (
     TstFile,
     WhileTask,
 )
+from hdrc3_tst.worlds import WorldCache, world_facts
 
 
 class ResolveStatus(enum.Enum):
@@ -203,15 +205,11 @@ class _Scope:
         return None
 
 
-STOCKED = ("box", "carrier")
-"""Kinds of world objects a point may be placed at by name (``point box1 = box1 at 0``)."""
-
-
 @dataclass
 class _Resolver:
     file: TstFile
     world_extent: shapely.Polygon | None
-    world_places: dict[str, tuple[float, float]]
+    world_places: Mapping[str, tuple[float, float]]
     agents: tuple[str, ...]
     diags: list[Diagnostic] = field(default_factory=list)
     net: ConstraintNetwork = field(default_factory=ConstraintNetwork)
@@ -772,10 +770,16 @@ _KINDS: dict[type, NodeKind] = {
 }
 
 
-def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>") -> ResolveResult:
+def resolve(
+    tree: TstFile,
+    agents: tuple[str, ...] = (),
+    file: str = "<string>",
+    worlds: WorldCache | None = None,
+) -> ResolveResult:
     """Resolve a parsed file against its world and agents, then propagate its network.
 
     ``agents`` adds to the file's ``agents`` declaration (e.g. ``--agents`` of the command).
+    ``worlds`` keeps loaded worlds for the next call; without it the world is loaded anew.
     """
     from sim.world_loader import WorldError, load_world
 
@@ -783,21 +787,19 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
     declared = tuple(n for i in tree.items if isinstance(i, AgentsDecl) for n in i.names)
     all_agents = tuple(dict.fromkeys((*declared, *agents)))
     extent: shapely.Polygon | None = None
-    places: dict[str, tuple[float, float]] = {}
+    places: Mapping[str, tuple[float, float]] = {}
     world_decl = next((i for i in tree.items if isinstance(i, WorldDecl)), None)
     if world_decl is not None:
         try:
-            world = load_world(world_decl.name)
+            facts = (
+                world_facts(load_world(world_decl.name))
+                if worlds is None
+                else worlds.facts(world_decl.name)
+            )
         except WorldError as exc:
             diags.append(Diagnostic("E100", f"world {world_decl.name!r}: {exc}", world_decl.pos))
         else:
-            extent = shapely.box(*world.bounds)
-            places = {p.name: (p.east, p.north) for p in world.places}
-            places.update({p.name: (p.east, p.north) for p in world.pads})
-            places.update({d.name: (d.east, d.north) for d in world.depots})
-            # where the world file stocks its boxes and carriers (the mission's depot plan)
-            stocked = (o for o in world.objects if o.kind.value in STOCKED)
-            places.update({o.id: (o.east, o.north) for o in stocked})
+            extent, places = facts.extent, facts.places
     resolver = _Resolver(tree, extent, places, all_agents, diags)
     resolver.declarations()
     tsts = mission_candidates(tree)
