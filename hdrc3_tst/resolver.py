@@ -40,6 +40,7 @@ from hdrc3_tst.finite import LinearConstraint, SolveStatus, SymbolConstraint
 from hdrc3_tst.model import UNASSIGNED, NodeKind, NodeRef, TaskTree
 from hdrc3_tst.model import Node as TreeNode
 from hdrc3_tst.network import ConstraintNetwork, FixResult, FixStatus
+from hdrc3_tst.printer import constraint_text
 from hdrc3_tst.stn import Inconsistent
 from hdrc3_tst.syntax import (
     ActionTask,
@@ -681,8 +682,6 @@ class _Resolver:
         return True
 
     def _comparison(self, cons: Comparison, scope: _Scope) -> None:
-        from hdrc3_tst.printer import constraint_text
-
         text = f"{cons.pos}: {constraint_text(cons)}"
         terms: dict[str, float] = {}
         const = 0.0
