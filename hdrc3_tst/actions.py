@@ -36,10 +36,10 @@ class ParamType(enum.Enum):
     @property
     def numeric(self) -> bool:
         """Numbers (as opposed to names of agents, areas, points, paths)."""
-        return self not in _NAMES
+        return self not in _NAMES  # a tuple: compared by identity, an enum hashes slowly
 
 
-_NAMES = frozenset({ParamType.AGENT, ParamType.AREA, ParamType.POINT, ParamType.PATH})
+_NAMES = (ParamType.AGENT, ParamType.AREA, ParamType.POINT, ParamType.PATH)
 
 
 @dataclass(frozen=True)
