@@ -392,6 +392,7 @@ class _Resolver:
                     self.pending.append((cons, own, node_id))
                 return node
             previous: TreeNode | None = None
+            in_sequence = f"{tst.pos}: sequence {node_id}: "  # the position formatted once
             for sub in tst.children():
                 child = self.node(sub, own, node, prefix)
                 if child is None:
@@ -403,7 +404,7 @@ class _Resolver:
                         child.params["TS"],
                         0.0,
                         False,
-                        f"{tst.pos}: sequence {node_id}: {previous.node_id} before {child.node_id}",
+                        f"{in_sequence}{previous.node_id} before {child.node_id}",
                     )
                 previous = child
         for cons in tst.where:
