@@ -537,16 +537,8 @@ class _Resolver:
 
     def _envelope(self, node: TreeNode, spec: ActionSpec, pspec: ParamSpec, var: str) -> None:
         lin = self.net.finite.linear
-        for op, bound in ((Cmp.GE, pspec.minimum), (Cmp.LE, pspec.maximum)):
-            if bound is not None and pspec.type is not ParamType.DURATION:
-                lin.append(
-                    LinearConstraint(
-                        ((1.0, var),),
-                        op,
-                        bound,
-                        f"{node.node_id}: {pspec.name} {op.value} {bound:g} {pspec.unit} (RMAX)",
-                    )
-                )
+        for op, bound, text in _ENVELOPE[spec.name, pspec.name]:
+            lin.append(LinearConstraint(((1.0, var),), op, bound, node.node_id + text))
         if spec.duration == pspec.name and var in self.net.values:
             d = float(self.net.values[var])
             label = f"{node.pos}: {node.node_id}: TE - TS = {spec.duration} {d:g} s"
@@ -757,6 +749,20 @@ class _NoPlace:
 
 
 _NONE = _NoPlace()
+
+def _envelope_bounds(pspec: ParamSpec) -> tuple[tuple[Cmp, float, str], ...]:
+    """The RMAX bounds of a parameter with the end of their labels (after the node id)."""
+    if pspec.type is ParamType.DURATION:
+        return ()
+    return tuple(
+        (op, bound, f": {pspec.name} {op.value} {bound:g} {pspec.unit} (RMAX)")
+        for op, bound in ((Cmp.GE, pspec.minimum), (Cmp.LE, pspec.maximum))
+        if bound is not None
+    )
+
+
+_ENVELOPE = {(a.name, p.name): _envelope_bounds(p) for a in ACTIONS.values() for p in a.params}
+"""(action, parameter) -> its envelope bounds, formatted once from the static registry."""
 
 _KINDS: dict[type, NodeKind] = {
     ActionTask: NodeKind.ACTION,
