@@ -750,6 +750,7 @@ class _NoPlace:
 
 _NONE = _NoPlace()
 
+
 def _envelope_bounds(pspec: ParamSpec) -> tuple[tuple[Cmp, float, str], ...]:
     """The RMAX bounds of a parameter with the end of their labels (after the node id)."""
     if pspec.type is ParamType.DURATION:
