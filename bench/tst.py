@@ -62,7 +62,7 @@ def main() -> None:
         f"generated TST: {nodes} nodes, {len(text)} characters, {len(stn.variables)} time "
         f"variables, {stn.edge_count} distance-graph edges (best of {args.repeat})"
     )
-    print(f"  parse (descent fast path + syntax tree) {best[0]:8.1f} ms wall {best[1]:8.1f} ms cpu")
+    print(f"  parse (lark LALR + syntax tree)         {best[0]:8.1f} ms wall {best[1]:8.1f} ms cpu")
     print(f"  resolve + full propagation (STN+CP-SAT) {best[2]:8.1f} ms wall {best[3]:8.1f} ms cpu")
     print(f"    of which STN full propagation         {best[4]:8.1f} ms wall {best[5]:8.1f} ms cpu")
     print(
