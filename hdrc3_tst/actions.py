@@ -36,7 +36,10 @@ class ParamType(enum.Enum):
     @property
     def numeric(self) -> bool:
         """Numbers (as opposed to names of agents, areas, points, paths)."""
-        return self not in (ParamType.AGENT, ParamType.AREA, ParamType.POINT, ParamType.PATH)
+        return self not in _NAMES  # a tuple: compared by identity, an enum hashes slowly
+
+
+_NAMES = (ParamType.AGENT, ParamType.AREA, ParamType.POINT, ParamType.PATH)
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ from hdrc3_tst.model import Node, NodeKind
 from hdrc3_tst.parser import ParseStatus, parse_file, parse_text
 from hdrc3_tst.resolver import ResolvedTst, ResolveStatus, resolve
 from hdrc3_tst.syntax import TstFile
+from hdrc3_tst.worlds import WorldCache
 
 
 class CheckStatus(enum.Enum):
@@ -38,11 +39,15 @@ class CheckResult:
 
 
 def _finish(
-    tree: TstFile | None, diags: tuple[Diagnostic, ...], agents: tuple[str, ...], file: str
+    tree: TstFile | None,
+    diags: tuple[Diagnostic, ...],
+    agents: tuple[str, ...],
+    file: str,
+    worlds: WorldCache | None,
 ) -> CheckResult:
     if tree is None:
         return CheckResult(CheckStatus.SYNTAX_ERROR, None, diags)
-    result = resolve(tree, agents, file)
+    result = resolve(tree, agents, file, worlds)
     status = {
         ResolveStatus.OK: CheckStatus.OK,
         ResolveStatus.INVALID: CheckStatus.INVALID,
@@ -51,18 +56,25 @@ def _finish(
     return CheckResult(status, result.tst, result.diagnostics)
 
 
-def load_text(text: str, file: str = "<string>", agents: tuple[str, ...] = ()) -> CheckResult:
-    """Parse, resolve and propagate TST text."""
+def load_text(
+    text: str,
+    file: str = "<string>",
+    agents: tuple[str, ...] = (),
+    worlds: WorldCache | None = None,
+) -> CheckResult:
+    """Parse, resolve and propagate TST text (``worlds``: see :func:`resolve`)."""
     parsed = parse_text(text, file)
-    return _finish(parsed.tree, parsed.diagnostics, agents, file)
+    return _finish(parsed.tree, parsed.diagnostics, agents, file, worlds)
 
 
-def load_file(path: str | Path, agents: tuple[str, ...] = ()) -> CheckResult:
+def load_file(
+    path: str | Path, agents: tuple[str, ...] = (), worlds: WorldCache | None = None
+) -> CheckResult:
     """Parse, resolve and propagate a ``.tst`` file (never raises on bad input)."""
     parsed = parse_file(path)
     if parsed.status is ParseStatus.UNREADABLE:
         return CheckResult(CheckStatus.UNREADABLE, None, parsed.diagnostics)
-    return _finish(parsed.tree, parsed.diagnostics, agents, str(path))
+    return _finish(parsed.tree, parsed.diagnostics, agents, str(path), worlds)
 
 
 def _value(tst: ResolvedTst, var: str) -> str:

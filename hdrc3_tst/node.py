@@ -71,6 +71,7 @@ from hdrc3_tst.recovery import RecoveryReport, RecoveryStep, Violation
 from hdrc3_tst.rmax_executors import RMAX_EXECUTORS
 from hdrc3_tst.ros_navigation import RosNavigation
 from hdrc3_tst.ros_platform import RosPlatform
+from hdrc3_tst.worlds import WorldCache
 from sim.world import ObjectKind
 from sim.world_loader import load_world
 
@@ -222,6 +223,8 @@ class TstManagerNode(Node):
             else None
         )
         self.planner = _Planner(self)
+        self.worlds = WorldCache()
+        """The worlds' facts, loaded once per world file for every mission created here."""
         self.engines: dict[str, ExecutionEngine] = {}
         self._status_pub = self.create_publisher(TstNodeStatus, "tst_status", STATUS_QOS)
         self._flag_pub = self.create_publisher(ExecutionFlag, "execution_flags", STATUS_QOS)
@@ -293,7 +296,8 @@ class TstManagerNode(Node):
             )
         try:
             agents = tuple(str(a) for a in request.agents)
-            loaded = load_text(str(request.text), str(request.file) or "<create>", agents)
+            file = str(request.file) or "<create>"
+            loaded = load_text(str(request.text), file, agents, self.worlds)
         except ConfigError as exc:
             return _answer(response, TstReturn.TST_INVALID, str(exc))
         if loaded.status is not CheckStatus.OK or loaded.tst is None:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import enum
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import shapely
@@ -39,6 +40,7 @@ from hdrc3_tst.finite import LinearConstraint, SolveStatus, SymbolConstraint
 from hdrc3_tst.model import UNASSIGNED, NodeKind, NodeRef, TaskTree
 from hdrc3_tst.model import Node as TreeNode
 from hdrc3_tst.network import ConstraintNetwork, FixResult, FixStatus
+from hdrc3_tst.printer import constraint_text
 from hdrc3_tst.stn import Inconsistent
 from hdrc3_tst.syntax import (
     ActionTask,
@@ -54,6 +56,7 @@ from hdrc3_tst.syntax import (
     TstFile,
     WhileTask,
 )
+from hdrc3_tst.worlds import WorldCache, world_facts
 
 
 class ResolveStatus(enum.Enum):
@@ -203,15 +206,11 @@ class _Scope:
         return None
 
 
-STOCKED = ("box", "carrier")
-"""Kinds of world objects a point may be placed at by name (``point box1 = box1 at 0``)."""
-
-
 @dataclass
 class _Resolver:
     file: TstFile
     world_extent: shapely.Polygon | None
-    world_places: dict[str, tuple[float, float]]
+    world_places: Mapping[str, tuple[float, float]]
     agents: tuple[str, ...]
     diags: list[Diagnostic] = field(default_factory=list)
     net: ConstraintNetwork = field(default_factory=ConstraintNetwork)
@@ -393,6 +392,7 @@ class _Resolver:
                     self.pending.append((cons, own, node_id))
                 return node
             previous: TreeNode | None = None
+            in_sequence = f"{tst.pos}: sequence {node_id}: "  # the position formatted once
             for sub in tst.children():
                 child = self.node(sub, own, node, prefix)
                 if child is None:
@@ -404,7 +404,7 @@ class _Resolver:
                         child.params["TS"],
                         0.0,
                         False,
-                        f"{tst.pos}: sequence {node_id}: {previous.node_id} before {child.node_id}",
+                        f"{in_sequence}{previous.node_id} before {child.node_id}",
                     )
                 previous = child
         for cons in tst.where:
@@ -537,16 +537,8 @@ class _Resolver:
 
     def _envelope(self, node: TreeNode, spec: ActionSpec, pspec: ParamSpec, var: str) -> None:
         lin = self.net.finite.linear
-        for op, bound in ((Cmp.GE, pspec.minimum), (Cmp.LE, pspec.maximum)):
-            if bound is not None and pspec.type is not ParamType.DURATION:
-                lin.append(
-                    LinearConstraint(
-                        ((1.0, var),),
-                        op,
-                        bound,
-                        f"{node.node_id}: {pspec.name} {op.value} {bound:g} {pspec.unit} (RMAX)",
-                    )
-                )
+        for op, bound, text in _ENVELOPE[spec.name, pspec.name]:
+            lin.append(LinearConstraint(((1.0, var),), op, bound, node.node_id + text))
         if spec.duration == pspec.name and var in self.net.values:
             d = float(self.net.values[var])
             label = f"{node.pos}: {node.node_id}: TE - TS = {spec.duration} {d:g} s"
@@ -683,8 +675,6 @@ class _Resolver:
         return True
 
     def _comparison(self, cons: Comparison, scope: _Scope) -> None:
-        from hdrc3_tst.printer import constraint_text
-
         text = f"{cons.pos}: {constraint_text(cons)}"
         terms: dict[str, float] = {}
         const = 0.0
@@ -760,6 +750,21 @@ class _NoPlace:
 
 _NONE = _NoPlace()
 
+
+def _envelope_bounds(pspec: ParamSpec) -> tuple[tuple[Cmp, float, str], ...]:
+    """The RMAX bounds of a parameter with the end of their labels (after the node id)."""
+    if pspec.type is ParamType.DURATION:
+        return ()
+    return tuple(
+        (op, bound, f": {pspec.name} {op.value} {bound:g} {pspec.unit} (RMAX)")
+        for op, bound in ((Cmp.GE, pspec.minimum), (Cmp.LE, pspec.maximum))
+        if bound is not None
+    )
+
+
+_ENVELOPE = {(a.name, p.name): _envelope_bounds(p) for a in ACTIONS.values() for p in a.params}
+"""(action, parameter) -> its envelope bounds, formatted once from the static registry."""
+
 _KINDS: dict[type, NodeKind] = {
     ActionTask: NodeKind.ACTION,
     GoalTask: NodeKind.GOAL,
@@ -772,10 +777,16 @@ _KINDS: dict[type, NodeKind] = {
 }
 
 
-def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>") -> ResolveResult:
+def resolve(
+    tree: TstFile,
+    agents: tuple[str, ...] = (),
+    file: str = "<string>",
+    worlds: WorldCache | None = None,
+) -> ResolveResult:
     """Resolve a parsed file against its world and agents, then propagate its network.
 
     ``agents`` adds to the file's ``agents`` declaration (e.g. ``--agents`` of the command).
+    ``worlds`` keeps loaded worlds for the next call; without it the world is loaded anew.
     """
     from sim.world_loader import WorldError, load_world
 
@@ -783,21 +794,19 @@ def resolve(tree: TstFile, agents: tuple[str, ...] = (), file: str = "<string>")
     declared = tuple(n for i in tree.items if isinstance(i, AgentsDecl) for n in i.names)
     all_agents = tuple(dict.fromkeys((*declared, *agents)))
     extent: shapely.Polygon | None = None
-    places: dict[str, tuple[float, float]] = {}
+    places: Mapping[str, tuple[float, float]] = {}
     world_decl = next((i for i in tree.items if isinstance(i, WorldDecl)), None)
     if world_decl is not None:
         try:
-            world = load_world(world_decl.name)
+            facts = (
+                world_facts(load_world(world_decl.name))
+                if worlds is None
+                else worlds.facts(world_decl.name)
+            )
         except WorldError as exc:
             diags.append(Diagnostic("E100", f"world {world_decl.name!r}: {exc}", world_decl.pos))
         else:
-            extent = shapely.box(*world.bounds)
-            places = {p.name: (p.east, p.north) for p in world.places}
-            places.update({p.name: (p.east, p.north) for p in world.pads})
-            places.update({d.name: (d.east, d.north) for d in world.depots})
-            # where the world file stocks its boxes and carriers (the mission's depot plan)
-            stocked = (o for o in world.objects if o.kind.value in STOCKED)
-            places.update({o.id: (o.east, o.north) for o in stocked})
+            extent, places = facts.extent, facts.places
     resolver = _Resolver(tree, extent, places, all_agents, diags)
     resolver.declarations()
     tsts = mission_candidates(tree)

@@ -181,6 +181,20 @@ def load_world(name_or_path: str | Path) -> World:
     return _with_bases(_load(world_path(name_or_path), ()).world)
 
 
+def load_world_sources(name_or_path: str | Path) -> tuple[World, tuple[Path, ...]]:
+    """:func:`load_world`, and the files it read: the world's, then its bases' in order.
+
+    For a cache of loaded worlds: the world is the same as long as none of them changed.
+    """
+    parsed = _load(world_path(name_or_path), ())
+    files: list[Path] = []
+    layer: _Parsed | None = parsed
+    while layer is not None:
+        files.append(Path(layer.label))
+        layer = layer.base
+    return _with_bases(parsed.world), tuple(files)
+
+
 def parse_world(text: str, label: str, source: Path | None = None) -> World:
     """Parse and validate world-file text; ``label`` names it in error messages."""
     return _with_bases(_parse(text, label, source, ()).world)

@@ -4,10 +4,11 @@ from pathlib import Path
 
 import pytest
 
-from hdrc3_tst.check import CheckStatus, load_file, load_text
+from hdrc3_tst.check import CheckStatus, load_file, load_text, tree_lines
 from hdrc3_tst.errors import TstError
 from hdrc3_tst.model import NodeKind, NodeRef
 from hdrc3_tst.network import FixStatus
+from hdrc3_tst.worlds import WorldCache
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "tst"
 HEAD = "world revinge\nagents uav0, uav1\npoint Dest = town_square at 30\n"
@@ -163,6 +164,16 @@ def test_a_goal_node_expands_into_a_sequence() -> None:
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.tst")), ids=lambda p: p.name)
 def test_every_shipped_example_checks(path: Path) -> None:
     assert load_file(path).status is CheckStatus.OK
+
+
+def test_a_world_cache_changes_nothing_but_the_loads() -> None:
+    worlds = WorldCache()
+    for path in sorted(EXAMPLES.glob("*.tst")):
+        fresh, cached = load_file(path), load_file(path, worlds=worlds)
+        assert cached.status is fresh.status is CheckStatus.OK
+        assert fresh.tst is not None and cached.tst is not None
+        assert list(tree_lines(cached.tst)) == list(tree_lines(fresh.tst))
+    assert 1 <= worlds.loads < len(list(EXAMPLES.glob("*.tst")))
 
 
 FLY_TO_EACH = (

@@ -17,7 +17,15 @@ from sim.geodesy import enu_to_geodetic
 from sim.render import bodies
 from sim.render.materials import Material
 from sim.world import BoxContents, DepotKind, ObjectKind
-from sim.world_loader import DEFAULT_SIZES, WorldError, load_world, parse_world, shipped_worlds
+from sim.world_loader import (
+    DEFAULT_SIZES,
+    WorldError,
+    load_world,
+    load_world_sources,
+    parse_world,
+    shipped_worlds,
+    world_path,
+)
 
 BASE = """\
 [world]
@@ -404,6 +412,14 @@ def test_variant_appends_to_and_inherits_from_its_base(tmp_path: Path) -> None:
     assert [p.name for p in world.places] == ["spot"] and world.pads == base.pads
     assert (world.origin, world.terrain) == (base.origin, base.terrain)
     assert (world.description, world.radiation_background) == ("the base", 0.2)
+
+
+def test_the_sources_of_a_world_are_its_file_then_its_bases(tmp_path: Path) -> None:
+    path = _variant(tmp_path, VARIANT)
+    world, files = load_world_sources(path)
+    assert world == load_world(path)
+    assert [f.resolve() for f in files] == [path.resolve(), (tmp_path / "base.toml").resolve()]
+    assert load_world_sources("revinge")[1] == (world_path("revinge"),)
 
 
 def test_variant_overrides_what_it_gives(tmp_path: Path) -> None:
