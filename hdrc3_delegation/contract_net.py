@@ -364,9 +364,13 @@ class Delegation:
                 auction.refusals[msg.sender] = "malformed proposal"
             else:
                 auction.bids[msg.sender] = bid
+                parts = body.get("parts")
+                via = ""
+                if isinstance(parts, dict) and parts:  # a responsible agent's re-delegation
+                    via = "; by " + ", ".join(f"{n}={a}" for n, a in sorted(parts.items()))
                 self.events.append(
                     f"propose {msg.sender}: done at +{bid.completion:.0f} s, "
-                    f"{bid.energy / 1e6:.2f} MJ"
+                    f"{bid.energy / 1e6:.2f} MJ{via}"
                 )
         elif msg.performative in (Performative.REFUSE, Performative.NOT_UNDERSTOOD):
             reason = str(body.get("reason", "no reason given"))

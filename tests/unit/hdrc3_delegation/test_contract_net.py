@@ -235,6 +235,7 @@ def test_a_responsible_agent_re_delegates_what_it_cannot_fly() -> None:
         m for m, r, _ in bus.log if r == "gcs" and m.performative is Performative.PROPOSE
     )
     assert '"parts"' in proposal.content
+    assert any(f"tau2={assignment['tau2']}" in e for e in delegation.events), "who does what"
 
 
 def test_a_responsible_agent_that_finds_nobody_refuses_with_the_reason() -> None:
