@@ -76,6 +76,7 @@ def host(count: int, keystore: str) -> int:
     from hdrc3_interfaces.msg import AclMessage as AclMessageMsg
     from hdrc3_navigation.planner import PathPlanner
     from hdrc3_platform_server.geo_frame import frame_from_world
+    from hdrc3_tst.worlds import WorldCache
     from sim.world_loader import load_world
 
     keys = load_keystore(keystore)
@@ -83,6 +84,7 @@ def host(count: int, keystore: str) -> int:
     planner.roadmap()
     frame = frame_from_world("revinge")
     rng = random.Random(1)
+    worlds = WorldCache()  # one per process, as each gateway process keeps its own
     with RosProcess() as process:
         executor = SingleThreadedExecutor(context=process.context)
         for name in agent_names(count):
@@ -91,7 +93,7 @@ def host(count: int, keystore: str) -> int:
             start = (rng.uniform(-280, 100), rng.uniform(-150, 100), 0.0)
             start = (start[0], start[1], frame.ground_up(start[0], start[1]))
             coster = TaskCoster(PlannerMotion(planner), frame.ground_up)
-            server = ConstraintServer(AgentProfile(name), coster, start)
+            server = ConstraintServer(AgentProfile(name), coster, start, worlds=worlds)
             contractor = Contractor(name, server, FakeManager())
             outbox = Outbox(node, auth)
 

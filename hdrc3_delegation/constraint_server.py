@@ -35,6 +35,7 @@ from hdrc3_tst.model import Node, NodeKind
 from hdrc3_tst.network import FixStatus
 from hdrc3_tst.resolver import ResolvedTst, temporal_order
 from hdrc3_tst.stn import ORIGIN, Inconsistent
+from hdrc3_tst.worlds import WorldCache
 
 DEFAULT_ENERGY_BUDGET_J = 40e6
 """About an hour of RMAX flight at cruise power (12 kW)."""
@@ -111,6 +112,9 @@ class ConstraintServer:
     position: Vec3 | None = None
     """Where the agent is (local ENU m); None until the Data Interface said."""
     commitments: dict[str, Commitment] = field(default_factory=dict)
+    worlds: WorldCache = field(default_factory=WorldCache, repr=False)
+    """The worlds' facts the missions are resolved against (share one among servers of a
+    process: a world is then loaded once, not once per agent)."""
     _loaded: dict[tuple[str, str], ResolvedTst | str] = field(default_factory=dict, repr=False)
 
     def evaluate(
@@ -145,7 +149,7 @@ class ConstraintServer:
         """A private copy of the loaded mission, or why it does not load (loaded once)."""
         key = (mission, text)
         if key not in self._loaded:
-            result = load_text(text, f"<{mission}>")
+            result = load_text(text, f"<{mission}>", worlds=self.worlds)
             if result.status is CheckStatus.OK and result.tst is not None:
                 self._loaded[key] = result.tst
             else:
