@@ -18,6 +18,7 @@ import sys
 import time
 from collections import Counter
 from dataclasses import dataclass
+from typing import Any
 
 from rclpy.context import Context
 from rclpy.node import Node
@@ -57,9 +58,9 @@ class _Demand:
 class LiveViewNode(Node):
     """Streams the running system to Foxglove clients."""
 
-    def __init__(self, context: Context) -> None:
+    def __init__(self, context: Context, **kwargs: Any) -> None:
         """Read ``world``, ``host`` and ``port``; start the server (ConfigError if it cannot)."""
-        super().__init__(NODE_NAME, context=context)
+        super().__init__(NODE_NAME, context=context, **kwargs)
         world_name = str(self.declare_parameter("world", "revinge").value)
         host = str(self.declare_parameter("host", DEFAULT_HOST).value)
         port = int(self.declare_parameter("port", DEFAULT_PORT).value)
