@@ -44,6 +44,10 @@ class Source:
 
     suffix: str
     type_name: str
+    newest_only: bool = False
+    """Subscribe best effort with a queue of one (sensor data): a slow live view never holds
+    up the publisher (world_render's images are reliable, and world_sim waits for the renderer)
+    and only the newest message is taken; otherwise the QoS follows the publishers'."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -178,7 +182,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
     LiveChannel(
         "/live/camera/color",
         WireSchema.well_known(CompressedImage),
-        (Source("camera/color/image_raw", "sensor_msgs/msg/Image"),),
+        (Source("camera/color/image_raw", "sensor_msgs/msg/Image", newest_only=True),),
         ImageConverter,
         False,
         "colour camera, JPEG, 5 Hz, one channel per agent",
@@ -188,7 +192,7 @@ CHANNELS: tuple[LiveChannel, ...] = (
     LiveChannel(
         "/live/camera/thermal",
         WireSchema.well_known(CompressedImage),
-        (Source("camera/thermal/image_raw", "sensor_msgs/msg/Image"),),
+        (Source("camera/thermal/image_raw", "sensor_msgs/msg/Image", newest_only=True),),
         ImageConverter,
         False,
         "thermal camera (white hot), JPEG, 5 Hz, one channel per agent",

@@ -22,7 +22,7 @@ from typing import Any
 
 from rclpy.context import Context
 from rclpy.node import Node
-from rclpy.qos import QoSProfile
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from rclpy.subscription import Subscription
 
@@ -40,6 +40,10 @@ NODE_NAME = "live_view"
 DISCOVERY_PERIOD_S = 0.5
 LATCH_PERIOD_S = 0.1
 SKIP_LOG_PERIOD_S = 5.0
+NEWEST_ONLY = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE
+)
+"""Camera images: never hold up the publisher, take only the newest."""
 
 
 @dataclass(slots=True)
@@ -92,7 +96,7 @@ class LiveViewNode(Node):
                 continue
             agent, suffix = route
             offered = [info.qos_profile for info in self.get_publishers_info_by_topic(topic)]
-            qos = subscription_qos(offered)
+            qos = NEWEST_ONLY if self.view.newest_only(suffix) else subscription_qos(offered)
             channels = self.view.channels_of(suffix)
             if all(c.on_demand for c in channels):
                 names = tuple(self.server.advertise(c, agent) for c in channels)

@@ -38,6 +38,10 @@ class LiveView:
         self._types = {s.suffix: s.type_name for c in self.channels for s in c.sources}
         self._latched: dict[str, dict[str, bytes]] = {c.topic: {} for c in self.channels}
 
+    def newest_only(self, suffix: str) -> bool:
+        """True if the source should be subscribed best effort, newest message only."""
+        return any(s.newest_only for c in self.channels for s in c.sources if s.suffix == suffix)
+
     def channels_of(self, suffix: str) -> tuple[LiveChannel, ...]:
         """The channels fed by a source suffix."""
         return tuple(self._routes.get(suffix, ()))

@@ -89,3 +89,12 @@ def test_skips_are_counted_per_channel(world):
         "/live/saliency": {SkipReason.MALFORMED_MAP: 1},
         "/live/camera/color": {SkipReason.UNKNOWN_ENCODING: 1},
     }
+
+
+@pytest.mark.parametrize(
+    ("suffix", "newest_only"),
+    [("camera/color/image_raw", True), ("camera/thermal/image_raw", True),
+     ("ground_truth/state", False), ("saliency/map", False)],
+)  # fmt: skip
+def test_camera_images_are_taken_newest_only(world, suffix, newest_only):
+    assert LiveView(world).newest_only(suffix) is newest_only
