@@ -15,6 +15,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 
+from hdrc3.live.channels import registered
 from hdrc3.live.view import Emission, LiveView
 from hdrc3.mcap_recording import RecordingWriter, TopicInfo
 from hdrc3.message_types import MessageTypeError, message_class
@@ -80,10 +81,11 @@ class RecorderNode(Node):
         self._subscribed: set[str] = set()
         self.warnings: list[str] = []
         self._live = live
+        self._live_topics: set[str] = set()
         if live is not None:
             for channel in live.channels:
-                schema = (channel.schema.name, channel.schema.encoding, channel.schema.data)
-                writer.add_channel(channel.topic, schema, channel.schema.message_encoding)
+                if not channel.per_agent:
+                    self._add_live_channel(channel.topic)
             self._write_live(live.start(time.time_ns()), time.time_ns())
         self.create_timer(DISCOVERY_PERIOD_S, self.discover)
         self.create_timer(FLUSH_PERIOD_S, writer.flush)
@@ -140,16 +142,27 @@ class RecorderNode(Node):
         def on_message(data: bytes, topic: str = topic) -> None:
             now = time.time_ns()
             self._writer.write(topic, data, now)
-            if route is not None and self._live is not None:
+            if route is not None and self._live is not None and self._live.wants(*route, now):
                 msg = deserialize_message(data, msg_type)
                 self._write_live(self._live.on_message(*route, msg, now), now)
 
         self.create_subscription(msg_type, topic, on_message, subscription_qos(offered), raw=True)
         self._subscribed.add(topic)
 
+    def _add_live_channel(self, topic: str) -> bool:
+        """Register a live channel (a per-agent one on its first message); False if unknown."""
+        channel = registered(topic, self._live.channels) if self._live is not None else None
+        if channel is None:
+            return False
+        schema = (channel.schema.name, channel.schema.encoding, channel.schema.data)
+        self._writer.add_channel(topic, schema, channel.schema.message_encoding)
+        self._live_topics.add(topic)
+        return True
+
     def _write_live(self, emissions: list[Emission], log_time_ns: int) -> None:
         for e in emissions:
-            self._writer.write(e.channel, e.data, log_time_ns)
+            if e.channel in self._live_topics or self._add_live_channel(e.channel):
+                self._writer.write(e.channel, e.data, log_time_ns)
 
     def _warn(self, text: str) -> None:
         self.warnings.append(text)

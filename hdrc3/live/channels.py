@@ -2,9 +2,14 @@
 
 The live view node, the recorder and the saved Foxglove layout (``foxglove/hdrc3.json``, checked
 by a test) all read this table. Names start with ``/live/``: in a recording they sit beside the
-ROS topics (``/hdrc3/launch_status`` is one) and must not be taken for them. A new channel
-(camera images, the saliency map) is one more :class:`LiveChannel` here with its converter;
-nothing else changes.
+ROS topics (``/hdrc3/launch_status`` is one) and must not be taken for them. A new channel is one
+more :class:`LiveChannel` here with its converter; nothing else changes.
+
+Camera images are per agent (``/live/camera/color/uav0``): Foxglove's Image panel shows one
+topic, and images of several agents on one channel would alternate in it (an image's frame id
+does not select). They are also on demand: the renderer draws a camera only while its topic has
+a subscriber, so the live view subscribes to the images only while a client subscribes to the
+agent's image channel.
 """
 
 from __future__ import annotations
@@ -12,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from foxglove.messages import FrameTransforms, Log, SceneUpdate
+from foxglove.messages import CompressedImage, FrameTransforms, Log, SceneUpdate
 
 from hdrc3.live.converters import (
     AircraftConverter,
@@ -20,13 +25,16 @@ from hdrc3.live.converters import (
     EventConverter,
     GisConverter,
     HcsmConverter,
+    ImageConverter,
     PlannedPathConverter,
+    SaliencyConverter,
     TrackConverter,
     TransformConverter,
     TstConverter,
     WorldConverter,
 )
 from hdrc3.live.wire import WireSchema
+from hdrc3_base.agents import AGENT_NAME
 from sim.world import World
 
 
@@ -36,6 +44,10 @@ class Source:
 
     suffix: str
     type_name: str
+    newest_only: bool = False
+    """Subscribe best effort with a queue of one (sensor data): a slow live view never holds
+    up the publisher (world_render's images are reliable, and world_sim waits for the renderer)
+    and only the newest message is taken; otherwise the QoS follows the publishers'."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,6 +61,14 @@ class LiveChannel:
     latched: bool
     """A subscribing client gets the latest message of every key again (static or slow data)."""
     description: str
+    per_agent: bool = False
+    """One channel per agent, ``<topic>/<agent>``, advertised when the agent's source appears."""
+    on_demand: bool = False
+    """The sources are subscribed only while a client subscribes to the channel."""
+
+    def instance(self, agent: str) -> str:
+        """The channel name that carries ``agent``'s messages."""
+        return f"{self.topic}/{agent}" if self.per_agent else self.topic
 
 
 TRUTH = Source("ground_truth/state", "hdrc3_interfaces/msg/TruthState")
@@ -144,10 +164,54 @@ CHANNELS: tuple[LiveChannel, ...] = (
         (
             Source("platform_events", "hdrc3_interfaces/msg/PlatformEvent"),
             Source("execution_flags", "hdrc3_interfaces/msg/ExecutionFlag"),
+            Source("monitor_violations", "hdrc3_interfaces/msg/MonitorViolation"),
+            Source("recovery_events", "hdrc3_interfaces/msg/RecoveryEvent"),
         ),
         EventConverter,
         False,
-        "platform events and TST execution flags (log lines)",
+        "platform events, TST execution flags, monitor violations, recovery steps (log lines)",
+    ),
+    LiveChannel(
+        "/live/saliency",
+        WireSchema.well_known(SceneUpdate),
+        (Source("saliency/map", "std_msgs/msg/String"),),
+        SaliencyConverter,
+        True,
+        "salient locations (people) of each agent's saliency map, by certainty",
+    ),
+    LiveChannel(
+        "/live/camera/color",
+        WireSchema.well_known(CompressedImage),
+        (Source("camera/color/image_raw", "sensor_msgs/msg/Image", newest_only=True),),
+        ImageConverter,
+        False,
+        "colour camera, JPEG, 5 Hz, one channel per agent",
+        per_agent=True,
+        on_demand=True,
+    ),
+    LiveChannel(
+        "/live/camera/thermal",
+        WireSchema.well_known(CompressedImage),
+        (Source("camera/thermal/image_raw", "sensor_msgs/msg/Image", newest_only=True),),
+        ImageConverter,
+        False,
+        "thermal camera (white hot), JPEG, 5 Hz, one channel per agent",
+        per_agent=True,
+        on_demand=True,
     ),
 )
 CHANNEL_NAMES = tuple(c.topic for c in CHANNELS)
+"""Registry names; a per-agent channel is advertised as ``<name>/<agent>``."""
+STATIC_CHANNEL_NAMES = tuple(c.topic for c in CHANNELS if not c.per_agent)
+"""Channels advertised from the start."""
+
+
+def registered(topic: str, channels: tuple[LiveChannel, ...] = CHANNELS) -> LiveChannel | None:
+    """The registry entry of an advertised channel name (a per-agent one too), or None."""
+    parent, _, agent = topic.rpartition("/")
+    for c in channels:
+        if topic == c.topic and not c.per_agent:
+            return c
+        if c.per_agent and parent == c.topic and AGENT_NAME.match(agent):
+            return c
+    return None

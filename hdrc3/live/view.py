@@ -6,12 +6,13 @@ what comes back; the recorder does the same to write the live channels into a re
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from hdrc3.live.channels import CHANNELS, LiveChannel
-from hdrc3.live.converters import Converter, Output
+from hdrc3.live.converters import Converter, Output, SkipReason
 from hdrc3_base.agents import AGENT_NAME
 from sim.world import World
 
@@ -37,6 +38,14 @@ class LiveView:
         self._types = {s.suffix: s.type_name for c in self.channels for s in c.sources}
         self._latched: dict[str, dict[str, bytes]] = {c.topic: {} for c in self.channels}
 
+    def newest_only(self, suffix: str) -> bool:
+        """True if the source should be subscribed best effort, newest message only."""
+        return any(s.newest_only for c in self.channels for s in c.sources if s.suffix == suffix)
+
+    def channels_of(self, suffix: str) -> tuple[LiveChannel, ...]:
+        """The channels fed by a source suffix."""
+        return tuple(self._routes.get(suffix, ()))
+
     def source_types(self) -> dict[str, str]:
         """ROS type name of every source suffix."""
         return dict(self._types)
@@ -51,22 +60,40 @@ class LiveView:
     def start(self, now_ns: int) -> list[Emission]:
         """What the channels know before any message (the world)."""
         return [
-            e for c in self.channels for e in self._keep(c, self._converters[c.topic].start(now_ns))
+            e
+            for c in self.channels
+            for e in self._keep(c, self._converters[c.topic].start(now_ns), c.topic)
         ]
+
+    def wants(self, agent: str, suffix: str, now_ns: int) -> bool:
+        """False if a message from ``/<agent>/<suffix>`` now would give nothing (don't decode)."""
+        return any(
+            self._converters[c.topic].wants(suffix, agent, now_ns)
+            for c in self._routes.get(suffix, ())
+        )
 
     def on_message(self, agent: str, suffix: str, msg: Any, now_ns: int) -> list[Emission]:
         """Messages of every channel fed by ``/<agent>/<suffix>``."""
         out: list[Emission] = []
         for c in self._routes.get(suffix, ()):
-            out += self._keep(c, self._converters[c.topic].convert(suffix, agent, msg, now_ns))
+            outputs = self._converters[c.topic].convert(suffix, agent, msg, now_ns)
+            out += self._keep(c, outputs, c.instance(agent))
         return out
 
+    def skipped(self) -> dict[str, Counter[SkipReason]]:
+        """Source messages each channel's converter dropped so far, by reason (non-zero only)."""
+        counts = {c.topic: self._converters[c.topic].skipped for c in self.channels}
+        return {topic: Counter(n) for topic, n in counts.items() if n}
+
     def latched(self, topic: str) -> list[Emission]:
-        """The latest message of every key of a latched channel (for a subscribing client)."""
+        """The latest message of every key of a latched channel (for a subscribing client).
+
+        ``topic`` is an advertised name (``<name>/<agent>`` for a per-agent channel).
+        """
         return [Emission(topic, data) for data in self._latched.get(topic, {}).values()]
 
-    def _keep(self, channel: LiveChannel, outputs: list[Output]) -> list[Emission]:
+    def _keep(self, channel: LiveChannel, outputs: list[Output], topic: str) -> list[Emission]:
         if channel.latched:
             for o in outputs:
-                self._latched[channel.topic][o.key] = o.data
-        return [Emission(channel.topic, o.data) for o in outputs]
+                self._latched.setdefault(topic, {})[o.key] = o.data
+        return [Emission(topic, o.data) for o in outputs]

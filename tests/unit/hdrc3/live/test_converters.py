@@ -4,8 +4,10 @@ import itertools
 import json
 import math
 
+import numpy as np
 import pytest
-from foxglove.messages import FrameTransforms, Log, LogLevel, SceneUpdate
+from foxglove.messages import CompressedImage, FrameTransforms, Log, LogLevel, SceneUpdate
+from sensor_msgs.msg import Image
 from std_msgs.msg import String
 
 from hdrc3.live.converters import (
@@ -13,8 +15,11 @@ from hdrc3.live.converters import (
     EventConverter,
     GisConverter,
     HcsmConverter,
+    ImageConverter,
     PlannedPathConverter,
     RateLimiter,
+    SaliencyConverter,
+    SkipReason,
     TrackConverter,
     TransformConverter,
     TstConverter,
@@ -26,12 +31,15 @@ from hdrc3_interfaces.msg import (
     ExecutionFlag,
     GisState,
     GisZone,
+    MonitorViolation,
     Path,
     PathSegment,
     PlatformEvent,
+    RecoveryEvent,
     TruthState,
     TstNodeStatus,
 )
+from hdrc3_perception.saliency_map import Location, SaliencyMap, dumps_geojson
 from sim.world_loader import load_world
 
 WORLD = load_world("revinge")
@@ -203,6 +211,7 @@ def test_hcsm_active_states_from_a_trace_record():
     assert payload["active_states"] == ["Root", "ModeSwitch.TakeOff"]
     assert payload["transitions"] == ["Hover -> TakeOff"] and out.key == "uav0/PFC"
     assert conv.convert("hcsm/trace", "uav0", String(data="{not json"), 0) == []
+    assert conv.skipped == {SkipReason.MALFORMED_TRACE: 1}
 
 
 @pytest.mark.parametrize(
@@ -235,3 +244,163 @@ def test_world_converter_has_no_sources():
     conv = WorldConverter(WORLD)
     assert conv.convert("x", "uav0", truth(), 0) == []
     assert [o.key for o in conv.start(0)] == ["world"]
+
+
+def test_rate_limiter_ready_schedules_nothing():
+    limit = RateLimiter(40 * MS)
+    assert limit.ready("a", 0) and limit.ready("a", 0)
+    assert limit.due("a", 0)
+    assert not limit.ready("a", 10 * MS) and limit.ready("a", 40 * MS)
+
+
+def violation(kind: int, **fields) -> MonitorViolation:
+    msg = MonitorViolation(agent="uav0", monitor_id="speed_limit", formula="always v < 12")
+    msg.kind = kind
+    for name, value in fields.items():
+        setattr(msg, name, value)
+    return msg
+
+
+@pytest.mark.parametrize(
+    ("msg", "level", "text"),
+    [
+        (violation(MonitorViolation.KIND_VIOLATION), LogLevel.Error,
+         "monitor speed_limit violated: always v < 12"),
+        (violation(MonitorViolation.KIND_VIOLATION, node_id="n4", action="fly-to",
+                   argument_names=["x"], argument_values=["depot"], recovery="avoid",
+                   emergency_brake=True),
+         LogLevel.Error, "violated: always v < 12 [x=depot] (node n4 fly-to); recovery avoid; "
+                         "emergency brake"),
+        (violation(MonitorViolation.KIND_STALE_DATA, reason="no speed for 2 s"), LogLevel.Warning,
+         "monitor speed_limit stale data: always v < 12: no speed for 2 s"),
+        (violation(MonitorViolation.KIND_REFUSED), LogLevel.Warning, "not activated"),
+        (violation(42), LogLevel.Warning, "monitor speed_limit kind 42"),
+    ],
+)  # fmt: skip
+def test_monitor_violations_as_log_lines(msg, level, text):
+    (out,) = EventConverter(WORLD).convert("monitor_violations", "uav0", msg, 0)
+    line = decode(WireSchema.well_known(Log), out.data)
+    assert line.level == level.value and text in line.message
+    assert line.name == "uav0/execution_monitor"
+
+
+def recovery(step: int, **fields) -> RecoveryEvent:
+    msg = RecoveryEvent(mission="m", agent="uav1", node_id="g2", monitor_id="wind", attempt=1)
+    msg.step = step
+    for name, value in fields.items():
+        setattr(msg, name, value)
+    return msg
+
+
+@pytest.mark.parametrize(
+    ("msg", "level", "text"),
+    [
+        (recovery(RecoveryEvent.STEP_SUSPENDED), LogLevel.Info,
+         "m: g2 step suspended (wind, attempt 1)"),
+        (recovery(RecoveryEvent.STEP_OPERATOR_APPLIED, recovery="lower-wind",
+                  changes=["(wind-ok) false"]),
+         LogLevel.Info, "recovery operator applied (wind, attempt 1); operator lower-wind; "
+                        "changed (wind-ok) false"),
+        (recovery(RecoveryEvent.STEP_REPLANNED, plan=["fly-to uav1 a", "land uav1"]),
+         LogLevel.Info, "replanned (wind, attempt 1); plan fly-to uav1 a / land uav1"),
+        (recovery(RecoveryEvent.STEP_GAVE_UP, reason="no plan"), LogLevel.Error,
+         "gave up (wind, attempt 1): no plan"),
+        (recovery(99), LogLevel.Info, "m: g2 step 99"),
+    ],
+)  # fmt: skip
+def test_recovery_steps_as_log_lines(msg, level, text):
+    (out,) = EventConverter(WORLD).convert("recovery_events", "uav1", msg, 0)
+    line = decode(WireSchema.well_known(Log), out.data)
+    assert line.level == level.value and text in line.message
+    assert line.name == "uav1/tst_recovery"
+
+
+def camera_image(encoding: str = "rgb8", width: int = 8, height: int = 6) -> Image:
+    channels = {"rgb8": 3, "mono16": 2}.get(encoding, 1)
+    data = bytes(np.arange(width * height * channels, dtype=np.uint32).astype(np.uint8))
+    msg = Image(height=height, width=width, encoding=encoding, step=width * channels, data=data)
+    msg.header.frame_id = "uav0/color_optical"
+    return msg
+
+
+def test_images_are_jpeg_at_5_hz_per_agent_in_the_camera_frame():
+    conv = ImageConverter(WORLD)
+    out = []
+    for t in range(0, 1000, 40):  # 25 Hz camera
+        for agent in ("uav0", "uav1"):
+            if conv.wants("camera/color/image_raw", agent, t * MS):
+                out += conv.convert("camera/color/image_raw", agent, camera_image(), t * MS)
+    assert [o.key for o in out].count("uav0") == 5 and len(out) == 10
+    image = decode(WireSchema.well_known(CompressedImage), out[0].data)
+    assert (image.format, image.frame_id) == ("jpeg", "uav0/color_optical")
+    assert image.data[:2] == b"\xff\xd8"
+
+
+def test_an_image_without_frame_gets_the_cameras_optical_frame():
+    msg = camera_image("mono16")
+    msg.header.frame_id = ""
+    (out,) = ImageConverter(WORLD).convert("camera/thermal/image_raw", "uav2", msg, 0)
+    image = decode(WireSchema.well_known(CompressedImage), out.data)
+    assert image.frame_id == "uav2/thermal_optical"
+
+
+@pytest.mark.parametrize(
+    ("msg", "reason"),
+    [
+        (camera_image("yuv422"), SkipReason.UNKNOWN_ENCODING),
+        (camera_image(width=0), SkipReason.BAD_IMAGE_SIZE),
+        (Image(encoding="rgb8", width=4, height=4, step=12, data=b"short"),
+         SkipReason.BAD_IMAGE_SIZE),
+    ],
+)  # fmt: skip
+def test_images_that_cannot_be_shown_are_skipped_and_counted(msg, reason):
+    conv = ImageConverter(WORLD)
+    assert conv.convert("camera/color/image_raw", "uav0", msg, 0) == []
+    assert conv.skipped == {reason: 1}
+
+
+def saliency_map(*locations: tuple[float, float, float, int, int]) -> String:
+    smap = SaliencyMap()
+    smap.absorb([Location(i, *loc, first_seen=1.0) for i, loc in enumerate(locations)])
+    return String(data=dumps_geojson(smap, WORLD.origin))
+
+
+def test_saliency_map_as_spheres_in_the_world_frame_coloured_by_certainty():
+    msg = saliency_map((10.0, 20.0, 1.0, 4, 4), (-5.0, 3.0, 0.5, 4, 1))
+    (out,) = SaliencyConverter(WORLD).convert("saliency/map", "uav0", msg, 0)
+    (entity,) = decode(SCENE, out.data).entities
+    assert (entity.id, entity.frame_id) == ("saliency/uav0", "world")
+    sure, unsure = entity.spheres
+    assert (sure.pose.position.x, sure.pose.position.y) == pytest.approx((10.0, 20.0), abs=1e-6)
+    assert sure.pose.position.z == pytest.approx(2.0, abs=1e-6)  # the sphere sits on the ground
+    assert sure.color.g > sure.color.r  # confirmed: green
+    assert unsure.color.r == 1.0 and unsure.color.a < sure.color.a  # unlikely: red, faint
+    assert [t.text for t in entity.texts] == ["1.00 (4/4)", "0.25 (1/4)"]
+
+
+def test_an_empty_saliency_map_deletes_the_agents_entity():
+    (out,) = SaliencyConverter(WORLD).convert("saliency/map", "uav1", saliency_map(), 0)
+    assert [d.id for d in decode(SCENE, out.data).deletions] == ["saliency/uav1"]
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "{not json",
+        "[]",
+        '{"type": "FeatureCollection"}',
+        '{"type": "FeatureCollection", "features": [{"properties": {"east": 1}}]}',
+        '{"type": "FeatureCollection", "features": [7]}',
+        "[" * 100_000,  # nesting deeper than the JSON decoder's recursion
+    ],
+)
+def test_malformed_saliency_maps_are_skipped_and_counted(text):
+    conv = SaliencyConverter(WORLD)
+    assert conv.convert("saliency/map", "uav0", String(data=text), 0) == []
+    assert conv.skipped == {SkipReason.MALFORMED_MAP: 1}
+
+
+def test_non_finite_poses_are_counted():
+    conv = TrackConverter(WORLD)
+    conv.convert("s", "uav0", truth(x=math.nan), 0)
+    assert conv.skipped == {SkipReason.NON_FINITE: 1}
