@@ -40,6 +40,8 @@ from hdrc3_tst.resolver import ResolvedTst
 _COORDINATED = (NodeKind.SEQUENCE, NodeKind.CONCURRENT)
 """Composite nodes the delegator itself runs when their children are on several agents."""
 _ENDED_BADLY = (NodeState.FAILED.value, NodeState.ABORTED.value)
+_FINISHED = frozenset(s.value for s in NodeState if s.finished)
+_STARTED = _FINISHED | {NodeState.RUNNING.value, NodeState.PAUSED.value}
 _REFUSALS = (Performative.REFUSE, Performative.FAILURE, Performative.NOT_UNDERSTOOD)
 ANSWERS = frozenset(
     {
@@ -562,6 +564,31 @@ class Delegation:
         visit(self.tst.tree.root)
         return out
 
+    def _due(self, root: str) -> bool:
+        """Whether the held ``root`` may be requested now (a dispatcher's rule).
+
+        It may once every start and end that the constraints put before its start, of a node
+        another agent runs, has happened by that agent's reports. The contractor's replica may
+        not hear the other agents (another host): the request tells it that all of them
+        happened (``released``). Nodes this delegator runs itself are ordered by its own
+        traversal.
+        """
+        tree = self.tst.tree
+        inside = {n.node_id for _, n in tree.walk(root)}
+        held = {
+            n.node_id for r in self._held_by for _, n in tree.walk(r) if n.node_id not in inside
+        }
+        events = {n.params[p]: (n.node_id, p) for n in tree.nodes.values() for p in ("TS", "TE")}
+        for var in self.tst.network.stn.no_later_than(tree.nodes[root].params["TS"]):
+            node_id, param = events.get(var, ("", ""))
+            if node_id not in held:
+                continue
+            state = self.node_states.get(node_id, NodeState.CREATED.value)
+            happened = _FINISHED if param == "TE" else _STARTED
+            if state not in happened:
+                return False
+        return True
+
     def _under_held(self, node_id: str, root: str) -> bool:
         return any(n.node_id == node_id for _, n in self.tst.tree.walk(root))
 
@@ -584,6 +611,8 @@ class Delegation:
         """The node's state, after starting what is due (sequence and concurrent semantics)."""
         agent = self._held_by.get(node_id)
         if agent is not None:
+            if node_id not in self._requested and not self._due(node_id):
+                return NodeState.CREATED.value
             if node_id not in self._requested:
                 self._requested[node_id] = now + self.timing.start_s
                 self.events.append(f"request {agent}: execute {node_id}")

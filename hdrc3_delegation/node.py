@@ -205,7 +205,10 @@ class TstManagerPort:
 
     def execute(self, mission: str, node_id: str) -> str:
         """Start a node now."""
-        request = TstExecute.Request(mission=mission, node_id=node_id, epoch=math.nan)
+        # the delegator requests a subtree once every event before it happened (released)
+        request = TstExecute.Request(
+            mission=mission, node_id=node_id, epoch=math.nan, released=True
+        )
         return self._call(TstExecute, "execute", request)
 
     def abort(self, mission: str, reason: str) -> None:

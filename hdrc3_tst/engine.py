@@ -90,6 +90,8 @@ class NodeRecord:
     start: float = math.nan
     end: float = math.nan
     reason: str = ""
+    released: bool = False
+    """Its requester saw every event before its start happen: other agents' are not waited for."""
     # runtime of the control semantics
     stepper: Stepper | None = None
     cursor: int = 0
@@ -207,8 +209,13 @@ class ExecutionEngine:
         return not self._running
 
     # --- commands -----------------------------------------------------------------------
-    def execute(self, node_id: str, epoch: float, now: float) -> str:
-        """Start a node this agent holds; "" or why not."""
+    def execute(self, node_id: str, epoch: float, now: float, released: bool = False) -> str:
+        """Start a node this agent holds; "" or why not.
+
+        ``released``: the requester (a delegator, which hears every agent) saw every start and
+        end the constraints put before the node's start happen; this replica, which may not hear
+        the other agents (another host), does not wait for their events before it.
+        """
         reason = self.materialize(node_id)
         if reason:
             return reason
@@ -222,6 +229,7 @@ class ExecutionEngine:
         self.now = now - self.epoch
         rec.state = NodeState.RUNNING  # waits for its earliest start inside _advance
         rec.start = math.nan
+        rec.released = released
         self._running.append(node_id)
         self.tick(now)
         return ""
@@ -409,9 +417,10 @@ class ExecutionEngine:
         begun, tied to its start) is not waited for. The ancestors have started: the parent
         started this node (when it lives on another agent, this replica may not have heard of
         their starts yet). The start of a node whose parent has not begun is the parent's to
-        wait for.
+        wait for. A node its requester released waits for no other agent's event.
         """
         events = self._events()
+        released = self.records[node.node_id].released
         ancestors = set()
         parent = node.parent
         while parent is not None and parent.node_id in self.tst.tree.nodes:
@@ -426,6 +435,8 @@ class ExecutionEngine:
             if param == "TS" and node_id in ancestors:
                 continue
             other = self.records[node_id]
+            if released and other.agent != self.ctx.agent:
+                continue
             if param == "TS":
                 if math.isfinite(other.start) or self._waits_for_parent(node_id):
                     continue

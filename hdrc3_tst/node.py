@@ -366,7 +366,7 @@ class TstManagerNode(Node):
             return _answer(response, TstReturn.TST_UNKNOWN_NODE, unknown)
         now = self.sim_now()
         epoch = float(request.epoch) if math.isfinite(request.epoch) else now
-        reason = engine.execute(node_id, epoch, now)
+        reason = engine.execute(node_id, epoch, now, bool(request.released))
         if reason:
             return _answer(response, TstReturn.TST_BUSY, reason)
         return _answer(response, TstReturn.TST_OK, "")

@@ -192,6 +192,37 @@ def test_the_execution_deadline_fails_the_delegation() -> None:
     assert delegation.phase is Phase.FAILED and "in time" in delegation.reason
 
 
+ORDERED = """world revinge
+agents uav0, uav1, uav2
+point OverH1 = H1 at 12
+point OverH2 = H2 at 12
+m(P0, TS0, TE0) = with P1, TS1, TE1, P2, TS2, TE2 concurrent
+  x(P1, TS1, TE1) = fly-to(TS1, TE1, 3, OverH1);
+  y(P2, TS2, TE2) = fly-to(TS2, TE2, 3, OverH2)
+where TS0 <= TS1 and TE1 <= TS2 and TE2 <= TE0 and TE0 <= 900
+"""
+
+
+def test_a_subtree_is_requested_once_what_must_come_before_it_happened() -> None:
+    """y starts after x ends (``TE1 <= TS2``) on two aircraft: the delegator, which hears both,
+    requests y only once x's agent reported its end (its replica may not hear x's)."""
+    bus = fleet(no_camera=(), max_agents=None)
+    tst = load_text(ORDERED).tst
+    assert tst is not None
+    bus.delegation = Delegation("gcs", "c1", "m", ORDERED, tst, list(POSITIONS), None, TIMING)
+    delegation = start(bus)
+    assignment = delegation.assignment
+    assert assignment["x"] != assignment["y"], delegation.events
+    assert executed(bus) == [(assignment["x"], "m", "x")], "y waits for x's end"
+    manager(bus, assignment["x"]).states.setdefault("m", {})["x"] = "running"
+    bus.tick(bus.now + 1.0)
+    assert len(executed(bus)) == 1, "x running is not x ended"
+    finish(bus, ("x",))
+    assert (assignment["y"], "m", "y") in executed(bus)
+    finish(bus, ("y",))
+    assert delegation.phase is Phase.DONE
+
+
 # --- re-delegation: the operator makes one agent responsible for the whole mission ----------
 def responsible_fleet(no_camera: tuple[str, ...]) -> tuple[LocalBus, Contractor]:
     """uav0 answers for Example 6.1 and may re-delegate to uav1 and uav2."""

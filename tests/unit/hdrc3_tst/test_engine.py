@@ -485,6 +485,28 @@ def test_a_sibling_ordered_after_another_waits_for_its_end() -> None:
     assert b.start >= rig.engine.records["a"].end and b.reason == ""
 
 
+@pytest.mark.parametrize(("released", "waiting"), [(False, "waiting for uav1/a.TE"), (True, "")])
+def test_a_released_node_does_not_wait_for_other_agents_events(
+    released: bool, waiting: str
+) -> None:
+    """A delegator that saw uav1's a end releases b; a replica on another host never hears it."""
+    rig = Rig(
+        mission(
+            "m(P, TS, TE) = with P1, T1, T2, P2, T3, T4 concurrent\n"
+            "  a(P1, T1, T2) = wait(T1, T2, 2);\n"
+            "  b(P2, T3, T4) = wait(T3, T4, 2)\n"
+            "where P = uav1 and P1 = uav1 and P2 = uav0 and T3 >= T2\n"
+        )
+    )
+    assert rig.engine.execute("b", rig.t, rig.t, released) == ""
+    rig.run(3)  # past b's earliest start (a takes 2 s)
+    b = rig.engine.records["b"]
+    assert b.reason == waiting
+    assert math.isfinite(b.start) is released
+    rig.run(3)
+    assert (b.state is NodeState.SUCCEEDED) is released
+
+
 SYNCHRONISED = (
     "m(P, TS, TE) = with P1, A1, A2, P2, B1, B2, S3, U3 concurrent\n"
     "  a(P1, A1, A2) = with S1, S2, S4 sequence\n"
