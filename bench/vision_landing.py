@@ -77,6 +77,8 @@ class Landing:
     """How long the landing searched for the pattern before it was seen or given up, s."""
     seen: str = ""
     """The filter's horizontal error at the land command and when fixes came (ground truth)."""
+    off_wind: float | None = None
+    """At touchdown, the true mean wind's angle off the nose, deg (ground truth, scoring)."""
 
 
 class Camera:
@@ -188,8 +190,6 @@ def fly_one(
     camera.next_image = f.sim.time
     settle = f.sim.time + 8.0  # the fixes win over the GPS/INS solution first (10 rejections)
     run_until(f, camera, lambda: f.sim.time >= settle, 10.0)
-    we, wn, _ = wind.mean_enu
-    into_wind = math.degrees(math.atan2(-we, -wn)) % 360.0 if (we or wn) else 0.0
     airborne = [0.0]  # sink rate of the latest tick in the air
     contact: list[float] = []  # the sink rate of the last tick before the skids touched
     fixes = camera.fixes
@@ -212,7 +212,7 @@ def fly_one(
     now = f.sim.truth(f.agent).position_enu
     error = math.hypot(state.position[0] - now[0], state.position[1] - now[1])
     landed_at = f.sim.time
-    cid = f.send("FCL-Land-EV", (math.radians(into_wind),))
+    cid = f.send("FCL-Land-EV", ())  # no heading: the aircraft turns into the wind it estimates
 
     finished = run_until(f, camera, ended, 240.0)
     searched = f.kernel.landing.core.search_time
@@ -227,7 +227,16 @@ def fly_one(
     if not (truth.on_ground and contact):
         return Landing(offset, said, None, None, searched, seen)
     miss = (truth.position_enu[0] - pad[0], truth.position_enu[1] - pad[1])
-    return Landing(offset, said, miss, contact[0], searched, seen)
+    return Landing(offset, said, miss, contact[0], searched, seen, off_wind(truth.heading, wind))
+
+
+def off_wind(heading: float, wind: WindSettings) -> float | None:
+    """How far the true mean wind is off the nose, deg (scoring only; None in calm air)."""
+    we, wn, _ = wind.mean_enu
+    if not (we or wn):
+        return None
+    into = math.atan2(-we, -wn)
+    return abs(math.degrees((heading - into + math.pi) % math.tau - math.pi))
 
 
 def main() -> None:
@@ -269,6 +278,8 @@ def main() -> None:
                 f"({result.miss[0]:+.3f}, {result.miss[1]:+.3f}) = {math.hypot(*result.miss):.3f} m"
             )
         sink = "-" if result.sink is None else f"{result.sink:.2f} m/s"
+        if result.off_wind is not None:
+            sink += f", wind {result.off_wind:.0f} deg off the nose"
         print(f"{i + 1:2d}: from ({where}) m: touchdown {error} off, sink {sink}; {result.said}",
               flush=True)  # fmt: skip
         if result.seen:
@@ -277,6 +288,11 @@ def main() -> None:
     errors = [math.hypot(*r.miss) for r in on_vision if r.miss is not None]
     sinks = [r.sink for r in on_vision if r.sink is not None]
     camera.renderer.release()
+    offs = [r.off_wind for r in results if r.off_wind is not None]
+    if offs:
+        tail = sum(1 for o in offs if o > 90.0)
+        print(f"true wind off the nose at touchdown: mean {statistics.mean(offs):.0f} deg, max "
+              f"{max(offs):.0f} deg; tailwind landings {tail}", flush=True)  # fmt: skip
     print(f"landed on vision: {len(on_vision)}/{len(results)}", flush=True)
     searches = [r.searched for r in results if r.searched is not None]
     found = [r.searched for r in on_vision if r.searched is not None]

@@ -25,7 +25,7 @@ from __future__ import annotations
 import enum
 import math
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Protocol
 
 from hdrc3_base.errors import ConfigError
@@ -38,6 +38,7 @@ from hdrc3_control.commands import (
 )
 from hdrc3_control.outer_loop import OuterLoop, OuterLoopGains, Reference
 from hdrc3_control.ppc_hardware import COLOR, CameraSpec
+from hdrc3_control.wind_estimate import WindEstimate, WindStatus
 from sim.landing_pattern import PAD_HALF_WIDTH_M
 
 
@@ -52,6 +53,17 @@ class LandingPhase(enum.Enum):
     TOUCHDOWN = "touchdown"
     LANDED = "landed"
     REFUSED_ON_GROUND = "refused_on_ground"
+
+
+class HeadingSource(enum.Enum):
+    """Why the landing heading is what it is (:func:`landing_heading`)."""
+
+    INTO_WIND = "into_wind"
+    """Nose into the on-board wind estimate (§5.4: no tailwind landings)."""
+    COMMANDED = "commanded"
+    """The land command's heading (calm, or the wind within ``headwind_tolerance`` of it)."""
+    CURRENT = "current"
+    """No heading commanded and no wind to turn into: the heading the aircraft has."""
 
 
 class LandingEvent(enum.Enum):
@@ -175,6 +187,12 @@ class LandingConfig:
     took up to 20 s in the bench), s."""
     camera: CameraSpec = COLOR
     """The camera the pattern is seen with (at zoom 0, the PTU pointed at the pad)."""
+    calm_wind: float = 2.0
+    """Below this estimated wind speed the heading is free (as commanded, or as it is), m/s."""
+    headwind_tolerance: float = math.radians(30.0)
+    """A commanded heading is kept while the estimated wind is within this of its nose, rad."""
+    heading_hysteresis: float = math.radians(15.0)
+    """Until the descent the heading follows the wind estimate when it moves this much, rad."""
     touchdown_ticks: int = 3
     settle_time: float = 1.0
     """After touchdown: push down on the skids this long, then request engine shutdown, s."""
@@ -205,6 +223,53 @@ class LandingPlan:
     """Search for the pattern from this height above the pad first, m (None: no search)."""
     pad: str = ""
     """Name of the pad a vision landing is on ('' on GPS)."""
+
+
+@dataclass(frozen=True, slots=True)
+class HeadingChoice:
+    """The landing heading, why, and the wind it was chosen in."""
+
+    heading: float
+    """rad clockwise from north, [0, 2 pi)."""
+    source: HeadingSource
+    wind: WindEstimate | None
+
+    def describe(self) -> str:
+        """For the command's final reply: 'heading 270 deg into the estimated wind 9.8 m/s ...'."""
+        deg = f"heading {math.degrees(self.heading):.0f} deg"
+        wind = self.wind
+        if wind is None or wind.status is WindStatus.NONE:
+            estimated = "no wind estimate"
+        else:
+            settling = " (settling)" if wind.status is WindStatus.SETTLING else ""
+            estimated = f"estimated wind {wind.describe()}{settling}"
+        if self.source is HeadingSource.INTO_WIND:
+            return f"{deg} into the {estimated}"
+        what = "as commanded" if self.source is HeadingSource.COMMANDED else "as it was"
+        return f"{deg} {what}, {estimated}"
+
+
+def landing_heading(
+    requested: float | None,
+    current: float,
+    wind: WindEstimate | None,
+    config: LandingConfig,
+) -> HeadingChoice:
+    """The landing heading: into the estimated wind unless calm (§5.4: no tailwind landings).
+
+    ``requested``: the land command's heading (None: none given); it is kept when the wind is
+    calm (below ``calm_wind``) or within ``headwind_tolerance`` of its nose. An estimate that is
+    still settling counts (the land command may follow a short flight); none does not.
+    """
+    known = wind is not None and wind.status is not WindStatus.NONE
+    if wind is not None and known and wind.speed >= config.calm_wind:
+        into = wind.from_direction
+        if requested is not None and abs(wrap_pi(requested - into)) <= config.headwind_tolerance:
+            return HeadingChoice(requested % math.tau, HeadingSource.COMMANDED, wind)
+        return HeadingChoice(into, HeadingSource.INTO_WIND, wind)
+    if requested is not None:
+        return HeadingChoice(requested % math.tau, HeadingSource.COMMANDED, wind)
+    return HeadingChoice(current % math.tau, HeadingSource.CURRENT, wind)
 
 
 def search_height(config: LandingConfig, position_sigma: float) -> float:
@@ -311,6 +376,18 @@ class Landing:
         else:
             self._phase = LandingPhase.APPROACH
         return self._phase
+
+    @property
+    def target(self) -> LandingTarget | None:
+        """Where and with which heading it lands (None before :meth:`start`)."""
+        return self._target
+
+    def turn(self, heading: float) -> bool:
+        """Land with ``heading`` instead; only before the descent (True if taken)."""
+        if self._target is None or self._phase not in (LandingPhase.SEARCH, LandingPhase.APPROACH):
+            return False
+        self._target = replace(self._target, heading=heading % math.tau)
+        return True
 
     def update(
         self,
