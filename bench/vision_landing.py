@@ -108,9 +108,10 @@ class Camera:
         if now < self.next_image or state is None:
             return
         self.next_image = now + self.period
+        aim = f.kernel.ctx.camera_aim  # the landing's search scan; else the pad
         pan, tilt = look_at_angles(
             Pose(state.position, state.roll, state.pitch, state.heading),
-            tuple(self.placement.origin),
+            tuple(self.placement.origin) if aim is None else aim,
         )
         jitter, encoder = COLOR_CAMERA.jitter, PtuParams().encoder_noise
         shown = (pan + self.rng.normal(0.0, jitter), tilt + self.rng.normal(0.0, jitter))

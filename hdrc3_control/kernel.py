@@ -452,7 +452,7 @@ class PfcKernel:
                 if interp.post_wire(event) is PostStatus.ACCEPTED:
                     self.log.posted(event.name, event.data)
         self.state = self._estimate(now)
-        self.ctx.state, self.ctx.command = self.state, None
+        self.ctx.state, self.ctx.command, self.ctx.camera_aim = self.state, None, None
         if self.state is None:
             self.wind.reset()
             self.ctx.wind = None

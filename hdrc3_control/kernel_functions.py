@@ -120,6 +120,9 @@ class FunctionContext:
     """Seconds since the navigation filter last accepted a vision fix (inf: never)."""
     vision_seen_age: float = math.inf
     """Seconds since the filter last received a vision fix, taken or rejected (inf: never)."""
+    camera_aim: Vec3 | None = None
+    """Where the landing's search wants the camera to look this tick (ENU ground point; None:
+    at the pad, or no landing): ``Landing.camera_aim``, the PTU's target while it searches."""
     wind: WindEstimate | None = None
     """The on-board wind estimate of this tick (``wind_estimate.WindEstimator``)."""
     notes: dict[int, str] = field(default_factory=dict)
@@ -567,6 +570,7 @@ class LandingFunction:
             precise = ctx.vision_age <= recent
         seen = ctx.vision_seen_age <= recent
         self._rechoose(state)
+        ctx.camera_aim = self.core.camera_aim(state, now, seen)
         out = self.core.update(state, now, ctx.dt, precise=precise, seen=seen)
         if out.events:
             self._searched(out.events)

@@ -185,6 +185,14 @@ class LandingConfig:
     """Search up to this much longer while fixes arrive that the filter has not taken yet (it
     takes the pad once ten agree, ``EstimatorConfig.gate_reset_count``; on degraded GPS that
     took up to 20 s in the bench), s."""
+    scan_dwell: float = 2.0
+    """The search's camera scan: look at each point of :func:`scan_offsets` this long, s."""
+    scan_hold: float = 2.0
+    """Hold the scan's point while the filter received a fix within this, s."""
+    scan_height_margin: float = 1.5
+    """The scan starts once the climb is within this of the search height, m."""
+    scan_overlap: float = 0.9
+    """Ring spacing of the scan as a fraction of the hexagonal covering's (gapless below 1)."""
     camera: CameraSpec = COLOR
     """The camera the pattern is seen with (at zoom 0, the PTU pointed at the pad)."""
     calm_wind: float = 2.0
@@ -291,6 +299,27 @@ def search_height(config: LandingConfig, position_sigma: float) -> float:
     return min(c.search_ceiling, (error + PAD_HALF_WIDTH_M) / math.tan(half_angle))
 
 
+def scan_offsets(config: LandingConfig, height: float) -> tuple[tuple[float, float], ...]:
+    """Where the search's camera looks, east and north of the pad's GIS position, m.
+
+    The PTU is pointed from the filter's pose, so aiming at ``pad + o`` shows the ground around
+    ``pad + o - e`` (``e`` the filter's horizontal error): the pattern is in the image while
+    ``|o - e| <= R``, ``R = h tan(a) - r`` (:func:`search_height`'s footprint at ``height``).
+    The centre first, then six points ``sqrt(3) R`` out (times ``scan_overlap``): the seven
+    footprints of radius ``R`` cover filter errors up to about ``2 R`` (12.8 m from 21.1 m),
+    where the centre alone covers ``R`` (6.4 m).
+    """
+    reach = height * math.tan(config.camera.vfov(0.0) / 2.0) - PAD_HALF_WIDTH_M
+    if reach <= 0.0:
+        return ((0.0, 0.0),)
+    ring = math.sqrt(3.0) * reach * config.scan_overlap
+    around = tuple(
+        (ring * math.sin(math.radians(a)), ring * math.cos(math.radians(a)))
+        for a in range(0, 360, 60)
+    )
+    return ((0.0, 0.0), *around)
+
+
 def plan_landing(
     state: EstimatedState,
     heading: float,
@@ -348,6 +377,10 @@ class Landing:
         self._search_since: float | None = None
         self.search_time: float | None = None
         """How long the search lasted, once it is over (found or timed out), s."""
+        self._scan: tuple[tuple[float, float], ...] = ((0.0, 0.0),)
+        self._scan_index = 0
+        self._scan_since: float | None = None
+        self._seen_at = -math.inf
 
     def start(
         self,
@@ -367,15 +400,40 @@ class Landing:
         self._contacts = 0
         self._touchdown = None
         self._search_since, self.search_time = None, None
+        self._scan, self._scan_index, self._scan_since = ((0.0, 0.0),), 0, None
+        self._seen_at = -math.inf
         if state.on_ground:
             self._phase = LandingPhase.REFUSED_ON_GROUND
         elif search_height is not None:
             self._phase = LandingPhase.SEARCH
             floor = target.ground_height + self.config.cg_above_skids
             self._search_up = max(state.position[2], floor + search_height)
+            self._scan = scan_offsets(self.config, self._search_up - floor)
         else:
             self._phase = LandingPhase.APPROACH
         return self._phase
+
+    def camera_aim(self, state: EstimatedState, now: float, seen: bool) -> Vec3 | None:
+        """Where the camera should look while searching (ENU, on the ground), else None.
+
+        Climbing: the pad's GIS position. At the search height: the points of
+        :func:`scan_offsets` in turn, ``scan_dwell`` each, held while fixes arrive that the
+        filter has not taken yet (``seen``). None outside the search (the pad itself).
+        """
+        c, tg = self.config, self._target
+        if tg is None or self._phase is not LandingPhase.SEARCH:
+            return None
+        if seen:
+            self._seen_at = now
+        if state.position[2] < self._search_up - c.scan_height_margin:
+            self._scan_since = None
+        elif self._scan_since is None or now - self._seen_at <= c.scan_hold:
+            self._scan_since = now
+        elif now - self._scan_since >= c.scan_dwell:
+            self._scan_index = (self._scan_index + 1) % len(self._scan)
+            self._scan_since = now
+        de, dn = self._scan[self._scan_index]
+        return (tg.east + de, tg.north + dn, tg.ground_height)
 
     @property
     def target(self) -> LandingTarget | None:

@@ -22,6 +22,7 @@ from hdrc3_control.landing import (
     LandingTarget,
     landing_heading,
     plan_landing,
+    scan_offsets,
     search_height,
 )
 from hdrc3_control.path_following import PathEvent, PathStatus
@@ -468,3 +469,58 @@ def test_the_landing_function_turns_into_the_wind_before_the_descent_and_not_aft
         f"landed on GPS and barometer: {NO_FIX}; "
         "heading 225 deg into the estimated wind 8.5 m/s from 225 deg"
     )
+
+
+@pytest.mark.parametrize(("height", "points"), [(SEARCH_H, 7), (10.0, 7), (2.0, 1)])
+def test_the_scan_covers_about_twice_the_footprint_of_the_centre(
+    height: float, points: int
+) -> None:
+    """Seven footprints of radius R (the pattern wholly in the image) leave no gap up to about
+    2 R of filter error; too low for a footprint, the scan is the centre alone."""
+    config = LandingConfig()
+    offsets = scan_offsets(config, height)
+    assert len(offsets) == points and offsets[0] == (0.0, 0.0)
+    reach = height * math.tan(COLOR.vfov(0.0) / 2.0) - PAD_HALF_WIDTH_M
+    if points == 1:
+        return
+    for k in range(360):  # filter errors up to 1.9 R in every direction: some point sees it
+        for r in (0.5 * reach, reach * 1.2, reach * 1.9):
+            e = (r * math.sin(math.radians(k)), r * math.cos(math.radians(k)))
+            assert min(math.dist(o, e) for o in offsets) <= reach
+
+
+def _aims(fn: Landing, ups: list[float], seen: Callable[[float], bool]) -> list[int]:
+    """Which scan point the camera is aimed at, per second (``ups``: the height each second)."""
+    out = []
+    offsets = scan_offsets(fn.config, SEARCH_H)
+    for second, up in enumerate(ups):
+        for k in range(50):
+            now = second + k * 0.02
+            aim = fn.camera_aim(_state(up), now, seen(now))
+        assert aim is not None
+        out.append(min(range(len(offsets)), key=lambda i: math.dist(offsets[i], aim[:2])))
+    return out
+
+
+@pytest.mark.parametrize(
+    ("ups", "seen", "points"),
+    [
+        # climbing: the pad; at the search height: a new point every 2 s, round the ring
+        ([5.45, 12.0, 20.0, *[SEARCH_H + 0.45] * 6], lambda t: False, [0, 0, 0, 0, 0, 1, 1, 2, 2]),
+        # fixes the filter has not taken from 2.5 to 4.5 s: the point (1) is held 2 s after the
+        # last one, then looked at 2 s more
+        ([SEARCH_H + 0.45] * 9, lambda t: 2.5 <= t < 4.5, [0, 0, 1, 1, 1, 1, 1, 1, 2]),
+    ],
+)
+def test_the_search_scans_the_camera_round_the_pad_once_at_its_height(
+    ups: list[float], seen: Callable[[float], bool], points: list[int]
+) -> None:
+    fn = Landing()
+    fn.start(_state(ups[0]), PAD, search_height=SEARCH_H)
+    assert _aims(fn, ups, seen) == points
+
+
+def test_no_scan_outside_the_search() -> None:
+    fn = Landing()
+    fn.start(_state(10.0), PAD)  # no search height: an approach
+    assert fn.camera_aim(_state(10.0), 0.0, seen=False) is None
