@@ -74,6 +74,7 @@ from hdrc3_control.pfc_state import (
 )
 from hdrc3_control.state_estimator import StateEstimator
 from hdrc3_control.warm_start import WarmStart
+from hdrc3_control.wind_estimate import WindEstimator
 from hdrc3_hcsm.control_function import ControlFunctionRunner, ControlFunctionSet, FunctionState
 from hdrc3_hcsm.event import PostStatus, WireEvent
 from hdrc3_hcsm.interpreter import Interpreter, StepResult
@@ -216,6 +217,8 @@ class PfcKernel:
         self.loop = MainLoop(self.interpreter, (self, self.braking, self.functions))
         self.estimator = StateEstimator(c.estimator)
         self.state: EstimatedState | None = None
+        self.wind = WindEstimator(c.wind)
+        """The on-board wind estimate (attitude and velocity), for the landing's heading."""
         self.now = start_time
         """The kernel's clock: sim time minus :attr:`paused`."""
         self.paused = 0.0
@@ -449,7 +452,12 @@ class PfcKernel:
                 if interp.post_wire(event) is PostStatus.ACCEPTED:
                     self.log.posted(event.name, event.data)
         self.state = self._estimate(now)
-        self.ctx.state, self.ctx.command = self.state, None
+        self.ctx.state, self.ctx.command, self.ctx.camera_aim = self.state, None, None
+        if self.state is None:
+            self.wind.reset()
+            self.ctx.wind = None
+        else:
+            self.ctx.wind = self.wind.update(self.state)
         self.ctx.vision_age = self.estimator.aiding.age(AidingSource.VISION, now)
         self.ctx.vision_seen_age = self.estimator.aiding.seen_age(AidingSource.VISION, now)
         self._write_slots(interp.memory, now)

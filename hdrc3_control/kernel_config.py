@@ -10,6 +10,7 @@ from hdrc3_control.landing import LandingConfig
 from hdrc3_control.path_following import PathFollowingConfig
 from hdrc3_control.state_estimator import EstimatorConfig
 from hdrc3_control.takeoff import TakeoffConfig
+from hdrc3_control.wind_estimate import WindConfig
 
 
 @dataclass(frozen=True, slots=True)
@@ -23,6 +24,8 @@ class KernelConfig:
     path: PathFollowingConfig = field(default_factory=PathFollowingConfig)
     landing: LandingConfig = field(default_factory=LandingConfig)
     estimator: EstimatorConfig = field(default_factory=EstimatorConfig)
+    wind: WindConfig = field(default_factory=WindConfig)
+    """The on-board wind estimate (airframe drag and trim, filter time constants)."""
     track: CarFollowingConfig = field(default_factory=CarFollowingConfig)
     """fcl_track: the car's estimate and the following law."""
     climb_speed: float = 1.5

@@ -25,10 +25,17 @@ from hdrc3_control.car_following import (
     TargetEstimator,
     TargetFix,
 )
-from hdrc3_control.commands import AttitudeCommand, EstimatedState, EstimatorHealth, Vec3
+from hdrc3_control.commands import (
+    AttitudeCommand,
+    EstimatedState,
+    EstimatorHealth,
+    Vec3,
+    wrap_pi,
+)
 from hdrc3_control.event_codec import command_id_of, decode, encode
 from hdrc3_control.hover import HoverController, HoverSetpoint, HoverStatus
 from hdrc3_control.landing import (
+    HeadingChoice,
     Landing,
     LandingAid,
     LandingConfig,
@@ -36,6 +43,7 @@ from hdrc3_control.landing import (
     LandingPhase,
     LandingPlan,
     LandingSite,
+    landing_heading,
     plan_landing,
 )
 from hdrc3_control.outer_loop import OuterLoop
@@ -49,6 +57,7 @@ from hdrc3_control.path_following import (
 )
 from hdrc3_control.path_segment import PathSegment
 from hdrc3_control.takeoff import Takeoff, TakeoffConfig, TakeoffStatus
+from hdrc3_control.wind_estimate import WindEstimate
 from hdrc3_hcsm.control_function import HookResult, Phase
 from hdrc3_hcsm.memory import ActionFlags, MemoryBank
 
@@ -111,6 +120,11 @@ class FunctionContext:
     """Seconds since the navigation filter last accepted a vision fix (inf: never)."""
     vision_seen_age: float = math.inf
     """Seconds since the filter last received a vision fix, taken or rejected (inf: never)."""
+    camera_aim: Vec3 | None = None
+    """Where the landing's search wants the camera to look this tick (ENU ground point; None:
+    at the pad, or no landing): ``Landing.camera_aim``, the PTU's target while it searches."""
+    wind: WindEstimate | None = None
+    """The on-board wind estimate of this tick (``wind_estimate.WindEstimator``)."""
     notes: dict[int, str] = field(default_factory=dict)
     """Text for a command's Cmd-Finished-EV, by command id (what the function used)."""
     target_fixes: deque[TargetFix] = field(default_factory=lambda: deque(maxlen=TARGET_FIXES))
@@ -497,8 +511,11 @@ class LandingFunction:
 
     Near a patterned pad without a recent fix it searches for the pattern first
     (``LandingPhase.SEARCH``); when the search times out the plan becomes a GPS landing on the
-    pad's GIS position. The Cmd-Finished-EV of the command says which aid the landing used and
-    how a search went (``FunctionContext.notes``).
+    pad's GIS position. The heading is chosen on board (:func:`landing_heading`: into the
+    estimated wind, ``FunctionContext.wind``) and re-chosen until the descent starts when the
+    estimate moves by more than ``heading_hysteresis``. The Cmd-Finished-EV of the command says
+    which aid the landing used, how a search went and the heading and wind
+    (``FunctionContext.notes``).
     """
 
     def __init__(self, ctx: FunctionContext, config: LandingConfig) -> None:
@@ -506,6 +523,9 @@ class LandingFunction:
         self.core = Landing(config)
         self.phase = LandingPhase.APPROACH
         self.plan: LandingPlan | None = None
+        self.requested: float | None = None
+        """The land command's heading (None: none given)."""
+        self.heading: HeadingChoice | None = None
         self.command_id = 0
         self.lowest_fix: float | None = None
         """Lowest height above the pad at which a vision fix was fresh, m."""
@@ -518,17 +538,19 @@ class LandingFunction:
             if state is None:
                 return ctx.fail("landing: no navigation solution")
             data = memory.read("Land-DO")
-            heading = state.heading
             land = decode(data, 1)
             pose = unpack_pose(data)
-            if land.ok:
-                heading = land.values[0] % math.tau
+            self.requested = None
+            if land.ok and math.isfinite(land.values[0]):
+                self.requested = land.values[0] % math.tau
             elif pose is not None:
-                heading = pose[1]
+                self.requested = pose[1]
+            config = self.core.config
+            self.heading = landing_heading(self.requested, state.heading, ctx.wind, config)
             e, n, _ = state.position
             ground, sites = ctx.terrain(e, n), ctx.landing_sites
             self.plan = plan_landing(
-                state, heading, ground, ctx.vision_age, sites, self.core.config
+                state, self.heading.heading, ground, ctx.vision_age, sites, config
             )
             self.command_id, self.lowest_fix = command_id_of(data), None
             self.phase = self.core.start(
@@ -547,6 +569,8 @@ class LandingFunction:
         if self.plan is not None and self.plan.aid is LandingAid.VISION:
             precise = ctx.vision_age <= recent
         seen = ctx.vision_seen_age <= recent
+        self._rechoose(state)
+        ctx.camera_aim = self.core.camera_aim(state, now, seen)
         out = self.core.update(state, now, ctx.dt, precise=precise, seen=seen)
         if out.events:
             self._searched(out.events)
@@ -556,8 +580,24 @@ class LandingFunction:
                 self.lowest_fix = lowest
                 self._note()
         ctx.command = replace(out.command, engine_off=out.engine_shutdown)
+        if out.phase is LandingPhase.DESCENT and self.phase is not LandingPhase.DESCENT:
+            self._note()  # the heading and the wind it was chosen in, as the descent starts
         self.phase = out.phase
         return HookResult.BUSY
+
+    def _rechoose(self, state: EstimatedState) -> None:
+        """Before the descent: turn with the wind estimate when it has moved enough."""
+        target, config = self.core.target, self.core.config
+        if target is None or self.phase not in (LandingPhase.SEARCH, LandingPhase.APPROACH):
+            return
+        choice = landing_heading(self.requested, state.heading, self.ctx.wind, config)
+        if abs(wrap_pi(choice.heading - target.heading)) <= config.heading_hysteresis:
+            if self.heading is not None:
+                self.heading = replace(self.heading, wind=choice.wind)
+            return
+        if self.core.turn(choice.heading):
+            self.heading = choice
+            self._note()
 
     def _searched(self, events: tuple[LandingEvent, ...]) -> None:
         """The search ended: a vision landing goes on, or the plan becomes a GPS landing."""
@@ -584,6 +624,8 @@ class LandingFunction:
             text = f"landed on vision: {plan.reason}"
             if self.lowest_fix is not None:
                 text += f", fixes down to {self.lowest_fix:.1f} m above it"
+        if self.heading is not None:
+            text += f"; {self.heading.describe()}"
         self.ctx.notes[self.command_id] = text
 
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 import enum
 import math
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Protocol
 
 from hdrc3_base.errors import ConfigError
@@ -38,6 +38,7 @@ from hdrc3_control.commands import (
 )
 from hdrc3_control.outer_loop import OuterLoop, OuterLoopGains, Reference
 from hdrc3_control.ppc_hardware import COLOR, CameraSpec
+from hdrc3_control.wind_estimate import WindEstimate, WindStatus
 from sim.landing_pattern import PAD_HALF_WIDTH_M
 
 
@@ -52,6 +53,17 @@ class LandingPhase(enum.Enum):
     TOUCHDOWN = "touchdown"
     LANDED = "landed"
     REFUSED_ON_GROUND = "refused_on_ground"
+
+
+class HeadingSource(enum.Enum):
+    """Why the landing heading is what it is (:func:`landing_heading`)."""
+
+    INTO_WIND = "into_wind"
+    """Nose into the on-board wind estimate (§5.4: no tailwind landings)."""
+    COMMANDED = "commanded"
+    """The land command's heading (calm, or the wind within ``headwind_tolerance`` of it)."""
+    CURRENT = "current"
+    """No heading commanded and no wind to turn into: the heading the aircraft has."""
 
 
 class LandingEvent(enum.Enum):
@@ -173,8 +185,22 @@ class LandingConfig:
     """Search up to this much longer while fixes arrive that the filter has not taken yet (it
     takes the pad once ten agree, ``EstimatorConfig.gate_reset_count``; on degraded GPS that
     took up to 20 s in the bench), s."""
+    scan_dwell: float = 2.0
+    """The search's camera scan: look at each point of :func:`scan_offsets` this long, s."""
+    scan_hold: float = 2.0
+    """Hold the scan's point while the filter received a fix within this, s."""
+    scan_height_margin: float = 1.5
+    """The scan starts once the climb is within this of the search height, m."""
+    scan_overlap: float = 0.9
+    """Ring spacing of the scan as a fraction of the hexagonal covering's (gapless below 1)."""
     camera: CameraSpec = COLOR
     """The camera the pattern is seen with (at zoom 0, the PTU pointed at the pad)."""
+    calm_wind: float = 2.0
+    """Below this estimated wind speed the heading is free (as commanded, or as it is), m/s."""
+    headwind_tolerance: float = math.radians(30.0)
+    """A commanded heading is kept while the estimated wind is within this of its nose, rad."""
+    heading_hysteresis: float = math.radians(15.0)
+    """Until the descent the heading follows the wind estimate when it moves this much, rad."""
     touchdown_ticks: int = 3
     settle_time: float = 1.0
     """After touchdown: push down on the skids this long, then request engine shutdown, s."""
@@ -207,6 +233,53 @@ class LandingPlan:
     """Name of the pad a vision landing is on ('' on GPS)."""
 
 
+@dataclass(frozen=True, slots=True)
+class HeadingChoice:
+    """The landing heading, why, and the wind it was chosen in."""
+
+    heading: float
+    """rad clockwise from north, [0, 2 pi)."""
+    source: HeadingSource
+    wind: WindEstimate | None
+
+    def describe(self) -> str:
+        """For the command's final reply: 'heading 270 deg into the estimated wind 9.8 m/s ...'."""
+        deg = f"heading {math.degrees(self.heading):.0f} deg"
+        wind = self.wind
+        if wind is None or wind.status is WindStatus.NONE:
+            estimated = "no wind estimate"
+        else:
+            settling = " (settling)" if wind.status is WindStatus.SETTLING else ""
+            estimated = f"estimated wind {wind.describe()}{settling}"
+        if self.source is HeadingSource.INTO_WIND:
+            return f"{deg} into the {estimated}"
+        what = "as commanded" if self.source is HeadingSource.COMMANDED else "as it was"
+        return f"{deg} {what}, {estimated}"
+
+
+def landing_heading(
+    requested: float | None,
+    current: float,
+    wind: WindEstimate | None,
+    config: LandingConfig,
+) -> HeadingChoice:
+    """The landing heading: into the estimated wind unless calm (§5.4: no tailwind landings).
+
+    ``requested``: the land command's heading (None: none given); it is kept when the wind is
+    calm (below ``calm_wind``) or within ``headwind_tolerance`` of its nose. An estimate that is
+    still settling counts (the land command may follow a short flight); none does not.
+    """
+    known = wind is not None and wind.status is not WindStatus.NONE
+    if wind is not None and known and wind.speed >= config.calm_wind:
+        into = wind.from_direction
+        if requested is not None and abs(wrap_pi(requested - into)) <= config.headwind_tolerance:
+            return HeadingChoice(requested % math.tau, HeadingSource.COMMANDED, wind)
+        return HeadingChoice(into, HeadingSource.INTO_WIND, wind)
+    if requested is not None:
+        return HeadingChoice(requested % math.tau, HeadingSource.COMMANDED, wind)
+    return HeadingChoice(current % math.tau, HeadingSource.CURRENT, wind)
+
+
 def search_height(config: LandingConfig, position_sigma: float) -> float:
     """Height above the pad from which the pattern is in the image despite the position error.
 
@@ -224,6 +297,27 @@ def search_height(config: LandingConfig, position_sigma: float) -> float:
     error = max(c.search_position_error, c.search_sigmas * position_sigma)
     half_angle = c.camera.vfov(0.0) / 2.0
     return min(c.search_ceiling, (error + PAD_HALF_WIDTH_M) / math.tan(half_angle))
+
+
+def scan_offsets(config: LandingConfig, height: float) -> tuple[tuple[float, float], ...]:
+    """Where the search's camera looks, east and north of the pad's GIS position, m.
+
+    The PTU is pointed from the filter's pose, so aiming at ``pad + o`` shows the ground around
+    ``pad + o - e`` (``e`` the filter's horizontal error): the pattern is in the image while
+    ``|o - e| <= R``, ``R = h tan(a) - r`` (:func:`search_height`'s footprint at ``height``).
+    The centre first, then six points ``sqrt(3) R`` out (times ``scan_overlap``): the seven
+    footprints of radius ``R`` cover filter errors up to about ``2 R`` (12.8 m from 21.1 m),
+    where the centre alone covers ``R`` (6.4 m).
+    """
+    reach = height * math.tan(config.camera.vfov(0.0) / 2.0) - PAD_HALF_WIDTH_M
+    if reach <= 0.0:
+        return ((0.0, 0.0),)
+    ring = math.sqrt(3.0) * reach * config.scan_overlap
+    around = tuple(
+        (ring * math.sin(math.radians(a)), ring * math.cos(math.radians(a)))
+        for a in range(0, 360, 60)
+    )
+    return ((0.0, 0.0), *around)
 
 
 def plan_landing(
@@ -283,6 +377,10 @@ class Landing:
         self._search_since: float | None = None
         self.search_time: float | None = None
         """How long the search lasted, once it is over (found or timed out), s."""
+        self._scan: tuple[tuple[float, float], ...] = ((0.0, 0.0),)
+        self._scan_index = 0
+        self._scan_since: float | None = None
+        self._seen_at = -math.inf
 
     def start(
         self,
@@ -302,15 +400,52 @@ class Landing:
         self._contacts = 0
         self._touchdown = None
         self._search_since, self.search_time = None, None
+        self._scan, self._scan_index, self._scan_since = ((0.0, 0.0),), 0, None
+        self._seen_at = -math.inf
         if state.on_ground:
             self._phase = LandingPhase.REFUSED_ON_GROUND
         elif search_height is not None:
             self._phase = LandingPhase.SEARCH
             floor = target.ground_height + self.config.cg_above_skids
             self._search_up = max(state.position[2], floor + search_height)
+            self._scan = scan_offsets(self.config, self._search_up - floor)
         else:
             self._phase = LandingPhase.APPROACH
         return self._phase
+
+    def camera_aim(self, state: EstimatedState, now: float, seen: bool) -> Vec3 | None:
+        """Where the camera should look while searching (ENU, on the ground), else None.
+
+        Climbing: the pad's GIS position. At the search height: the points of
+        :func:`scan_offsets` in turn, ``scan_dwell`` each, held while fixes arrive that the
+        filter has not taken yet (``seen``). None outside the search (the pad itself).
+        """
+        c, tg = self.config, self._target
+        if tg is None or self._phase is not LandingPhase.SEARCH:
+            return None
+        if seen:
+            self._seen_at = now
+        if state.position[2] < self._search_up - c.scan_height_margin:
+            self._scan_since = None
+        elif self._scan_since is None or now - self._seen_at <= c.scan_hold:
+            self._scan_since = now
+        elif now - self._scan_since >= c.scan_dwell:
+            self._scan_index = (self._scan_index + 1) % len(self._scan)
+            self._scan_since = now
+        de, dn = self._scan[self._scan_index]
+        return (tg.east + de, tg.north + dn, tg.ground_height)
+
+    @property
+    def target(self) -> LandingTarget | None:
+        """Where and with which heading it lands (None before :meth:`start`)."""
+        return self._target
+
+    def turn(self, heading: float) -> bool:
+        """Land with ``heading`` instead; only before the descent (True if taken)."""
+        if self._target is None or self._phase not in (LandingPhase.SEARCH, LandingPhase.APPROACH):
+            return False
+        self._target = replace(self._target, heading=heading % math.tau)
+        return True
 
     def update(
         self,

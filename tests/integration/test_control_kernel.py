@@ -281,7 +281,10 @@ def test_takeoff_flyto_land(drc: Drc) -> None:
     lid = drc.send("FCL-Land-EV", (0.0,))
     assert drc.spin_until(lambda: drc.finished(lid), 120)
     on_gps = "landed on GPS and barometer: no vision fix of pad L1"  # no camera in this launch
-    assert drc.answers(lid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", on_gps)]
+    (accepted, finished) = drc.answers(lid)
+    assert accepted == ("Cmd-Accepted-EV", "")
+    assert finished[0] == "Cmd-Finished-EV" and finished[1].startswith(on_gps), finished
+    assert "heading 0 deg as commanded" in finished[1]  # calm air (LandingConfig.calm_wind)
     assert drc.spin_until(lambda: drc.states[-1].mode == drc.states[-1].MODE_GROUND_IDLE, 10)
     assert drc.truth_at(drc.sim_time).on_ground and drc.states[-1].on_ground
     sim_s, wall_s = drc.sim_time - sim0, time.monotonic() - wall0

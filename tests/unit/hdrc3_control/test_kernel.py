@@ -95,8 +95,11 @@ def test_takeoff_hover_path_land() -> None:
         return f.finished(lid)
 
     assert f.run_until(landed, 90)
-    landed_on = "landed on GPS and barometer: no vision fix of pad L1"
-    assert f.answers(lid) == [("Cmd-Accepted-EV", ""), ("Cmd-Finished-EV", landed_on)]
+    landed_on = "landed on GPS and barometer: no vision fix of pad L1; heading 90 deg as commanded"
+    (accepted, finished) = f.answers(lid)
+    assert accepted == ("Cmd-Accepted-EV", "")
+    assert finished[0] == "Cmd-Finished-EV" and finished[1].startswith(landed_on), finished
+    assert "estimated wind" in finished[1]  # calm air: under LandingConfig.calm_wind
     assert f.run_until(lambda: f.kernel.mode is FlightMode.GROUND_IDLE, 5)
     assert f.sim.truth(f.agent).on_ground and -0.5 < touchdown[0] <= 0.0
     assert abs(math.remainder(f.sim.truth(f.agent).heading - math.pi / 2, math.tau)) < 0.15

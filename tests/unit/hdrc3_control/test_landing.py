@@ -12,6 +12,7 @@ from hdrc3_control.commands import EstimatedState, EstimatorHealth
 from hdrc3_control.event_codec import encode
 from hdrc3_control.kernel_functions import FunctionContext, LandingFunction
 from hdrc3_control.landing import (
+    HeadingSource,
     Landing,
     LandingAid,
     LandingConfig,
@@ -19,12 +20,15 @@ from hdrc3_control.landing import (
     LandingPhase,
     LandingSite,
     LandingTarget,
+    landing_heading,
     plan_landing,
+    scan_offsets,
     search_height,
 )
 from hdrc3_control.path_following import PathEvent, PathStatus
 from hdrc3_control.ppc_hardware import COLOR
 from hdrc3_control.state_estimator import EstimatorConfig
+from hdrc3_control.wind_estimate import WindEstimate, WindStatus
 from hdrc3_hcsm.control_function import HookResult, Phase
 from hdrc3_hcsm.memory import MemoryBank
 from hdrc3_perception.pad_fix import fix_sigma
@@ -368,4 +372,155 @@ def test_the_landing_function_searches_for_the_pattern_before_falling_back_to_gp
             seen.append(fn.phase)
     assert seen == phases
     assert fn.plan is not None and fn.plan.aid is aid
-    assert ctx.notes[7] == note
+    assert ctx.notes[7] == f"{note}; heading 0 deg as commanded, no wind estimate"
+
+
+WEST_8 = WindEstimate(8.0, 0.0, WindStatus.OK)
+"""8 m/s blowing east: from the west (into-wind heading 270 deg)."""
+
+
+@pytest.mark.parametrize(
+    ("requested", "wind", "heading", "source"),
+    [
+        (None, WEST_8, 270.0, HeadingSource.INTO_WIND),  # no heading given: into the wind
+        (90.0, WEST_8, 270.0, HeadingSource.INTO_WIND),  # a tailwind landing refused
+        (180.0, WEST_8, 270.0, HeadingSource.INTO_WIND),  # crosswind: 90 deg off, too far
+        (250.0, WEST_8, 250.0, HeadingSource.COMMANDED),  # 20 deg off the wind: kept
+        (299.0, WEST_8, 299.0, HeadingSource.COMMANDED),  # 29 deg: within the 30 deg
+        (90.0, WindEstimate(1.0, 1.0, WindStatus.OK), 90.0, HeadingSource.COMMANDED),  # calm
+        (None, WindEstimate(1.0, 1.0, WindStatus.OK), 30.0, HeadingSource.CURRENT),
+        (None, WindEstimate(0.0, -5.0, WindStatus.SETTLING), 0.0, HeadingSource.INTO_WIND),
+        (None, WindEstimate(0.0, 0.0, WindStatus.NONE), 30.0, HeadingSource.CURRENT),
+        (90.0, None, 90.0, HeadingSource.COMMANDED),  # no estimate at all
+    ],
+)
+def test_the_landing_heading_is_into_the_estimated_wind_unless_calm(
+    requested: float | None,
+    wind: WindEstimate | None,
+    heading: float,
+    source: HeadingSource,
+) -> None:
+    wanted = None if requested is None else math.radians(requested)
+    choice = landing_heading(wanted, math.radians(30.0), wind, LandingConfig())
+    assert math.degrees(choice.heading) == pytest.approx(heading)
+    assert choice.source is source
+
+
+@pytest.mark.parametrize(
+    ("wind", "text"),
+    [
+        (WEST_8, "heading 270 deg into the estimated wind 8.0 m/s from 270 deg"),
+        (None, "heading 30 deg as it was, no wind estimate"),
+        (
+            WindEstimate(1.0, 0.0, WindStatus.SETTLING),
+            "heading 30 deg as it was, estimated wind 1.0 m/s from 270 deg (settling)",
+        ),
+    ],
+)
+def test_the_heading_choice_says_which_heading_and_which_wind(
+    wind: WindEstimate | None, text: str
+) -> None:
+    choice = landing_heading(None, math.radians(30.0), wind, LandingConfig())
+    assert choice.describe() == text
+
+
+def _facing(heading_deg: float) -> EstimatedState:
+    """Hovering still 40 m from L1 (a GPS landing where it is, no search), nose at ``heading``."""
+    return EstimatedState(0.0, (140.0, 50.0, 8.0), (0.0, 0.0, 0.0), 0.0, 0.0,
+                          math.radians(heading_deg))  # fmt: skip
+
+
+def _heading_deg(fn: LandingFunction) -> float:
+    target = fn.core.target
+    assert target is not None
+    return math.degrees(target.heading)
+
+
+def _phase(fn: LandingFunction) -> LandingPhase:
+    return fn.phase
+
+
+def test_the_landing_function_turns_into_the_wind_before_the_descent_and_not_after() -> None:
+    """No heading in the command: it turns into the estimated wind, follows the estimate while
+    it approaches (beyond the hysteresis), descends once the nose is into it, and holds that
+    heading from then on; the final reply says the heading and the wind."""
+    ctx = FunctionContext(terrain=lambda e, n: 1.0, landing_sites=(L1,))
+    ctx.state, ctx.wind = _facing(0.0), WEST_8
+    fn = LandingFunction(ctx, LandingConfig())
+    memory = MemoryBank({"Land-DO": 64})
+    memory.write("Land-DO", encode(7, ()))  # command 7: land, no heading
+    assert fn.step(Phase.INITIALIZING, memory, 0.0) is HookResult.DONE
+    assert _heading_deg(fn) == pytest.approx(270.0)
+    fn.step(Phase.RUNNING, memory, 0.02)
+    assert _phase(fn) is LandingPhase.APPROACH  # the nose is still north
+    ctx.wind = WindEstimate(8.0, 1.0, WindStatus.OK)  # 7 deg off: within the hysteresis
+    fn.step(Phase.RUNNING, memory, 0.04)
+    assert _heading_deg(fn) == pytest.approx(270.0)
+    ctx.wind = WindEstimate(6.0, 6.0, WindStatus.OK)  # from 225 deg: turns
+    fn.step(Phase.RUNNING, memory, 0.06)
+    assert _heading_deg(fn) == pytest.approx(225.0)
+    ctx.state = _facing(228.0)
+    fn.step(Phase.RUNNING, memory, 0.08)
+    assert _phase(fn) is LandingPhase.DESCENT
+    ctx.wind = WindEstimate(0.0, 8.0, WindStatus.OK)  # from the south now: too late to turn
+    fn.step(Phase.RUNNING, memory, 0.10)
+    assert _heading_deg(fn) == pytest.approx(225.0)
+    assert ctx.notes[7] == (
+        f"landed on GPS and barometer: {NO_FIX}; "
+        "heading 225 deg into the estimated wind 8.5 m/s from 225 deg"
+    )
+
+
+@pytest.mark.parametrize(("height", "points"), [(SEARCH_H, 7), (10.0, 7), (2.0, 1)])
+def test_the_scan_covers_about_twice_the_footprint_of_the_centre(
+    height: float, points: int
+) -> None:
+    """Seven footprints of radius R (the pattern wholly in the image) leave no gap up to about
+    2 R of filter error; too low for a footprint, the scan is the centre alone."""
+    config = LandingConfig()
+    offsets = scan_offsets(config, height)
+    assert len(offsets) == points and offsets[0] == (0.0, 0.0)
+    reach = height * math.tan(COLOR.vfov(0.0) / 2.0) - PAD_HALF_WIDTH_M
+    if points == 1:
+        return
+    for k in range(360):  # filter errors up to 1.9 R in every direction: some point sees it
+        for r in (0.5 * reach, reach * 1.2, reach * 1.9):
+            e = (r * math.sin(math.radians(k)), r * math.cos(math.radians(k)))
+            assert min(math.dist(o, e) for o in offsets) <= reach
+
+
+def _aims(fn: Landing, ups: list[float], seen: Callable[[float], bool]) -> list[int]:
+    """Which scan point the camera is aimed at, per second (``ups``: the height each second)."""
+    out = []
+    offsets = scan_offsets(fn.config, SEARCH_H)
+    for second, up in enumerate(ups):
+        for k in range(50):
+            now = second + k * 0.02
+            aim = fn.camera_aim(_state(up), now, seen(now))
+        assert aim is not None
+        out.append(min(range(len(offsets)), key=lambda i: math.dist(offsets[i], aim[:2])))
+    return out
+
+
+@pytest.mark.parametrize(
+    ("ups", "seen", "points"),
+    [
+        # climbing: the pad; at the search height: a new point every 2 s, round the ring
+        ([5.45, 12.0, 20.0, *[SEARCH_H + 0.45] * 6], lambda t: False, [0, 0, 0, 0, 0, 1, 1, 2, 2]),
+        # fixes the filter has not taken from 2.5 to 4.5 s: the point (1) is held 2 s after the
+        # last one, then looked at 2 s more
+        ([SEARCH_H + 0.45] * 9, lambda t: 2.5 <= t < 4.5, [0, 0, 1, 1, 1, 1, 1, 1, 2]),
+    ],
+)
+def test_the_search_scans_the_camera_round_the_pad_once_at_its_height(
+    ups: list[float], seen: Callable[[float], bool], points: list[int]
+) -> None:
+    fn = Landing()
+    fn.start(_state(ups[0]), PAD, search_height=SEARCH_H)
+    assert _aims(fn, ups, seen) == points
+
+
+def test_no_scan_outside_the_search() -> None:
+    fn = Landing()
+    fn.start(_state(10.0), PAD)  # no search height: an approach
+    assert fn.camera_aim(_state(10.0), 0.0, seen=False) is None
