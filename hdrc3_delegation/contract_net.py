@@ -818,14 +818,7 @@ class Contractor:
             Performative.REQUEST: self._on_request,
         }.get(msg.performative)
         if handler is None:
-            return [
-                _answer(
-                    self.me,
-                    msg,
-                    Performative.NOT_UNDERSTOOD,
-                    f"{msg.performative.value} is not part of {PROTOCOL} for a contractor",
-                )
-            ]
+            return [_not_for_contractors(self.me, msg)]
         return handler(msg, body, now)
 
     def tick(self, now: float) -> list[AclMessage]:
@@ -978,14 +971,7 @@ class Contractor:
                     )
                 )
             return out
-        return [
-            _answer(
-                self.me,
-                msg,
-                Performative.NOT_UNDERSTOOD,
-                f"{msg.performative.value} is not part of {PROTOCOL} for a contractor",
-            )
-        ]
+        return [_not_for_contractors(self.me, msg)]
 
     def _relay(self, duty: _Responsibility, now: float) -> list[AclMessage]:
         """Tell the delegator what the re-delegated mission's own delegation reached."""
@@ -1134,6 +1120,12 @@ def _answer(me: str, msg: AclMessage, performative: Performative, reason: str) -
     if reply.language != LANGUAGE:
         reply = replace(reply, language=LANGUAGE, ontology=ONTOLOGY, protocol=PROTOCOL)
     return reply
+
+
+def _not_for_contractors(me: str, msg: AclMessage) -> AclMessage:
+    """``not-understood``: a performative a contractor never receives in this protocol."""
+    reason = f"{msg.performative.value} is not part of {PROTOCOL} for a contractor"
+    return _answer(me, msg, Performative.NOT_UNDERSTOOD, reason)
 
 
 def _inform(contract: _Contract, body: str) -> AclMessage:

@@ -48,10 +48,12 @@ from hdrc3.live.geometry import (
 from hdrc3.live.images import ImageProblem, jpeg
 from hdrc3.live.scene import ZONE, outline, prism, world_scene
 from hdrc3.live.wire import encode_json
+from hdrc3.message_types import constant_names
+from hdrc3.mission_log import MONITOR_KINDS, RECOVERY_STEPS
 from hdrc3_base.errors import Hdrc3Error
 from hdrc3_base.stamps import stamp_s
 from hdrc3_hcsm.trace import TraceRecord
-from hdrc3_interfaces.msg import MonitorViolation, RecoveryEvent
+from hdrc3_interfaces.msg import MonitorViolation, PlatformEvent, RecoveryEvent
 from hdrc3_navigation.messages import segment_from_msg
 from hdrc3_perception.saliency_map import Location, MapError, MapParams, locations_from_geojson
 from sim.world import World
@@ -397,20 +399,11 @@ class HcsmConverter(ConverterBase):
 
 
 EVENT_LEVELS = {0: LogLevel.Info, 1: LogLevel.Error, 2: LogLevel.Warning, 3: LogLevel.Debug}
-EVENT_KINDS = {0: "finished", 1: "failed", 2: "cancelled", 3: "segment request", 4: "info"}
-VIOLATION_KINDS = {
-    MonitorViolation.KIND_VIOLATION: ("violated", LogLevel.Error),
-    MonitorViolation.KIND_STALE_DATA: ("stale data", LogLevel.Warning),
-    MonitorViolation.KIND_REFUSED: ("not activated", LogLevel.Warning),
-}
-RECOVERY_STEPS = {
-    RecoveryEvent.STEP_SUSPENDED: "step suspended",
-    RecoveryEvent.STEP_BRAKED: "emergency brake",
-    RecoveryEvent.STEP_HOVERING: "hovering",
-    RecoveryEvent.STEP_OPERATOR_APPLIED: "recovery operator applied",
-    RecoveryEvent.STEP_REPLANNED: "replanned",
-    RecoveryEvent.STEP_GAVE_UP: "gave up",
-    RecoveryEvent.STEP_IGNORED: "violation ignored",
+EVENT_KINDS = constant_names(PlatformEvent, "KIND_")
+VIOLATION_LEVELS = {
+    MonitorViolation.KIND_VIOLATION: LogLevel.Error,
+    MonitorViolation.KIND_STALE_DATA: LogLevel.Warning,
+    MonitorViolation.KIND_REFUSED: LogLevel.Warning,
 }
 
 
@@ -428,7 +421,8 @@ def _execution_flag(agent: str, msg: Any) -> tuple[LogLevel, str, str]:
 
 def _monitor_violation(agent: str, msg: Any) -> tuple[LogLevel, str, str]:
     kind = int(msg.kind)
-    word, level = VIOLATION_KINDS.get(kind, (f"kind {kind}", LogLevel.Warning))
+    word = MONITOR_KINDS.get(kind, f"kind {kind}")
+    level = VIOLATION_LEVELS.get(kind, LogLevel.Warning)
     text = f"monitor {msg.monitor_id} {word}: {msg.formula}"
     bound = ", ".join(
         f"{n}={v}" for n, v in zip(msg.argument_names, msg.argument_values, strict=False)

@@ -79,7 +79,7 @@ class Synthetic:
 
 def is_violation(frame: Frame) -> bool:
     line = decode(WireSchema.well_known(Log), frame.data)
-    return "monitor speed violated" in line.message
+    return "monitor speed violation" in line.message
 
 
 def flushed(path: Path) -> set[str]:

@@ -265,15 +265,15 @@ def violation(kind: int, **fields) -> MonitorViolation:
     ("msg", "level", "text"),
     [
         (violation(MonitorViolation.KIND_VIOLATION), LogLevel.Error,
-         "monitor speed_limit violated: always v < 12"),
+         "monitor speed_limit violation: always v < 12"),
         (violation(MonitorViolation.KIND_VIOLATION, node_id="n4", action="fly-to",
                    argument_names=["x"], argument_values=["depot"], recovery="avoid",
                    emergency_brake=True),
-         LogLevel.Error, "violated: always v < 12 [x=depot] (node n4 fly-to); recovery avoid; "
+         LogLevel.Error, "violation: always v < 12 [x=depot] (node n4 fly-to); recovery avoid; "
                          "emergency brake"),
         (violation(MonitorViolation.KIND_STALE_DATA, reason="no speed for 2 s"), LogLevel.Warning,
          "monitor speed_limit stale data: always v < 12: no speed for 2 s"),
-        (violation(MonitorViolation.KIND_REFUSED), LogLevel.Warning, "not activated"),
+        (violation(MonitorViolation.KIND_REFUSED), LogLevel.Warning, "refused: always v < 12"),
         (violation(42), LogLevel.Warning, "monitor speed_limit kind 42"),
     ],
 )  # fmt: skip
@@ -296,10 +296,10 @@ def recovery(step: int, **fields) -> RecoveryEvent:
     ("msg", "level", "text"),
     [
         (recovery(RecoveryEvent.STEP_SUSPENDED), LogLevel.Info,
-         "m: g2 step suspended (wind, attempt 1)"),
+         "m: g2 suspended (wind, attempt 1)"),
         (recovery(RecoveryEvent.STEP_OPERATOR_APPLIED, recovery="lower-wind",
                   changes=["(wind-ok) false"]),
-         LogLevel.Info, "recovery operator applied (wind, attempt 1); operator lower-wind; "
+         LogLevel.Info, "g2 operator applied (wind, attempt 1); operator lower-wind; "
                         "changed (wind-ok) false"),
         (recovery(RecoveryEvent.STEP_REPLANNED, plan=["fly-to uav1 a", "land uav1"]),
          LogLevel.Info, "replanned (wind, attempt 1); plan fly-to uav1 a / land uav1"),
