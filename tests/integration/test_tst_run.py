@@ -157,7 +157,8 @@ def system(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[System]:
 
     launch = hdrc3_cli(
         "launch", "--agents", ",".join(AGENTS), "--world", "revinge", "--speed", "max",
-        "--nodes", "world_sim,control_kernel,platform_server,tst_manager,task_planner,path_planner",
+        "--nodes", "world_sim,control_kernel,platform_server,perception_kernel,tst_manager,"
+        "task_planner,path_planner",  # scan-area turns the PTU through the PPC
         "--seed", SEED,
     )  # fmt: skip
     launch.wait_for_line("READY", timeout=120)
