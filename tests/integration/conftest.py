@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from hdrc3.launched_system import STOP_TIMEOUT_S
+
 HDRC3 = str(Path(sys.executable).parent / "hdrc3")
 
 
@@ -75,8 +77,12 @@ class Child:
                     f"exited {self.proc.returncode} before {needle!r}: {self.lines}"
                 )
 
-    def interrupt(self, timeout: float = 10.0) -> int:
-        """Send SIGINT and wait for the exit code, collecting remaining output."""
+    def interrupt(self, timeout: float = STOP_TIMEOUT_S) -> int:
+        """Send SIGINT and wait for the exit code, collecting remaining output.
+
+        The default is the wait `hdrc3 demo` and `tst run` give their launch: a launch of 20
+        processes on a loaded machine took more than 30 s to stop.
+        """
         self.proc.send_signal(signal.SIGINT)
         return self.finish(timeout)
 

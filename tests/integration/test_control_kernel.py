@@ -379,4 +379,4 @@ def test_a_reannounced_tick_is_answered_again(
         assert process.spin_until(lambda: 2 * tick in answers, 30.0), answers
         assert answers[-1] == 2 * tick and set(answers) == {tick, 2 * tick}, answers
         node.destroy_node()
-    assert launch.interrupt(timeout=30) == 0
+    assert launch.interrupt() == 0

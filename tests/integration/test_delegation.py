@@ -99,7 +99,7 @@ def rig(
                 hand_over(process, rig.client.node, agent)
             yield rig, launch
         finally:
-            launch.interrupt(timeout=30)
+            launch.interrupt()
             print("\n".join(launch.lines[-60:]))
 
 

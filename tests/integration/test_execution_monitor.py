@@ -172,7 +172,7 @@ def test_a_speed_violation_is_detected_within_its_bound_on_the_real_chain(
             wait(lambda: stamp_ms(states[-1].header.stamp) > end + 2000, 60.0, "2 s more")
         finally:
             node.destroy_node()
-            launch.interrupt(timeout=30)
+            launch.interrupt()
             print("\n".join(launch.lines[-40:]))
 
     found = [(v, arrived) for v, arrived in violations if v.kind == v.KIND_VIOLATION]

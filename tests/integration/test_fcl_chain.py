@@ -157,7 +157,7 @@ def chain(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[Chain]:
             yield rig
         finally:
             rig.node.destroy_node()
-            launch.interrupt(timeout=30)
+            launch.interrupt()
             print("\n".join(launch.lines[-40:]))  # shown by pytest when the test failed
 
 

@@ -364,4 +364,4 @@ def test_end_to_end_with_the_real_kernels(
         assert client.state_at(_seconds(landed.header.stamp) + SETTLE_S).on_ground_flag
     finally:
         client.executor.shutdown()
-        launch.interrupt(timeout=30)
+        launch.interrupt()

@@ -218,7 +218,7 @@ def rig(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[Rig]:
             yield r
         finally:
             r.node.destroy_node()
-            code = launch.interrupt(timeout=30)
+            code = launch.interrupt()
             print("\n".join(launch.lines[-30:]))
     # the launcher stops its nodes, the restarted ones and its unused warm spare included
     assert code == 0, launch.lines[-30:]
@@ -357,4 +357,4 @@ def test_a_burst_of_concurrent_calls_is_answered(hdrc3_cli: Callable[..., Any], 
             ("SimTeleport_Response", SimResult.INVALID_ARGUMENT),  # unknown frame
         }, codes
         node.destroy_node()
-    assert launch.interrupt(timeout=30) == 0
+    assert launch.interrupt() == 0

@@ -73,6 +73,6 @@ def test_colcon_builds_the_control_kernel_and_it_starts_as_ros2_run_would(
     )  # fmt: skip
     try:
         node.wait_for_line("cold start: ", timeout=120)
-        assert node.interrupt(timeout=30) == 0, node.lines
+        assert node.interrupt() == 0, node.lines
     finally:
         node.kill()

@@ -170,7 +170,7 @@ def system(hdrc3_cli: Callable[..., Any], ros_domain: int) -> Iterator[System]:
             yield rig
         finally:
             rig.client.node.destroy_node()
-            launch.interrupt(timeout=30)
+            launch.interrupt()
             print("\n".join(launch.lines[-40:]))  # shown by pytest when the test failed
 
 

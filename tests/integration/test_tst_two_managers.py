@@ -75,7 +75,7 @@ def _run(
         )  # fmt: skip
         code = run.finish(timeout=WAIT_S)
     finally:
-        launch.interrupt(timeout=30)
+        launch.interrupt()
     output = "\n".join(run.lines + launch.lines)
     assert code == 0, output
     assert f"mission {mission} succeeded" in output
