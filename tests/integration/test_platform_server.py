@@ -110,7 +110,7 @@ class Client:
         request = srv.Request()
         for key, value in fields.items():
             setattr(request, key, value)
-        response = answer(self.executor, client, request, 10.0)
+        response = answer(self.executor, client, request, 60.0)
         assert response is not None, f"no answer from {name}"
         return response
 

@@ -50,6 +50,8 @@ BARO_BOUND_V = 1.5
 TRUTH_BOUND = 0.5
 TRUTH_MEAN_BOUND = 0.3
 TOUCHDOWN_BOUND = 0.5
+FIXES_WAIT_S = 300.0
+"""Wall-clock bound (s) on waiting for vision fixes: the camera renders at wall-clock pace."""
 
 
 def _stamp(msg: Any) -> float:
@@ -106,7 +108,12 @@ def test_vision_fixes_are_fused_over_the_pad_and_land_the_aircraft_on_it(
             return 0
         return int(aiding[-1]["sources"].get("vision", {}).get("accepted", 0))
 
-    assert spin_until(executor, lambda: vision_accepted() >= 15, 90.0), (aiding[-1:], fixes[-3:])
+    # bounded generously: the camera renders at wall-clock pace, the fixes follow it, and two
+    # suites sharing 2 cores slowed it below 15 fixes in 90 s (fresh-clone run P2, stop 39)
+    assert spin_until(executor, lambda: vision_accepted() >= 15, FIXES_WAIT_S), (
+        aiding[-1:],
+        fixes[-3:],
+    )
     # the first fixes may be rejected: the GPS/INS solution is metres off, the filter takes them
     # once a run of them agrees (StateEstimator.update_vision); from then on they pass the gate
     early = aiding[-1]["sources"]["vision"]
@@ -115,7 +122,7 @@ def test_vision_fixes_are_fused_over_the_pad_and_land_the_aircraft_on_it(
         gps_age = aiding[-1]["sources"].get("gps", {}).get("age_s")
         return vision_accepted() >= 40 and (gps_age is None or gps_age >= 2.0)
 
-    assert spin_until(executor, on_vision, 90.0), (aiding[-1:], fixes[-3:])
+    assert spin_until(executor, on_vision, FIXES_WAIT_S), (aiding[-1:], fixes[-3:])
     report = aiding[-1]
     assert "vision" in report["used"] and "gps" not in report["used"], report
     assert "gps_velocity" in report["used"], report  # GPS gives only its velocity meanwhile
