@@ -23,8 +23,7 @@ from hdrc3.message_types import constant_names, message_class
 from hdrc3_base.errors import DataError
 from hdrc3_base.stamps import stamp_s
 from hdrc3_control.path_segment import PathSegment
-
-_EVENT_KINDS = {0: "FINISHED", 1: "FAILED", 2: "CANCELLED", 3: "SEGMENT_REQUEST", 4: "INFO"}
+from hdrc3_platform_server.codes import EventKind
 
 
 @dataclass(frozen=True, slots=True)
@@ -210,10 +209,18 @@ class FlightReportBuilder:
                 EventMark(
                     stamp - (self._t0 if self._t0 is not None else stamp),
                     msg.command,
-                    _EVENT_KINDS.get(msg.kind, str(msg.kind)),
+                    _event_kind(msg.kind),
                     msg.reason,
                 )
             )
+
+
+def _event_kind(kind: int) -> str:
+    """A PlatformEvent kind's name (``FINISHED``), or its number if this build does not know it."""
+    try:
+        return EventKind(kind).name
+    except ValueError:
+        return str(kind)
 
 
 def build_report(recording: Path, agent: str, origin: tuple[float, float, float]) -> FlightReport:
