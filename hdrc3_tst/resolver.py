@@ -520,7 +520,7 @@ class _Resolver:
             self.error("E111", f"{task.name} takes ({sig}), got {len(args)} arguments", task.pos)
             return
         for key, arg in zip(("TS", "TE"), args[:2], strict=True):
-            var = self._arg(node, arg, ParamSpec(key, ParamType.TIME, "s"), scope)
+            var = self._arg(node, arg, _INTERFACE_TIMES[key], scope)
             if var is not None and var != node.params[key]:
                 label = f"{node.node_id}: {key} = {arg.id if isinstance(arg, Name) else arg.value}"
                 self.edge(var, node.params[key], 0.0, False, label)
@@ -764,6 +764,9 @@ def _envelope_bounds(pspec: ParamSpec) -> tuple[tuple[Cmp, float, str], ...]:
 
 _ENVELOPE = {(a.name, p.name): _envelope_bounds(p) for a in ACTIONS.values() for p in a.params}
 """(action, parameter) -> its envelope bounds, formatted once from the static registry."""
+
+_INTERFACE_TIMES = {key: ParamSpec(key, ParamType.TIME, "s") for key in ("TS", "TE")}
+"""The first two arguments of every action, typed as its node's start and end."""
 
 _KINDS: dict[type, NodeKind] = {
     ActionTask: NodeKind.ACTION,

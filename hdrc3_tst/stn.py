@@ -52,6 +52,9 @@ def _ticks(seconds: float) -> float:
     return round(seconds * TICKS_PER_S) if math.isfinite(seconds) else seconds
 
 
+_HORIZON_WEIGHT: Weight = (_ticks(HORIZON), 0)
+
+
 class _EdgeFields(NamedTuple):
     source: str
     target: str
@@ -141,8 +144,9 @@ class SimpleTemporalNetwork:
         """A new time point in ``[0, HORIZON]``."""
         if name in self._out:
             return
-        horizon = Edge(ORIGIN, name, _HORIZON, "horizon")
-        after_origin = Edge(name, ORIGIN, _NOT_BEFORE, f"{name} >= 0")
+        # Two edges per variable, their weights known: made without quantising them again.
+        horizon = Edge._make((ORIGIN, name, _HORIZON, "horizon", _HORIZON_WEIGHT))
+        after_origin = Edge._make((name, ORIGIN, _NOT_BEFORE, f"{name} >= 0", _ZERO))
         self._out[name] = {ORIGIN: after_origin}
         self._in[name] = {ORIGIN: horizon}
         self._out[ORIGIN][name] = horizon
