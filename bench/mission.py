@@ -1,7 +1,7 @@
 """Whole-stack speed: sim seconds per wall second of `hdrc3 demo` and of a bounded mission leg I.
 
 Each case launches the real stack through the real CLI on a private ROS domain, with recording on:
-- ``demo``: ``hdrc3 demo`` (one RMAX: take-off, fly-to, survey, landing), run to the end;
+- ``demo``: ``hdrc3 demo --basic`` (one RMAX: take-off, fly-to, survey, landing), run to the end;
 - ``leg1``: ``hdrc3 tst run examples/tst/leg1_scan.tst --launch --agents uav0,uav1 --speed max``
   (two RMAXes, cameras, saliency), stopped with SIGINT once ``--leg1-seconds`` of sim time passed
   (a /clock subscriber of this process watches; it adds one reader to a topic that has several).
@@ -260,7 +260,7 @@ def main() -> int:
         out.mkdir(parents=True, exist_ok=True)
         domain = ["--domain-id", str(DOMAIN_ID)]
         if args.case in ("demo", "all"):
-            cmd = [HDRC3, "demo", "--out", str(out / "demo"), *domain]
+            cmd = [HDRC3, "demo", "--basic", "--out", str(out / "demo"), *domain]
             report(run_case("hdrc3 demo", cmd, out / "demo" / "run.mcap", None), args.top)
         if args.case in ("leg1", "all"):
             cmd = [HDRC3, "tst", "run", "examples/tst/leg1_scan.tst", "--launch"]
