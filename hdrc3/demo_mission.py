@@ -14,17 +14,20 @@ from typing import Any
 
 from hdrc3_base.errors import Hdrc3Error
 from hdrc3_control.path_segment import PathSegment
-from hdrc3_interfaces.msg import FclReturn
+from hdrc3_interfaces.msg import FclReturn, HelicopterState
 from hdrc3_interfaces.srv import FclLand, FclTakeoff, FclTraj3d, FclTraj3dFlyto
 from hdrc3_navigation.messages import segment_to_msg
 from hdrc3_platform_server.client import PlatformClient
 from hdrc3_platform_server.codes import EventKind
 from hdrc3_platform_server.completion import TERMINAL, CompletionEvent
 from hdrc3_platform_server.geo_frame import WorldFrame
+from hdrc3_platform_server.node import STATE_QOS
 
 CALL_TIMEOUT_S = 10.0
 READY_TIMEOUT_S = 120.0
 COMMAND_TIMEOUT_S = 600.0
+ON_GROUND_TIMEOUT_S = 60.0
+"""Wall-clock bound on the Data Interface reporting the aircraft on the ground after landing."""
 
 
 class MissionError(Hdrc3Error):
@@ -66,6 +69,13 @@ class SurveyMission:
         self.steps: list[MissionStep] = []
         self.segment_ids: list[int] = []
         """Command ids of the segments of the latest :meth:`stream`, in flight order."""
+        self._on_ground: bool | None = None
+        client.node.create_subscription(
+            HelicopterState, f"/{client.agent}/helicopter_state", self._on_state, STATE_QOS
+        )
+
+    def _on_state(self, msg: Any) -> None:
+        self._on_ground = bool(msg.on_ground_flag)
 
     def _call(self, srv: Any, name: str, request: Any) -> FclReturn:
         response = self._client.call(srv, f"fcl/{name}", request, CALL_TIMEOUT_S)
@@ -161,8 +171,19 @@ class SurveyMission:
         return self._finish("traj3d", ids[-1])
 
     def land(self, heading: float = 0.0) -> MissionStep:
-        """Land with ``heading`` (rad) and shut the engine down."""
-        return self._command(FclLand, "land", FclLand.Request(heading=heading))
+        """Land with ``heading`` (rad), shut the engine down, and see the Data Interface say so.
+
+        The Data Interface reports the touchdown at its next sample after FCL_FINISHED; a
+        system stopped at once would otherwise end its recording one sample before it.
+        """
+        self._on_ground = None
+        step = self._command(FclLand, "land", FclLand.Request(heading=heading))
+        if not self._client.process.spin_until(lambda: bool(self._on_ground), ON_GROUND_TIMEOUT_S):
+            raise MissionError(
+                f"fcl_land finished, but the Data Interface did not report the aircraft on the "
+                f"ground within {ON_GROUND_TIMEOUT_S:.0f} s"
+            )
+        return step
 
     def run(self) -> list[MissionStep]:
         """Fly the whole mission; raises MissionError at the first step that fails."""
