@@ -47,6 +47,8 @@ from hdrc3_deliberative.generators import (
     UAV_SCENARIO,
     ZENOTRAVEL_CONTROL,
     ZENOTRAVEL_DOMAIN,
+    ZENOTRAVEL_NUMERIC_CONTROL,
+    ZENOTRAVEL_NUMERIC_DOMAIN,
     DepotsSize,
     DriverLogSize,
     LogisticsSize,
@@ -282,6 +284,19 @@ def domain_runs(quick: bool, seeds: int, only: list[str] | None = None) -> list[
             ZENOTRAVEL_CONTROL,
             [
                 (f"{z.cities}c/{z.planes}a/{z.people}p", zenotravel_problem(z, s))
+                for z in zeno
+                for s in seed_list
+            ],
+        ),
+        DomainRun(
+            "zeno-num",
+            ZENOTRAVEL_NUMERIC_DOMAIN,
+            ZENOTRAVEL_NUMERIC_CONTROL,
+            [
+                (
+                    f"{z.cities}c/{z.planes}a/{z.people}p",
+                    zenotravel_problem(z, s, numeric=True),
+                )
                 for z in zeno
                 for s in seed_list
             ],

@@ -26,6 +26,8 @@ SATELLITE_MODES = ("image", "spectrograph", "thermograph", "infrared")
 DRIVERLOG_DOMAIN = DOMAINS_DIR / "driverlog" / "domain.pddl"
 DRIVERLOG_CONTROL = DOMAINS_DIR / "driverlog" / "control.tal"
 DRIVERLOG_NUMERIC_DOMAIN = DOMAINS_DIR / "driverlog_numeric" / "domain.pddl"
+ZENOTRAVEL_NUMERIC_DOMAIN = DOMAINS_DIR / "zenotravel_numeric" / "domain.pddl"
+ZENOTRAVEL_NUMERIC_CONTROL = DOMAINS_DIR / "zenotravel_numeric" / "control.tal"
 ROVERS_DOMAIN = DOMAINS_DIR / "rovers" / "domain.pddl"
 ROVERS_CONTROL = DOMAINS_DIR / "rovers" / "control.tal"
 ZENO_FUEL_LEVELS = 7  # f0 .. f6 as in the IPC-2002 STRIPS problems
@@ -168,11 +170,15 @@ def _pddl_problem(
     )
 
 
-def zenotravel_problem(size: ZenoSize, seed: int, name: str = "") -> str:
-    """A STRIPS ZenoTravel problem as the IPC-2002 generator lays it out.
+def zenotravel_problem(size: ZenoSize, seed: int, name: str = "", numeric: bool = False) -> str:
+    """A ZenoTravel problem as the IPC-2002 generator lays it out (STRIPS, or ``numeric``).
 
     Aircraft start in random cities with a random fuel level, people in random cities; every
-    person has a random goal city and every second aircraft one too.
+    person has a random goal city and every second aircraft one too. The numeric version
+    (our reading of the competition's numeric problems) gives symmetric distances of 100-1000
+    between cities (0 to itself), and per aircraft a slow burn of 1-5, a fast burn of 2-4
+    times that, a zoom limit of 6-10, a capacity of 1500-3100 slow-burn units (enough for
+    any slow flight) and a random fuel load up to the capacity; the metric is the fuel used.
     """
     if size.cities < 2 or size.planes < 1 or size.people < 1:
         raise ValueError("need at least two cities, one aircraft and one person")
@@ -180,12 +186,24 @@ def zenotravel_problem(size: ZenoSize, seed: int, name: str = "") -> str:
     cities = [f"city{i}" for i in range(size.cities)]
     planes = [f"plane{i + 1}" for i in range(size.planes)]
     people = [f"person{i + 1}" for i in range(size.people)]
-    levels = [f"fl{i}" for i in range(ZENO_FUEL_LEVELS)]
+    levels = [] if numeric else [f"fl{i}" for i in range(ZENO_FUEL_LEVELS)]
     init = [f"(next {levels[i]} {levels[i + 1]})" for i in range(len(levels) - 1)]
     goals = []
     for i, plane in enumerate(planes):
         init.append(f"(at {plane} {rng.choice(cities)})")
-        init.append(f"(fuel-level {plane} {rng.choice(levels)})")
+        if numeric:
+            slow = rng.randint(1, 5)
+            capacity = slow * rng.randint(1500, 3100)
+            init += [
+                f"(= (slow-burn {plane}) {slow})",
+                f"(= (fast-burn {plane}) {slow * rng.randint(2, 4)})",
+                f"(= (zoom-limit {plane}) {rng.randint(6, 10)})",
+                f"(= (capacity {plane}) {capacity})",
+                f"(= (fuel {plane}) {rng.randint(0, capacity)})",
+                f"(= (onboard {plane}) 0)",
+            ]
+        else:
+            init.append(f"(fuel-level {plane} {rng.choice(levels)})")
         if i % 2 == 1:
             goals.append(f"(at {plane} {rng.choice(cities)})")
     for person in people:
@@ -195,10 +213,19 @@ def zenotravel_problem(size: ZenoSize, seed: int, name: str = "") -> str:
         " ".join(planes) + " - aircraft",
         " ".join(people) + " - person",
         " ".join(cities) + " - city",
-        " ".join(levels) + " - flevel",
+        " ".join(levels) + " - flevel" if levels else "",
     ]
+    metric = ""
+    if numeric:
+        init.append("(= (total-fuel-used) 0)")
+        for a, b in itertools.combinations_with_replacement(cities, 2):
+            far = 0 if a == b else rng.randint(100, 1000)
+            init.append(f"(= (distance {a} {b}) {far})")
+            if a != b:
+                init.append(f"(= (distance {b} {a}) {far})")
+        metric = "minimize (total-fuel-used)"
     pname = name or f"zeno-{size.cities}-{size.planes}-{size.people}-{seed}"
-    return _pddl_problem(pname, "zenotravel", objects, init, goals)
+    return _pddl_problem(pname, "zenotravel", objects, init, goals, metric)
 
 
 def _random_towers(blocks: list[str], rng: random.Random) -> list[list[str]]:

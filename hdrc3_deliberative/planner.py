@@ -21,7 +21,7 @@ from hdrc3_deliberative.result import (
     ProgressHook,
     Statistics,
 )
-from hdrc3_deliberative.search import SearchConfig, TalPlanner
+from hdrc3_deliberative.search import CycleCheck, SearchConfig, TalPlanner
 from hdrc3_deliberative.tal_language import TalReader
 from hdrc3_deliberative.task import Task
 
@@ -94,10 +94,12 @@ class TaskPlanner:
         timeout: float = 10.0,
         sequential: bool = False,
         progress: ProgressHook | None = None,
+        cycle_check: CycleCheck = CycleCheck.PATH_CLOSED,
     ) -> PlanResult:
         """Plan; bad input becomes an INVALID_INPUT result with a readable reason.
 
-        ``progress`` hears each phase as it begins and the search's effort as it goes.
+        ``progress`` hears each phase as it begins and the search's effort as it goes;
+        ``cycle_check`` selects the visited states that prune (see ``search.CycleCheck``).
         """
         t0 = time.perf_counter()
         cpu0 = time.process_time()  # CPU time too: wall time is noisy on a shared machine
@@ -117,7 +119,9 @@ class TaskPlanner:
             return PlanResult(PlanStatus.INVALID_INPUT, (), Statistics(), "input nested too deeply")
         grounding = time.perf_counter() - t0
         remaining = max(0.0, timeout - grounding)
-        config = SearchConfig(timeout=remaining, sequential=sequential, prefer=spec.prefer)
+        config = SearchConfig(
+            timeout=remaining, sequential=sequential, cycle_check=cycle_check, prefer=spec.prefer
+        )
         result = TalPlanner(task, program, config, progress=progress, started=t0).solve()
         plan = label_agents(result.plan, task, spec.agent_types)
         stats = replace(

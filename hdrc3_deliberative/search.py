@@ -1,10 +1,10 @@
 """Concurrent TALplanner search (Algorithm 3, Definition 9.1 of the chapter).
 
-A search node is ``<C, S, tau0, tmax, p>``: queued constraints, (global) visited states, the
-latest invocation time, the latest end time and the plan. Successors add one occurrence
-``[rho, rho'] o(c)`` with ``tau0 <= rho <= tmax`` (Def. 9.1 (3), (4)); ``rho`` is the earliest
-such time at which ``o`` does not interfere with an action still running (Def. 9.1 (1)), plus,
-in domains with prevail conditions, the later change points up to ``tmax``:
+A search node is ``<C, S, tau0, tmax, p>``: queued constraints, visited states, the latest
+invocation time, the latest end time and the plan. Successors add one occurrence
+``[rho, rho'] o(c)`` at every admissible start ``tau0 <= rho <= tmax`` (Def. 9.1 (3), (4)) at
+which ``o`` does not interfere with an action still running (Def. 9.1 (1)): the earliest
+such time and the later ends of running actions (the timeline changes only there):
 
 * an occurrence *occludes* the features it writes over ``[rho, rho')``; no other occurrence may
   read or write them while it runs, and every action of an agent writes that agent's token, so
@@ -18,6 +18,24 @@ this sequential refinement; prevail conditions are queued and decided once the t
 the end of their interval is fixed (``tau0 >= rho'``) or, for the solution test, under complete
 knowledge. Search is depth first with lazy successor evaluation: a successor is built and its
 queued constraints are checked only when it is popped (lines 7-11).
+
+Without prevail conditions a later start cannot help: states, control verdicts and the goal
+do not depend on times, and whatever follows a later start can follow the earliest one. So
+there the later starts of a node are pushed as one marker below its earliest-start children
+and generated only when all of those have failed. With prevail conditions all starts are
+children at once, ordered by start.
+
+The cycle check (line 14) compares a node with the states of the current path, where a state
+with at least as much of every ``resource`` is better-or-equal (``CycleCheck.PATH``). The
+default ``CycleCheck.PATH_CLOSED`` also prunes exact duplicates of any node visited before:
+a node's extensions depend only on its key (final state, and with prevail conditions the
+timeline from ``tau0`` on, pending conditions and running actions), and depth first a
+visited non-ancestor's subtree is exhausted before a duplicate is popped, so no plan is lost;
+without it a failing subtree is searched again under every schedule and order of its
+actions (measured: pure ``PATH`` times out where ``PATH_CLOSED`` proves unsolvability in
+milliseconds). ``CycleCheck.GLOBAL`` is the better-or-equal test against every visited node,
+which loses plans when less of a resource can be needed (a goal or precondition bounding it
+from above); it is opt-in.
 """
 
 from __future__ import annotations
@@ -26,6 +44,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from enum import Enum
 
 from hdrc3_deliberative.model import EffectTime
 from hdrc3_deliberative.pruning import ControlProgram
@@ -42,6 +61,15 @@ from hdrc3_deliberative.result import (
 from hdrc3_deliberative.task import GroundOp, Task
 
 
+class CycleCheck(Enum):
+    """Which visited states prune a node (Algorithm 3, line 14)."""
+
+    PATH = "path"  # better-or-equal against the states on the current path only
+    PATH_CLOSED = "path-closed"  # PATH, plus exact duplicates of any visited node
+    GLOBAL = "global"  # better-or-equal against every visited node (may lose plans)
+    OFF = "off"
+
+
 @dataclass(frozen=True)
 class SearchConfig:
     """Search options.
@@ -49,14 +77,14 @@ class SearchConfig:
     Attributes:
         timeout: Wall-clock budget of the search in seconds.
         sequential: Start every action when the previous one has ended.
-        cycle_check: Prune nodes whose final state is no better than a visited one.
+        cycle_check: Which visited states prune a node.
         prefer: Operator names in preferred order for successor ordering (ties).
 
     """
 
     timeout: float = 10.0
     sequential: bool = False
-    cycle_check: bool = True
+    cycle_check: CycleCheck = CycleCheck.PATH_CLOSED
     prefer: tuple[str, ...] = ()
 
 
@@ -72,6 +100,55 @@ class _Prevail:
     op: GroundOp
     start: float
     end: float
+
+
+_Key = tuple[object, ...]
+_Resources = tuple[float, ...]
+
+
+def _dominated(seen: list[_Resources], res: _Resources) -> bool:
+    """Some visited state has at least as much of every resource (better-or-equal)."""
+    return any(all(a >= b for a, b in zip(old, res, strict=True)) for old in seen)
+
+
+class _Visited:
+    """The visited states ``S`` of Algorithm 3 (line 14), as ``CycleCheck`` selects them.
+
+    Depth first, the current path is the admitted node of each depth up to the parent of the
+    node being checked, so it is a stack truncated to that node's depth.
+    """
+
+    def __init__(self, mode: CycleCheck) -> None:
+        self.mode = mode
+        self._path: list[tuple[_Key, _Resources]] = []
+        self._on_path: dict[_Key, list[_Resources]] = {}
+        self._closed: set[tuple[_Key, _Resources]] = set()
+        self._seen: dict[_Key, list[_Resources]] = {}
+
+    def admit(self, depth: int, key: _Key, res: _Resources) -> bool:
+        """Record the node at ``depth`` and return True, or return False if it is pruned."""
+        if self.mode is CycleCheck.GLOBAL:
+            seen = self._seen.setdefault(key, [])
+            if _dominated(seen, res):
+                return False
+            seen.append(res)
+            return True
+        path, on_path = self._path, self._on_path
+        while len(path) > depth:  # leave the branches explored since
+            old_key, old_res = path.pop()
+            kept = on_path[old_key]
+            kept.remove(old_res)
+            if not kept:
+                del on_path[old_key]
+        if _dominated(on_path.get(key, []), res):
+            return False
+        if self.mode is CycleCheck.PATH_CLOSED:
+            if (key, res) in self._closed:
+                return False
+            self._closed.add((key, res))
+        path.append((key, res))
+        on_path.setdefault(key, []).append(res)
+        return True
 
 
 class _Node:
@@ -141,6 +218,9 @@ def _apply_nums(
     return tuple(values)
 
 
+_Entry = tuple[_Node, GroundOp | None, float]  # (parent, operator, start); None: later starts
+
+
 class TalPlanner:
     """Depth-first concurrent TALplanner over a ground task and compiled control rules."""
 
@@ -187,6 +267,12 @@ class TalPlanner:
         self._res = tuple(sorted(res))
         ignored = res | set(task.inert_nums)  # metric-only features cannot matter later
         self._plain = tuple(i for i in range(len(task.init_nums)) if i not in ignored)
+        # what prevail conditions read: the only part of the timeline that matters (_future_key)
+        self._prevail_bits = 0
+        for op in task.ops:
+            self._prevail_bits |= op.prevail_pos | op.prevail_neg
+        prevail_num = any(op.prevail_num for op in task.ops)
+        self._prevail_nums = tuple(sorted(set(self._plain) | res)) if prevail_num else ()
 
     # --- successors (Definition 9.1) ------------------------------------------------------
 
@@ -209,8 +295,7 @@ class TalPlanner:
         return result
 
     def _start_time(self, node: _Node, op: GroundOp) -> float:
-        if self.config.sequential:
-            return node.tmax
+        """The earliest start at which ``op`` does not interfere with a running action."""
         start = node.tau0
         if not (op.writes & node.run_rw or op.reads & node.run_writes):
             return start
@@ -219,18 +304,15 @@ class TalPlanner:
                 start = run.end
         return start
 
-    def _start_times(self, node: _Node, op: GroundOp) -> list[float]:
-        """Earliest non-interfering start; with prevail conditions also later change points.
+    @staticmethod
+    def _later_starts(node: _Node, earliest: float) -> list[float]:
+        """The admissible starts after ``earliest`` (Def. 9.1 (3), (4)).
 
-        Delaying an action only matters for prevail conditions (preconditions are read in the
-        final state and effects do not depend on time), so the later candidates of Def. 9.1
-        (4), the end times of running actions up to ``tmax``, are added only then.
+        Any ``rho`` with ``tau0 <= rho <= tmax`` is admissible once no running action
+        interferes; the timeline changes only where a running action ends (all end by
+        ``tmax``), so those ends are the distinct later candidates.
         """
-        earliest = self._start_time(node, op)
-        if not self._has_prevail or self.config.sequential:
-            return [earliest]
-        later = sorted({r.end for r in node.running if r.end > earliest})
-        return [earliest, *later]
+        return sorted({r.end for r in node.running if r.end > earliest})
 
     def _child(self, parent: _Node, op: GroundOp, start: float) -> _Node:
         end = start + op.duration
@@ -321,20 +403,30 @@ class TalPlanner:
 
     # --- the search loop ------------------------------------------------------------------
 
-    @staticmethod
-    def _pending_key(node: _Node) -> tuple[object, ...]:
-        """Undecided prevail conditions and what can still decide them, relative to tau0.
+    def _future_key(self, node: _Node) -> tuple[object, ...]:
+        """What besides the final state decides the node's future, relative to ``tau0``.
 
-        Two nodes with the same state but differently timed undecided conditions (or running
-        actions that will change the state during them) have different futures, so the cycle
-        check must tell them apart; without pending conditions the state alone is the key.
+        Without prevail conditions nothing does: preconditions are read in the final state,
+        control formulas on the sequential refinement, and the actions that can follow one
+        schedule can follow any other (later if need be), so two nodes with one final state
+        have the same extensions up to timing. With prevail conditions, new and pending
+        conditions are checked on the timeline from ``tau0`` on (only the features some prevail
+        condition reads matter) and running actions delay new ones, so those belong to the key
+        (which makes ``CycleCheck.PATH_CLOSED`` exact).
         """
-        if not node.queue:
+        if not self._has_prevail:
             return ()
         tau0 = node.tau0
+        mask, kept = self._prevail_bits, self._prevail_nums
+        states = self._timeline(node)
+        first = max(i for i, state in enumerate(states) if state[0] <= tau0)
+        timeline = tuple(
+            (max(when - tau0, 0.0), bits & mask, tuple(nums[i] for i in kept))
+            for when, bits, nums in states[first:]
+        )
         pending = sorted((p.op.index, max(p.start - tau0, 0.0), p.end - tau0) for p in node.queue)
-        running = sorted((r.end - tau0, r.writes) for r in node.running if r.end > tau0)
-        return (tuple(pending), tuple(running))
+        running = sorted((r.end - tau0, r.reads, r.writes) for r in node.running if r.end > tau0)
+        return (timeline, tuple(pending), tuple(running))
 
     def _goal(self, node: _Node) -> bool:
         task = self.task
@@ -344,29 +436,51 @@ class TalPlanner:
             and all(test(node.nums) for test in task.goal_num)
         )
 
-    def _successors(self, node: _Node) -> list[tuple[_Node, GroundOp, float]]:
-        """Children as stack entries, best last: by start, ``prefer`` rank, goal gain, index."""
+    def _solution(self, node: _Node) -> bool:
+        """Goal, final control and queued constraints under complete knowledge (line 15)."""
+        return (
+            self._goal(node)
+            and (self.control is None or self.control.final_violation(node.bits, node.nums) is None)
+            and not self._check_queue(node, complete=True)[0]
+        )
+
+    def _successors(self, node: _Node, later: bool) -> list[_Entry]:
+        """Children as stack entries, best last: by start, ``prefer`` rank, goal gain, index.
+
+        With prevail conditions every admissible start is a child at once. Without them a
+        later start cannot help (see :meth:`_future_key`): ``later=False`` gives each
+        operator at its earliest start, below them (popped after all of them) one marker
+        entry that stands for the later starts, and ``later=True`` (the marker popped) gives
+        those.
+        """
         goal = self.task.goal_pos
         bits = node.bits
         tau0, run_rw, run_writes = node.tau0, node.run_rw, node.run_writes
+        sequential = self.config.sequential
         rank = self._op_rank
-        keyed = []
+        keyed: list[tuple[float, int, int, int, GroundOp]] = []
         for op in self._applicable(node):
             gain = 0
             if op.add & goal or op.delete & goal:
                 gain = (op.add & goal & ~bits).bit_count() - (op.delete & goal & bits).bit_count()
-            if (
-                self._has_prevail
-                or self.config.sequential
-                or op.writes & run_rw
-                or op.reads & run_writes
-            ):
-                for start in self._start_times(node, op):
-                    keyed.append((start, rank[op.index], -gain, op.index, op))
+            if sequential:
+                start = node.tmax
+            elif op.writes & run_rw or op.reads & run_writes:
+                start = self._start_time(node, op)
             else:  # common case: no conflict with a running action, start at tau0
-                keyed.append((tau0, rank[op.index], -gain, op.index, op))
+                start = tau0
+            if later:
+                starts = self._later_starts(node, start)
+            elif self._has_prevail and not sequential:
+                starts = [start, *self._later_starts(node, start)]
+            else:
+                starts = [start]
+            keyed.extend((s, rank[op.index], -gain, op.index, op) for s in starts)
         keyed.sort(key=lambda k: k[:4], reverse=True)
-        return [(node, k[4], k[0]) for k in keyed]
+        entries: list[_Entry] = [(node, k[4], k[0]) for k in keyed]
+        if not (later or sequential or self._has_prevail) and node.running:
+            entries.insert(0, (node, None, tau0))
+        return entries
 
     def solve(self) -> PlanResult:
         """Run Algorithm 3 until a plan is found, the space is exhausted, or time runs out."""
@@ -396,8 +510,14 @@ class TalPlanner:
                     stats(),
                     f"initial state violates control rule '{violated}'",
                 )
-        visited: dict[tuple[object, ...], list[tuple[float, ...]]] = {}
-        stack: list[tuple[_Node, GroundOp | None, float]] = [(root, None, 0.0)]
+        visited = _Visited(self.config.cycle_check)
+        plain, res_indices = self._plain, self._res
+        root_key = (root.bits, tuple(root.nums[i] for i in plain), self._future_key(root))
+        visited.admit(0, root_key, tuple(root.nums[i] for i in res_indices))
+        if self._solution(root):
+            return PlanResult(PlanStatus.SOLVED, (), stats())
+        expanded += 1
+        stack = self._successors(root, later=False)
         iterations = 0
         started = t0 if self._started is None else self._started
         reported = -math.inf
@@ -413,45 +533,36 @@ class TalPlanner:
                     searching = PlanningPhase.SEARCHING
                     self._progress(PlanningProgress(searching, stats(), now - started))
             parent, op, start = stack.pop()
-            if op is None:
-                node = parent
-            else:
-                generated += 1
-                # incremental control constraints first: most popped successors fail them
-                after = (parent.bits & ~op.delete) | op.add
-                if (
-                    self.control is not None
-                    and self.control.step_violation(
-                        op, parent.bits, after, parent.nums, _apply_nums(op, parent.nums)
-                    )
-                    is not None
-                ):
-                    pruned_control += 1
-                    continue
-                node = self._child(parent, op, start)
+            if op is None:  # every earliest start of parent failed: its later starts
+                stack.extend(self._successors(parent, later=True))
+                continue
+            generated += 1
+            # incremental control constraints first: most popped successors fail them
+            after = (parent.bits & ~op.delete) | op.add
+            if (
+                self.control is not None
+                and self.control.step_violation(
+                    op, parent.bits, after, parent.nums, _apply_nums(op, parent.nums)
+                )
+                is not None
+            ):
+                pruned_control += 1
+                continue
+            node = self._child(parent, op, start)
             violated_queue, remaining = self._check_queue(node, complete=False)
             if violated_queue:
                 pruned_control += 1
                 continue
             node.queue = remaining
-            if self.config.cycle_check:
-                plain = tuple(node.nums[i] for i in self._plain)
-                key = (node.bits, plain, self._pending_key(node))
-                res = tuple(node.nums[i] for i in self._res)
-                seen = visited.setdefault(key, [])
-                if any(all(a >= b for a, b in zip(old, res, strict=True)) for old in seen):
+            if visited.mode is not CycleCheck.OFF:
+                key = (node.bits, tuple(node.nums[i] for i in plain), self._future_key(node))
+                if not visited.admit(node.depth, key, tuple(node.nums[i] for i in res_indices)):
                     pruned_cycle += 1
                     continue
-                seen.append(res)
-            if self._goal(node):
-                final_ok = (
-                    self.control is None
-                    or self.control.final_violation(node.bits, node.nums) is None
-                )
-                if final_ok and not self._check_queue(node, complete=True)[0]:
-                    return PlanResult(PlanStatus.SOLVED, self._extract(node), stats())
+            if self._solution(node):
+                return PlanResult(PlanStatus.SOLVED, self._extract(node), stats())
             expanded += 1
-            stack.extend(self._successors(node))
+            stack.extend(self._successors(node, later=False))
         reason = "search space exhausted" + (
             " under the control rules" if self.control is not None and self.control.rules else ""
         )

@@ -13,6 +13,7 @@ from rich.console import Console
 from hdrc3_deliberative.errors import PlanningInputError
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner, is_pddl
 from hdrc3_deliberative.result import PlanningProgress, PlanStatus
+from hdrc3_deliberative.search import CycleCheck
 from hdrc3_deliberative.tst_export import plan_to_tst
 
 EXIT_CODES = {
@@ -38,6 +39,13 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.add_argument("--control", type=Path, default=None, help="TAL control-rule file")
     parser.add_argument("--timeout", type=float, default=30.0, help="planning budget in seconds")
     parser.add_argument("--sequential", action="store_true", help="plan sequentially")
+    parser.add_argument(
+        "--cycle-check",
+        choices=[c.value for c in CycleCheck],
+        default=CycleCheck.PATH_CLOSED.value,
+        help="visited states that prune: along the path (Algorithm 3), plus exact duplicates "
+        "(default, loses no plan), better-or-equal across branches (may lose plans), none",
+    )
     parser.add_argument("--tst", action="store_true", help="also print the plan as a TST (JSON)")
     parser.add_argument(
         "--validate",
@@ -67,7 +75,11 @@ def run(args: argparse.Namespace) -> int:
             status.update(report.line())
 
         result = TaskPlanner().plan(
-            request, timeout=args.timeout, sequential=args.sequential, progress=progress
+            request,
+            timeout=args.timeout,
+            sequential=args.sequential,
+            progress=progress,
+            cycle_check=CycleCheck(args.cycle_check),
         )
     if result.status is PlanStatus.INVALID_INPUT:
         print(f"hdrc3 plan: error: {result.reason}", file=sys.stderr)

@@ -14,6 +14,7 @@ from hdrc3_deliberative.generators import (
     LogisticsSize,
     logistics_problem,
 )
+from tests.unit.hdrc3_deliberative.test_search import FUEL_DOMAIN, FUEL_PROBLEM
 
 
 def test_solves_uav_scenario(capsys: pytest.CaptureFixture[str]) -> None:
@@ -111,3 +112,16 @@ def test_exit_codes(
     assert main(["plan", str(LOGISTICS_DOMAIN), str(tmp_path / "p.pddl"), *extra]) == code
     captured = capsys.readouterr()
     assert fragment in (captured.out if stream == "out" else captured.err)
+
+
+@pytest.mark.parametrize(
+    ("mode", "code"), [([], 0), (["--cycle-check", "path"], 0), (["--cycle-check", "global"], 2)]
+)
+def test_cycle_check_option(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], mode: list[str], code: int
+) -> None:
+    """A goal that wants less fuel: only the global better-or-equal check loses the plan."""
+    domain = _write(tmp_path, "d.tal", FUEL_DOMAIN)
+    problem = _write(tmp_path, "p.tal", FUEL_PROBLEM.replace("GOAL", "at(s, b) and fuel(s) <= 38"))
+    assert main(["plan", domain, problem, *mode]) == code
+    capsys.readouterr()

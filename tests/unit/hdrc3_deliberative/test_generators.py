@@ -57,6 +57,18 @@ def test_zenotravel_generator_follows_the_ipc_layout() -> None:
         zenotravel_problem(ZenoSize(1, 1, 1), 1)
 
 
+def test_numeric_zenotravel_generator() -> None:
+    size = ZenoSize(cities=4, planes=3, people=5)
+    text = zenotravel_problem(size, 3, numeric=True)
+    assert text == zenotravel_problem(size, 3, numeric=True)
+    assert "flevel" not in text and "(next " not in text
+    assert text.count("(= (distance ") == 4 * 4 and "(= (distance city2 city2) 0)" in text
+    for function in ("slow-burn", "fast-burn", "zoom-limit", "capacity", "fuel", "onboard"):
+        assert text.count(f"(= ({function} plane") == 3
+    assert "(= (total-fuel-used) 0)" in text and "(:metric minimize (total-fuel-used))" in text
+    assert text.count("(at person") == 2 * 5 and text.count("(at plane") == 3 + 1
+
+
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_blocks_generator_makes_consistent_states(seed: int) -> None:
     text = blocks_problem(12, seed)

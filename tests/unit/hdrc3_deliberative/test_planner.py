@@ -1,5 +1,7 @@
 from __future__ import annotations
 
+import re
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -21,6 +23,8 @@ from hdrc3_deliberative.generators import (
     UAV_SCENARIO,
     ZENOTRAVEL_CONTROL,
     ZENOTRAVEL_DOMAIN,
+    ZENOTRAVEL_NUMERIC_CONTROL,
+    ZENOTRAVEL_NUMERIC_DOMAIN,
     DepotsSize,
     DriverLogSize,
     LogisticsSize,
@@ -316,3 +320,26 @@ def test_numeric_driverlog_solves_with_the_strips_rules(
     strips = driverlog_problem(size, seed)
     outcome = validate_pddl_plan(DRIVERLOG_DOMAIN.read_text(), strips, result.plan)
     assert outcome.valid, outcome.reason
+
+
+@pytest.mark.parametrize(("size", "seed"), [(ZenoSize(5, 2, 5), 1), (ZenoSize(6, 3, 6), 2)])
+def test_numeric_zenotravel_solves_with_its_rules(
+    planner: TaskPlanner, size: ZenoSize, seed: int
+) -> None:
+    """The numeric rules steer the search to a plan unified-planning validates (fuel too)."""
+    domain = ZENOTRAVEL_NUMERIC_DOMAIN.read_text()
+    problem = zenotravel_problem(size, seed, numeric=True)
+    result = planner.plan(PlanRequest(domain, problem, ZENOTRAVEL_NUMERIC_CONTROL.read_text()), 30)
+    assert result.status is PlanStatus.SOLVED, result.reason
+    assert result.stats.nodes_expanded <= 2 * len(result.plan) + 1
+    assert {o.agent for o in result.plan} <= {f"plane{i + 1}" for i in range(size.planes)}
+    outcome = validate_pddl_plan(domain, problem, result.plan)
+    assert outcome.valid, outcome.reason
+    # the validator checks the fuel: the first flight is valid on a full tank, not on an empty one
+    flight = next(o for o in result.plan if o.name == "fly")
+    plane, _, there = flight.args
+    alone = (replace(flight, start=0.0, end=1.0),)
+    flown = problem[: problem.index("(:goal")] + f"(:goal (and (at {plane} {there}))))\n"
+    for fuel, valid in ((100000, True), (0, False)):
+        changed = re.sub(rf"\(= \(fuel {plane}\) \d+\)", f"(= (fuel {plane}) {fuel})", flown)
+        assert validate_pddl_plan(domain, changed, alone).valid is valid

@@ -23,7 +23,7 @@ from hdrc3_deliberative.result import (
     PlanResult,
     PlanStatus,
 )
-from hdrc3_deliberative.search import SearchConfig, TalPlanner
+from hdrc3_deliberative.search import CycleCheck, SearchConfig, TalPlanner
 from hdrc3_deliberative.task import Task
 
 
@@ -272,3 +272,170 @@ def test_control_rules_prune_and_keep_search_linear(planner: TaskPlanner) -> Non
     assert result.solved
     assert result.stats.pruned_by_control > 0
     assert result.stats.nodes_expanded <= 1.2 * len(result.plan) + 1
+
+
+# --- completeness of Algorithm 3 (issue 20) -------------------------------------------------
+
+QUIET_DOMAIN = """domain quiet
+type worker
+predicate noisy()
+predicate done()
+predicate dirty()
+operator chat(w: worker)
+  agent w
+  duration 3
+  prevail not noisy()
+  effect [t'] done(), noisy()
+end
+operator clean(w: worker)
+  agent w
+  duration 5
+  prevail not noisy()
+  effect [t'] done(), not dirty(), not noisy()
+end
+"""
+QUIET_PROBLEM = (
+    "problem q for quiet\nobject a, b: worker\ninit dirty()\ngoal done() and not dirty()\n"
+)
+
+SWAP_DOMAIN = """domain swap
+type worker
+predicate p()
+predicate q()
+predicate r()
+operator mark(w: worker)
+  agent w
+  duration 3
+  prevail q() and not r()
+  effect [t'] not p(), not q()
+end
+operator raise(w: worker)
+  agent w
+  duration 3
+  pre p() and not q()
+  effect [t'] p(), q()
+end
+"""
+SWAP_PROBLEM = "problem s for swap\nobject a: worker\ninit p()\ngoal not p()\n"
+
+FUEL_DOMAIN = """domain hops
+type spot
+type craft
+predicate at(c: craft, s: spot)
+predicate road(a: spot, b: spot)
+predicate landed(c: craft)
+resource fuel(c: craft)
+operator hop(c: craft, a: spot, b: spot)
+  agent c
+  pre at(c, a) and road(a, b) and fuel(c) >= 1
+  effect [t'] not at(c, a), at(c, b), fuel(c) -= 1
+end
+operator jump(c: craft, a: spot, b: spot)
+  agent c
+  pre at(c, a) and road(a, b) and fuel(c) >= 2
+  effect [t'] not at(c, a), at(c, b), fuel(c) -= 2
+end
+operator land(c: craft, s: spot)
+  agent c
+  pre at(c, s) and fuel(c) <= 38
+  effect [t'] landed(c)
+end
+"""
+FUEL_PROBLEM = """problem h for hops
+object a, b: spot
+object s: craft
+init at(s, a), road(a, b), fuel(s) = 40
+goal GOAL
+"""
+
+
+def _prevail_holds_on_timeline(task: Task, plan: tuple[Occurrence, ...]) -> bool:
+    """Independent check: every prevail condition holds on the plan's timeline.
+
+    The timeline applies start effects at the start and the rest at the end of each
+    occurrence, in time order; a condition over ``[start, end)`` must hold in every state
+    holding at some time in that interval.
+    """
+    ops = {o.label: o for o in task.ops}
+    events = []
+    for occ in plan:
+        op = ops[occ.label]
+        events.append((occ.start, 1, op.start_delete, op.start_add))
+        events.append((occ.end, 0, op.delete & ~op.start_delete, op.add & ~op.start_add))
+    events.sort(key=lambda e: (e[0], e[1]))
+    bits, states = task.init_bits, [(0.0, task.init_bits)]
+    for when, _, delete, add in events:
+        bits = (bits & ~delete) | add
+        states.append((when, bits))
+    for occ in plan:
+        op = ops[occ.label]
+        for i, (when, state) in enumerate(states):
+            following = states[i + 1][0] if i + 1 < len(states) else float("inf")
+            overlaps = when < occ.end and following > occ.start and following > when
+            if overlaps and (state & op.prevail_pos != op.prevail_pos or state & op.prevail_neg):
+                return False
+    return True
+
+
+@pytest.mark.parametrize(
+    ("domain", "problem", "plan"),
+    [
+        (QUIET_DOMAIN, QUIET_PROBLEM, ["clean"]),
+        (SWAP_DOMAIN, SWAP_PROBLEM, ["raise", "mark"]),
+    ],
+    ids=["doomed-twin", "pending-after-tau0"],
+)
+@pytest.mark.parametrize("mode", [CycleCheck.PATH, CycleCheck.PATH_CLOSED, CycleCheck.GLOBAL])
+def test_cycle_check_keys_the_timeline_prevail_conditions_read(
+    planner: TaskPlanner, domain: str, problem: str, plan: list[str], mode: CycleCheck
+) -> None:
+    """Plans the search before issue 20 missed (it reported UNSOLVABLE_PROVEN on both).
+
+    Its visited map keyed a node by the final state, the pending prevail conditions and the
+    running actions' end times and written features, relative to ``tau0``, but not by the
+    states the timeline still passes through. In "doomed-twin" the depth-first search first
+    reaches the final state of ``clean`` through ``chat; clean`` (``clean`` starts at 3 while
+    ``noisy`` is true, so its prevail condition is doomed) and then prunes ``clean`` alone at
+    0, whose key was the same. "pending-after-tau0" is the same defect with the plan's two
+    actions of one agent. Now the key holds the timeline from ``tau0`` on (the features some
+    prevail condition reads), so every mode finds the plans.
+    """
+    task = _task(planner, PlanRequest(domain, problem))
+    result = TalPlanner(task, None, SearchConfig(timeout=5, cycle_check=mode)).solve()
+    assert result.status is PlanStatus.SOLVED
+    assert [o.name for o in result.plan] == plan
+    _check_definition_9_1(task, result)
+    assert _prevail_holds_on_timeline(task, result.plan)
+
+
+@pytest.mark.parametrize(
+    ("goal", "plan"),
+    [
+        ("at(s, b) and fuel(s) <= 38", ["jump"]),  # the goal wants less fuel
+        ("landed(s)", ["jump", "land"]),  # a precondition wants less fuel
+    ],
+    ids=["goal", "precondition"],
+)
+@pytest.mark.parametrize(
+    ("mode", "solved"),
+    [(CycleCheck.PATH, True), (CycleCheck.PATH_CLOSED, True), (CycleCheck.GLOBAL, False)],
+)
+def test_better_or_equal_is_checked_along_the_path(
+    planner: TaskPlanner, goal: str, plan: list[str], mode: CycleCheck, solved: bool
+) -> None:
+    """Algorithm 3 (line 14) compares with the states of the current path only.
+
+    ``hop`` to ``b`` is tried first and leaves 39 fuel, a dead end; ``jump`` reaches ``b``
+    with 38, which the goal or ``land`` needs. The global better-or-equal map of the search
+    before issue 20 (``CycleCheck.GLOBAL``) prunes it because 39 >= 38 was seen on another
+    branch, so it proves the problem unsolvable; along the path nothing prunes it.
+    """
+    task = _task(planner, PlanRequest(FUEL_DOMAIN, FUEL_PROBLEM.replace("GOAL", goal)))
+    result = TalPlanner(task, None, SearchConfig(timeout=5, cycle_check=mode)).solve()
+    if solved:
+        assert result.status is PlanStatus.SOLVED
+        assert [o.name for o in result.plan] == plan
+        _check_definition_9_1(task, result)
+    else:
+        assert result.status is PlanStatus.UNSOLVABLE_PROVEN
+        assert result.stats.pruned_by_cycle > 0

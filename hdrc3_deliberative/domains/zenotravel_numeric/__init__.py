@@ -1,0 +1,1 @@
+"""ZenoTravel (IPC-2002, numeric): domain and control rules."""
