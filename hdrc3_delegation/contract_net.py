@@ -34,7 +34,7 @@ from typing import Any, Protocol
 
 from hdrc3_delegation.acl import AclMessage, Performative
 from hdrc3_delegation.constraint_server import Bid, ConstraintServer, EvaluationStatus
-from hdrc3_tst.model import NodeKind, NodeState
+from hdrc3_tst.model import NodeKind, NodeState, timepoints
 from hdrc3_tst.resolver import ResolvedTst
 
 _COORDINATED = (NodeKind.SEQUENCE, NodeKind.CONCURRENT)
@@ -578,7 +578,7 @@ class Delegation:
         held = {
             n.node_id for r in self._held_by for _, n in tree.walk(r) if n.node_id not in inside
         }
-        events = {n.params[p]: (n.node_id, p) for n in tree.nodes.values() for p in ("TS", "TE")}
+        events = timepoints(tree.nodes.values())
         for var in self.tst.network.stn.no_later_than(tree.nodes[root].params["TS"]):
             node_id, param = events.get(var, ("", ""))
             if node_id not in held:

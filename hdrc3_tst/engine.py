@@ -53,7 +53,7 @@ from hdrc3_tst.goal_planning import (
     here,
     plan_steps,
 )
-from hdrc3_tst.model import Node, NodeKind, NodeRef, NodeState
+from hdrc3_tst.model import Node, NodeKind, NodeRef, NodeState, timepoints
 from hdrc3_tst.navigation_port import NavigationPort
 from hdrc3_tst.network import FixStatus
 from hdrc3_tst.platform_port import LET_GO, Command, PlatformPort
@@ -487,8 +487,7 @@ class ExecutionEngine:
         Not the steps of a plan a recovery abandoned: they stay in ``tree.nodes`` as the
         record, but their goal no longer lists them, and they will never start or end.
         """
-        nodes = [n for n in self.tst.tree.nodes.values() if not self._abandoned(n)]
-        return {n.params[p]: (n.node_id, p) for n in nodes for p in ("TS", "TE")}
+        return timepoints(n for n in self.tst.tree.nodes.values() if not self._abandoned(n))
 
     def _abandoned(self, node: Node) -> bool:
         """Whether the node, or an ancestor, is no longer among its parent's children."""

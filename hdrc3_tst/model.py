@@ -9,6 +9,7 @@ type-specific parameters; each maps to a variable of the constraint network.
 from __future__ import annotations
 
 import enum
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from hdrc3_deliberative.mission_syntax import SourcePos
@@ -106,6 +107,11 @@ class Node:
     def acts_as(self) -> NodeKind:
         """The control semantics it executes with (an expanded goal as its expansion)."""
         return self.expanded_as or self.kind
+
+
+def timepoints(nodes: Iterable[Node]) -> dict[str, tuple[str, str]]:
+    """Each start and end variable of ``nodes``: its node's id and ``TS`` or ``TE``."""
+    return {n.params[p]: (n.node_id, p) for n in nodes for p in ("TS", "TE")}
 
 
 @dataclass
