@@ -69,7 +69,7 @@ class SurveyMission:
         self.steps: list[MissionStep] = []
         self.segment_ids: list[int] = []
         """Command ids of the segments of the latest :meth:`stream`, in flight order."""
-        self._on_ground: bool | None = None
+        self._on_ground = False
         client.node.create_subscription(
             HelicopterState, f"/{client.agent}/helicopter_state", self._on_state, STATE_QOS
         )
@@ -176,9 +176,9 @@ class SurveyMission:
         The Data Interface reports the touchdown at its next sample after FCL_FINISHED; a
         system stopped at once would otherwise end its recording one sample before it.
         """
-        self._on_ground = None
+        self._on_ground = False
         step = self._command(FclLand, "land", FclLand.Request(heading=heading))
-        if not self._client.process.spin_until(lambda: bool(self._on_ground), ON_GROUND_TIMEOUT_S):
+        if not self._client.process.spin_until(lambda: self._on_ground, ON_GROUND_TIMEOUT_S):
             raise MissionError(
                 f"fcl_land finished, but the Data Interface did not report the aircraft on the "
                 f"ground within {ON_GROUND_TIMEOUT_S:.0f} s"
