@@ -98,6 +98,18 @@ def wrap_2pi(angle: float) -> float:
     return angle % (2.0 * math.pi)
 
 
+def to_heading_frame(east: float, north: float, heading: float) -> tuple[float, float]:
+    """(forward, right) of a horizontal ENU vector, the nose at ``heading`` (rad from north)."""
+    s, c = math.sin(heading), math.cos(heading)
+    return east * s + north * c, east * c - north * s
+
+
+def from_heading_frame(forward: float, right: float, heading: float) -> tuple[float, float]:
+    """(east, north) of a horizontal vector given along the nose and to its right."""
+    s, c = math.sin(heading), math.cos(heading)
+    return forward * s + right * c, forward * c - right * s
+
+
 def clip(value: float, limit: float) -> float:
     """Clip ``value`` to [-limit, limit]."""
     return -limit if value < -limit else limit if value > limit else value

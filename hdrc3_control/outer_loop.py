@@ -18,7 +18,15 @@ import math
 from dataclasses import dataclass
 
 from hdrc3_base.errors import ConfigError
-from hdrc3_control.commands import AttitudeCommand, EstimatedState, G, Vec3, clip, wrap_pi
+from hdrc3_control.commands import (
+    AttitudeCommand,
+    EstimatedState,
+    G,
+    Vec3,
+    clip,
+    to_heading_frame,
+    wrap_pi,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -124,9 +132,7 @@ def accel_to_attitude(
     accel_east: float, accel_north: float, heading: float, max_tilt: float
 ) -> tuple[float, float]:
     """Roll and pitch that tilt the thrust to give a horizontal acceleration (east, north)."""
-    s, c = math.sin(heading), math.cos(heading)
-    forward = accel_east * s + accel_north * c
-    right = accel_east * c - accel_north * s
+    forward, right = to_heading_frame(accel_east, accel_north, heading)
     roll = clip(math.atan2(right, G), max_tilt)
     pitch = clip(-math.atan2(forward, G), max_tilt)
     return roll, pitch

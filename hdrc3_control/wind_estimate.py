@@ -23,7 +23,14 @@ import math
 from dataclasses import dataclass
 
 from hdrc3_base.errors import ConfigError
-from hdrc3_control.commands import EstimatedState, EstimatorHealth, G, wrap_2pi
+from hdrc3_control.commands import (
+    EstimatedState,
+    EstimatorHealth,
+    G,
+    from_heading_frame,
+    to_heading_frame,
+    wrap_2pi,
+)
 
 
 class WindStatus(enum.Enum):
@@ -97,12 +104,10 @@ def relative_air(
     drag_east: float, drag_north: float, heading: float, config: WindConfig
 ) -> tuple[float, float]:
     """The air's velocity relative to the aircraft (ENU, m/s) that makes this drag per mass."""
-    s, c = math.sin(heading), math.cos(heading)
-    forward = drag_east * s + drag_north * c
-    right = drag_east * c - drag_north * s
+    forward, right = to_heading_frame(drag_east, drag_north, heading)
     u = signed_sqrt(forward / config.drag_forward)
     v = signed_sqrt(right / config.drag_side)
-    return u * s + v * c, u * c - v * s
+    return from_heading_frame(u, v, heading)
 
 
 def thrust_accel(
@@ -111,8 +116,7 @@ def thrust_accel(
     """Horizontal acceleration (east, north) of the thrust tilted away from the calm-air trim."""
     forward = -G * math.tan(pitch - config.trim_pitch)
     right = G * math.tan(roll - config.trim_roll)
-    s, c = math.sin(heading), math.cos(heading)
-    return forward * s + right * c, forward * c - right * s
+    return from_heading_frame(forward, right, heading)
 
 
 class WindEstimator:
