@@ -44,15 +44,14 @@ from hdrc3_perception.camera import Intrinsics, NavPose
 from hdrc3_perception.colour_tracking import (
     CameraView,
     ColourTracker,
-    NavHistory,
     TrackResult,
     TrackStatus,
     locate,
 )
 from hdrc3_perception.geolocation import Ground
+from hdrc3_perception.history import NavHistory, PtuHistory
 from hdrc3_perception.image_gate import LATCHED, ImageGate
-from hdrc3_perception.node import RESULT_QOS, STATE_QOS, image_array
-from hdrc3_perception.pad_fix import PtuHistory
+from hdrc3_perception.node import PTU_QOS, RESULT_QOS, STATE_QOS, image_array
 from hdrc3_platform_server.geo_frame import WorldFrame
 from sim.world_loader import load_world
 
@@ -63,7 +62,6 @@ TRACK_TOPIC = COLOR_TRACK_TOPIC
 SEED_QOS = LATCHED
 TRACK_QOS = RESULT_QOS
 OPTICAL_FRAME = "camera_color_optical"
-PTU_QOS = 20
 
 
 class ColorTrackerNode(Node):

@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import enum
 import math
-from collections import deque
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -585,24 +584,3 @@ def locate(
     if point is None:
         return TargetFix(direction, None, "the ray meets no ground")
     return TargetFix(direction, point)
-
-
-class NavHistory:
-    """The last navigation solutions; the one nearest an image's time."""
-
-    def __init__(self, size: int = 25, max_gap: float = 0.1) -> None:
-        """Keep ``size`` states; one farther than ``max_gap`` s from a time does not describe it."""
-        self._states: deque[tuple[float, NavPose]] = deque(maxlen=size)
-        self.max_gap = max_gap
-
-    def add(self, time: float, nav: NavPose) -> None:
-        """Remember a state (non-finite times are dropped)."""
-        if math.isfinite(time):
-            self._states.append((time, nav))
-
-    def at(self, time: float) -> NavPose | None:
-        """The state nearest ``time``; None when none lies within ``max_gap`` of it."""
-        if not self._states or not math.isfinite(time):
-            return None
-        t, nav = min(self._states, key=lambda s: abs(s[0] - time))
-        return nav if abs(t - time) <= self.max_gap else None

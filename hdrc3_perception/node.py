@@ -4,7 +4,12 @@ Subscribes (relative to the agent's namespace): ``camera/color/image_raw`` (``rg
 ``camera/thermal/image_raw`` (``mono16``, centi-kelvin) with their ``camera_info``; the Data
 Interface's ``helicopter_state`` (the aircraft's own navigation solution, WGS84 -> local ENU of
 the world's origin) and ``camera_state`` (PTU pan and tilt). Each thermal image is paired with
-the colour image of the same stamp (within ``pair_tolerance_s``) and handed to the pure core.
+the colour image of the same stamp (within ``pair_tolerance_s``) and handed to the pure core with
+the navigation state nearest the image's stamp and the PTU angles interpolated to it
+(:mod:`hdrc3_perception.history`): an image arrives after the aircraft has moved on, so the
+latest state would misplace what it shows. A pair with no state or PTU angles within
+:data:`~hdrc3_perception.history.MAX_GAP_S` of its stamp is not processed (status
+``no_state``, with the reason).
 
 The PPC engages the pipeline (``ppcl_ip_saliency``, stopped by ``ppcl_ip_abort``): the node
 follows the kernel's latched ``ppc/image_processing`` and subscribes the images only while it is
@@ -50,6 +55,7 @@ from hdrc3_interfaces.msg import CameraState, HelicopterState
 from hdrc3_perception.camera import Intrinsics, NavPose
 from hdrc3_perception.classifier import ClassifierParams, Detector
 from hdrc3_perception.geolocation import Ground
+from hdrc3_perception.history import MAX_GAP_S, NavHistory, PtuHistory
 from hdrc3_perception.image_gate import LATCHED, ImageGate
 from hdrc3_perception.pipeline import (
     CameraImage,
@@ -65,6 +71,8 @@ from sim.world_loader import load_world
 
 RESULT_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
 STATE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+PTU_QOS = 20
+"""Depth of the ``sensors/ptu`` subscriptions of the colour tracker and the pad-pose node."""
 _DTYPES: dict[str, tuple[type[np.uint8] | type[np.uint16], int]] = {
     "rgb8": (np.uint8, 3),
     "mono16": (np.uint16, 1),
@@ -113,8 +121,8 @@ class SaliencyNode(Node):
         self._color: tuple[float, Image] | None = None
         self._thermal: tuple[float, Image] | None = None
         self._last_published = -1e9
-        self._nav: NavPose | None = None
-        self._ptu: tuple[float, float] | None = None
+        self._nav = NavHistory()
+        self._ptu = PtuHistory()
         self.results: dict[PairStatus | str, int] = {}
         self._result_pub = self.create_publisher(String, "~/pair_result", RESULT_QOS)
         self._map_pub = self.create_publisher(String, "~/map", LATCHED)
@@ -154,10 +162,10 @@ class SaliencyNode(Node):
         self._info[cam] = Intrinsics.from_k(int(msg.width), int(msg.height), list(msg.k))
 
     def _on_state(self, msg: HelicopterState) -> None:
-        self._nav = NavPose.of_state(self._frame, msg)
+        self._nav.add(stamp_s(msg.header.stamp), NavPose.of_state(self._frame, msg))
 
     def _on_ptu(self, msg: CameraState) -> None:
-        self._ptu = (float(msg.pan), float(msg.tilt))
+        self._ptu.add(stamp_s(msg.header.stamp), float(msg.pan), float(msg.tilt))
 
     def _on_color(self, msg: Image) -> None:
         if self.engaged:  # an image the executor took before the stop is dropped
@@ -205,8 +213,13 @@ class SaliencyNode(Node):
     def _process(self, time: float, thermal: Image) -> PairResult | tuple[str, str]:
         """The core's result, or (status, reason) for what the node could not hand over."""
         assert self._color is not None  # _try_pair
-        if self._nav is None or self._ptu is None:
-            return ("no_state", "no helicopter_state or camera_state yet")
+        nav, ptu = self._nav.at(time), self._ptu.at(time)
+        if nav is None or ptu is None:
+            missing = "helicopter_state" if nav is None else "camera_state"
+            return (
+                "no_state",
+                f"no {missing} within {MAX_GAP_S} s of the image's time {time:.3f} s",
+            )
         for msg in (self._color[1], thermal):
             if msg.encoding not in _DTYPES:
                 return (PairStatus.BAD_ENCODING.value, f"encoding {msg.encoding!r}: rgb8/mono16")
@@ -218,8 +231,8 @@ class SaliencyNode(Node):
             time,
             CameraImage(color_px, self._color[1].encoding, self._info["color"]),
             CameraImage(thermal_px, thermal.encoding, self._info["thermal"]),
-            self._nav,
-            *self._ptu,
+            nav,
+            *ptu,
         )
         return self.pipeline.process(pair)
 

@@ -4,7 +4,8 @@
 PTU and known frame offsets and rotations." The inputs are all the aircraft's own knowledge:
 
 - the pad's pose in the colour camera's optical frame (:mod:`hdrc3_perception.pad_pose`);
-- the PTU's angle read-out at the image's time (:class:`PtuHistory`, interpolated);
+- the PTU's angle read-out at the image's time (:class:`~hdrc3_perception.history.PtuHistory`,
+  interpolated);
 - the PTU's mount point on the airframe (``sim.airframe``, via :data:`camera.MOUNT_OFFSET`);
 - where the pad lies (map knowledge: the world file's pad, ``sim.landing_pattern``'s frame).
 
@@ -23,7 +24,6 @@ from __future__ import annotations
 
 import enum
 import math
-from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,8 +38,6 @@ SIGMA_FLOOR_M = 0.02
 """Fix 1-sigma close to the pad (pixel quantisation, PTU read-out over the mount lever), m."""
 SIGMA_PER_M2 = 2.5e-4
 """Growth of the fix 1-sigma with the squared range (attitude error times range), 1/m."""
-PTU_MAX_GAP_S = 0.1
-"""A PTU reading farther than this from the image's time does not describe that image."""
 
 
 class FixStatus(enum.Enum):
@@ -140,38 +138,3 @@ def helicopter_fix(
         range_m=distance,
         sigma=fix_sigma(distance),
     )
-
-
-class PtuHistory:
-    """The last PTU read-outs; (pan, tilt) at an image's time, linearly interpolated."""
-
-    def __init__(self, size: int = 50, max_gap: float = PTU_MAX_GAP_S) -> None:
-        self._samples: deque[tuple[float, float, float]] = deque(maxlen=size)
-        self.max_gap = max_gap
-
-    def add(self, time: float, pan: float, tilt: float) -> None:
-        """Remember a reading (out-of-order and non-finite ones are dropped)."""
-        if not all(math.isfinite(v) for v in (time, pan, tilt)):
-            return
-        if self._samples and time <= self._samples[-1][0]:
-            return
-        self._samples.append((time, pan, tilt))
-
-    def at(self, time: float) -> tuple[float, float] | None:
-        """(pan, tilt) at ``time``; None when no reading lies within ``max_gap`` of it."""
-        samples = self._samples
-        before = next((s for s in reversed(samples) if s[0] <= time), None)
-        after = next((s for s in samples if s[0] >= time), None)
-        if before is not None and after is not None and after[0] - before[0] <= 2 * self.max_gap:
-            if after[0] == before[0]:
-                return before[1], before[2]
-            w = (time - before[0]) / (after[0] - before[0])
-            return (
-                before[1] + w * (after[1] - before[1]),
-                before[2] + w * (after[2] - before[2]),
-            )
-        near = [s for s in (before, after) if s is not None and abs(s[0] - time) <= self.max_gap]
-        if not near:
-            return None
-        best = min(near, key=lambda s: abs(s[0] - time))
-        return best[1], best[2]

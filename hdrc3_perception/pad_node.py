@@ -45,15 +45,15 @@ from hdrc3_base.stamps import stamp_s
 from hdrc3_control.ppc_modes import ImageProcessing
 from hdrc3_interfaces.msg import PtuState
 from hdrc3_perception.camera import Intrinsics, body_to_enu
+from hdrc3_perception.history import PtuHistory
 from hdrc3_perception.image_gate import ImageGate
-from hdrc3_perception.node import RESULT_QOS, image_array
-from hdrc3_perception.pad_fix import FixStatus, PadPlacement, PtuHistory, helicopter_fix
+from hdrc3_perception.node import PTU_QOS, RESULT_QOS, image_array
+from hdrc3_perception.pad_fix import FixStatus, PadPlacement, helicopter_fix
 from hdrc3_perception.pad_pose import PoseStatus, estimate
 from sim.world_loader import load_world
 
 OPTICAL_FRAME = "camera_color_optical"
 WORLD_FRAME = "world_enu"
-PTU_QOS = 20
 
 
 class PadPoseNode(Node):

@@ -46,7 +46,7 @@ def image_msg(array: np.ndarray, encoding: str, t: float) -> Any:
     from sensor_msgs.msg import Image
 
     msg = Image()
-    msg.header.stamp.sec, msg.header.stamp.nanosec = int(t), round((t % 1.0) * 1e9)
+    stamped(msg, t)
     msg.height, msg.width = array.shape[:2]
     msg.encoding = encoding
     msg.step = array.strides[0]
@@ -133,8 +133,20 @@ def set_mode(rig: Rig, mode: ImageProcessing) -> None:
     assert rig.spin_until(lambda: rig.node.engaged is on and rig.engaged[-1:] == [on])
 
 
-def send_frame(rig: Rig, i: int, broken: bool = False) -> float:
-    """Publish state, PTU, calibration and one synthetic pair flying north over BODY."""
+def stamped(msg: Any, t: float) -> Any:
+    msg.header.stamp.sec, msg.header.stamp.nanosec = int(t), round((t % 1.0) * 1e9)
+    return msg
+
+
+def send_frame(
+    rig: Rig, i: int, broken: bool = False, state_lag: float = 0.0, moved_on: float = 0.0
+) -> float:
+    """Publish state, PTU, calibration and one synthetic pair flying north over BODY.
+
+    ``state_lag``: the state and PTU read-out are stamped this long before the image.
+    ``moved_on``: then a state stamped 0.06 s after the image, this far east, arrives before
+    the image does (the aircraft moved on while the image was in transit).
+    """
     import pymap3d
     from sensor_msgs.msg import CameraInfo
 
@@ -157,15 +169,23 @@ def send_frame(rig: Rig, i: int, broken: bool = False) -> float:
     state = HelicopterState()
     state.latitude, state.longitude, state.altitude = float(lat), float(lon), float(alt)
     state.roll, state.pitch, state.heading = nav.roll, nav.pitch, nav.heading
-    rig.pubs["state"].publish(state)
+    rig.pubs["state"].publish(stamped(state, t - state_lag))
     ptu = CameraState()
     ptu.pan, ptu.tilt = 0.0, math.pi / 2
-    rig.pubs["ptu"].publish(ptu)
+    rig.pubs["ptu"].publish(stamped(ptu, t - state_lag))
+    if moved_on:
+        ahead = pymap3d.enu2geodetic(
+            nav.position[0] + moved_on, *nav.position[1:], o.latitude, o.longitude, o.altitude
+        )
+        state.latitude, state.longitude, state.altitude = (float(v) for v in ahead)
+        rig.pubs["state"].publish(stamped(state, t + 0.06))
     for cam, k in (("color", COLOR_K), ("thermal", THERMAL_K)):
         info = CameraInfo()
         info.width, info.height, info.k = k.width, k.height, list(k.k())
         rig.pubs[f"{cam}_info"].publish(info)
-    assert rig.spin_until(lambda: rig.node._nav is not None and rig.node._ptu is not None)
+    nav_at, ptu_at = rig.node._nav.at, rig.node._ptu.at
+    seen = t + 0.06 if moved_on else t - state_lag
+    assert rig.spin_until(lambda: nav_at(seen) is not None and ptu_at(t - state_lag) is not None)
     rig.executor.spin_once(timeout_sec=SPIN_TIMEOUT)
     rig.pubs["color"].publish(image_msg(np.asarray(pair.color.data), "rgb8", t))
     thermal = np.asarray(pair.thermal.data)
@@ -180,10 +200,15 @@ def result_at(rig: Rig, t: float) -> dict[str, Any] | None:
     return next((r for r in rig.results if abs(r["time"] - t) < 1e-6), None)
 
 
-def test_a_body_flown_over_ends_confirmed_in_the_map_and_the_file(rig: Rig, tmp_path: Path) -> None:
+@pytest.mark.parametrize("moved_on", [0.0, 10.0])
+def test_a_body_flown_over_ends_confirmed_in_the_map_and_the_file(
+    rig: Rig, tmp_path: Path, moved_on: float
+) -> None:
+    """With ``moved_on``, a newer state 10 m away has arrived before each image: the body is
+    still placed where it lies, from the state of the image's own time."""
     confirmed: list[dict[str, Any]] = []
     for i in range(40):
-        t = send_frame(rig, i)
+        t = send_frame(rig, i, moved_on=moved_on)
         rig.spin_until(lambda t=t: result_at(rig, t) is not None)  # a lost image is no failure
         features = json.loads(rig.maps[-1])["features"] if rig.maps else []
         confirmed = [f for f in features if f["properties"]["confirmed"]]
@@ -213,6 +238,15 @@ def test_a_bad_image_gets_a_status_and_the_node_goes_on(rig: Rig) -> None:
             break
     good = result_at(rig, t)
     assert good is not None and good["status"] == "processed"
+
+
+def test_an_image_without_a_state_of_its_time_is_not_processed(rig: Rig) -> None:
+    t = send_frame(rig, 0, state_lag=0.5)
+    assert rig.spin_until(lambda: result_at(rig, t) is not None), "no result for the pair"
+    result = result_at(rig, t)
+    assert result is not None and result["status"] == "no_state"
+    assert "helicopter_state" in result["reason"] and f"{t:.3f}" in result["reason"]
+    assert not rig.node.pipeline.map
 
 
 def test_the_pipeline_runs_only_while_the_ppc_engages_it(rig: Rig) -> None:

@@ -16,7 +16,6 @@ from hdrc3_perception.colour_tracking import (
     CameraView,
     ColourModel,
     ColourTracker,
-    NavHistory,
     TrackStatus,
     locate,
 )
@@ -304,20 +303,6 @@ def test_not_located_says_why(
     fix = locate(K, K.cx, K.cy, CameraView.at(K, nav, ptu), Ground())
     assert fix.position is None and reason in fix.reason
     assert np.linalg.norm(fix.direction) == pytest.approx(1.0)
-
-
-def test_nav_history_gives_the_nearest_state_within_the_gap() -> None:
-    history = NavHistory(size=3, max_gap=0.1)
-    poses = [NavPose((float(i), 0.0, 30.0), 0.0, 0.0, 0.0) for i in range(5)]
-    for i, pose in enumerate(poses):
-        history.add(0.04 * i, pose)
-    history.add(math.nan, poses[0])
-    assert history.at(0.13) is poses[3]
-    assert history.at(0.17) is poses[4]
-    assert history.at(0.3) is None  # 0.14 s after the last
-    assert history.at(0.0) is poses[2]  # 0.0 itself is forgotten (size 3)
-    assert history.at(-0.03) is None
-    assert history.at(math.nan) is None
 
 
 # --- the simulator's renderer ---------------------------------------------------------------

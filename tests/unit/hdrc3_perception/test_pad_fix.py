@@ -17,7 +17,6 @@ from hdrc3_perception.camera import CameraPose, NavPose
 from hdrc3_perception.pad_fix import (
     FixStatus,
     PadPlacement,
-    PtuHistory,
     fix_sigma,
     helicopter_fix,
 )
@@ -139,29 +138,6 @@ def test_revinge_s_vision_pad() -> None:
     assert placement.origin[:2] == pytest.approx((-215.0, -162.0))
     # pad x axis is east turned 30 deg clockwise
     assert placement.axes[:, 0] == pytest.approx((math.cos(math.radians(30)), -0.5, 0.0))
-
-
-@pytest.mark.parametrize(
-    ("samples", "time", "expected"),
-    [
-        ([(0.0, 0.1, 1.0), (0.04, 0.3, 1.2)], 0.02, (0.2, 1.1)),  # interpolated
-        ([(0.0, 0.1, 1.0), (0.04, 0.3, 1.2)], 0.04, (0.3, 1.2)),
-        ([(0.0, 0.1, 1.0)], 0.05, (0.1, 1.0)),  # the nearest within the gap
-        ([(0.0, 0.1, 1.0)], 0.5, None),  # too old
-        ([], 0.0, None),
-        ([(0.0, 0.1, 1.0), (0.0, 0.9, 0.9), (math.nan, 0.0, 0.0)], 0.0, (0.1, 1.0)),
-    ],
-)
-def test_ptu_history(
-    samples: list[tuple[float, float, float]],
-    time: float,
-    expected: tuple[float, float] | None,
-) -> None:
-    history = PtuHistory()
-    for sample in samples:
-        history.add(*sample)
-    got = history.at(time)
-    assert got == (None if expected is None else pytest.approx(expected))
 
 
 @pytest.fixture(scope="module")
