@@ -30,7 +30,7 @@ import pytest
 from hdrc3_deliberative.monitor_spec import DEFAULT_SPEC, MonitorSpecParser
 from sim.node import PAYLOAD_EVERY
 from sim.world_sim import TICK_RATE_HZ
-from tests.integration.test_tst_run import SEED
+from tests.integration.flight_runs import SEED
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 

@@ -19,7 +19,7 @@ from typing import Any
 
 import pytest
 
-from tests.integration.test_tst_run import SEED
+from tests.integration.flight_runs import SEED
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 

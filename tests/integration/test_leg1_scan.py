@@ -18,7 +18,7 @@ from typing import Any
 import pytest
 from shapely.geometry import Point, Polygon
 
-from tests.integration.test_tst_run import SEED
+from tests.integration.flight_runs import SEED
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 

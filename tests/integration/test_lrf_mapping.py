@@ -22,7 +22,8 @@ import pytest
 import shapely
 from shapely.geometry import Polygon
 
-from tests.integration.test_tst_run import SEED, recorded, stamp_s
+from hdrc3_base.stamps import stamp_s
+from tests.integration.flight_runs import SEED, recorded
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 

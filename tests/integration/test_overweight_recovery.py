@@ -26,8 +26,8 @@ from typing import Any
 
 import pytest
 
+from tests.integration.flight_runs import SEED
 from tests.integration.test_box_drop_recovery import SENSOR_PERIOD_MS, STATE_PERIOD_MS
-from tests.integration.test_tst_run import SEED
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 

@@ -19,7 +19,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from tests.integration.test_tst_run import SEED, recorded, stamp_s
+from hdrc3_base.stamps import stamp_s
+from tests.integration.flight_runs import SEED, recorded
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 

@@ -17,36 +17,15 @@ from typing import Any
 
 import pytest
 
+from hdrc3_base.stamps import stamp_s
+from tests.integration.flight_runs import SEED, recorded
+
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.flight]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tst"
 AGENTS = ("uav0", "uav1")
 WAIT_S = 240.0
 """Wall-clock bound of one flight phase at --speed max on a loaded 2-core machine."""
-SEED = "2"
-"""A simulation whose GPS has no outage over 2.5 s on either aircraft in its first 900 s
-(``tests/unit/sim/test_gps_outages.py`` keeps this true): with the default seed 0, uav1's GPS
-is out from 151 to 155 s, and a scan still flying then ends FAILED by the failsafe hold."""
-
-
-def stamp_s(stamp: Any) -> float:
-    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
-
-
-def recorded(path: Path, *suffixes: str) -> dict[str, list[Any]]:
-    """The recorded messages of every topic ending in one of ``suffixes``, by suffix."""
-    from rclpy.serialization import deserialize_message
-
-    from hdrc3.mcap_recording import RecordingReader
-    from hdrc3.message_types import message_class
-
-    recording = RecordingReader.open(path)
-    topics = {t: s for t, s in recording.topics().items() if t.endswith(suffixes)}
-    out: dict[str, list[Any]] = {suffix: [] for suffix in suffixes}
-    for m in recording.messages(list(topics)):
-        suffix = next(x for x in suffixes if m.topic.endswith(x))
-        out[suffix].append(deserialize_message(m.data, message_class(topics[m.topic])))
-    return out
 
 
 def constraint_violations(file: Path, times: dict[str, tuple[float, float]]) -> list[str]:
