@@ -96,14 +96,39 @@ class _Builder(InlineBuilder):
         number = self.number(children)
         return Number(-number.value, number.pos)
 
-    def name_arg(self, children: list[Token]) -> Name:
-        return Name(str(children[0]), self._pos(children[0]))
+    # Lists are left-recursive rules that keep their separators (tst.lark): the first
+    # element starts a list, each further one is appended; the rule using the list makes
+    # it a tuple.
+    @staticmethod
+    def _append(children: list[Any]) -> list[Any]:
+        if len(children) == 1:
+            return children
+        children[0].append(children[2])
+        return children[0]  # type: ignore[no-any-return]
 
-    def args(self, children: list[Any]) -> tuple[Any, ...]:
-        return tuple(children)
+    name_list = _append
+    xy_list = _append
+    children = _append
 
-    def name_list(self, children: list[Token]) -> tuple[str, ...]:
-        return tuple(str(c) for c in children)
+    def args(self, children: list[Any]) -> list[Name | Number]:
+        """``[list ","] (NAME | NUMBER | "-" NUMBER)``: the list with the argument appended."""
+        out: list[Name | Number] = children[0] if isinstance(children[0], list) else []
+        item: Token = children[-1]
+        if item.type == "NAME":
+            out.append(Name(str(item), self._pos(item)))
+        elif len(children) in (2, 4):  # "-" NUMBER
+            out.append(self.neg_number([item]))
+        else:
+            out.append(self.number([item]))
+        return out
+
+    @staticmethod
+    def expr(children: list[Any]) -> list[Any]:
+        """``term (ADDOP term)*`` as one list (:meth:`_linear` reads it)."""
+        if len(children) == 1:
+            return children
+        children[0] += children[1:]
+        return children[0]  # type: ignore[no-any-return]
 
     def xy(self, children: list[Number]) -> tuple[float, float]:
         return (children[0].value, children[1].value)
@@ -111,39 +136,43 @@ class _Builder(InlineBuilder):
     def xyz(self, children: list[Number]) -> tuple[float, float, float]:
         return (children[0].value, children[1].value, children[2].value)
 
-    def with_vars(self, children: list[tuple[str, ...]]) -> tuple[str, ...]:
+    def with_vars(self, children: list[list[Token]]) -> list[Token]:
         return children[0]
 
     def timepoint(self, children: list[Token]) -> str:
         return str(children[0])
 
     # --- constraints --------------------------------------------------------------------
-    def const_term(self, children: list[Number]) -> Term:
-        return Term(children[0].value)
+    def const_term(self, children: list[Token]) -> Term:
+        return Term(self.number(children).value)
 
     def var_term(self, children: list[Token]) -> Term:
         return Term(1.0, Name(str(children[0]), self._pos(children[0])))
 
     def scaled_term(self, children: list[Any]) -> Term:
-        return Term(children[0].value, Name(str(children[1]), self._pos(children[1])))
+        coef = self.number(children).value
+        return Term(coef, Name(str(children[1]), self._pos(children[1])))
 
     def neg_term(self, children: list[Term]) -> Term:
         return Term(-children[0].coef, children[0].name)
 
-    def expr(self, children: list[Any]) -> LinExpr:
-        terms = [children[0]]
-        for op, term in zip(children[1::2], children[2::2], strict=True):
-            terms.append(term if str(op) == "+" else Term(-term.coef, term.name))
+    @staticmethod
+    def _linear(items: list[Any]) -> LinExpr:
+        """``term (ADDOP term)*`` as collected by the ``expr`` list."""
+        terms = [items[0]]
+        for op, term in zip(items[1::2], items[2::2], strict=True):
+            terms.append(term if op == "+" else Term(-term.coef, term.name))
         return LinExpr(tuple(terms))
 
     def comparison(self, children: list[Any]) -> Comparison:
         # At the operator: expressions may start with a constant, which keeps no position.
         op: Token = children[1]
-        return Comparison(children[0], Cmp(str(op)), children[2], self._pos(op))
+        left, right = self._linear(children[0]), self._linear(children[2])
+        return Comparison(left, Cmp(str(op)), right, self._pos(op))
 
     def membership(self, children: list[Any]) -> Membership:
         var = Name(str(children[0]), self._pos(children[0]))
-        return Membership(var, children[1], var.pos)
+        return Membership(var, tuple(children[1]), var.pos)
 
     def cons_ref(self, children: list[Token]) -> ConsRef:
         return ConsRef(Name(str(children[0]), self._pos(children[0])))
@@ -151,32 +180,37 @@ class _Builder(InlineBuilder):
     def true_cons(self, children: list[Any]) -> None:
         return None
 
-    def cons(self, children: list[Constraint | None]) -> tuple[Constraint, ...]:
+    @staticmethod
+    def cons(children: list[Any]) -> list[Constraint]:
         # `true` is the neutral element (TALF: an omitted where is `where TRUE`).
-        return tuple(c for c in children if c is not None)
+        if len(children) == 1:
+            return [] if children[0] is None else children
+        if children[2] is not None:
+            children[0].append(children[2])
+        return children[0]  # type: ignore[no-any-return]
 
-    def where_clause(self, children: list[tuple[Constraint, ...]]) -> tuple[Constraint, ...]:
-        return children[0]
+    def where_clause(self, children: list[list[Constraint]]) -> tuple[Constraint, ...]:
+        return tuple(children[0])
 
     def cond(self, children: list[Any]) -> Condition:
         negated, name, args = children
-        return Condition(str(name), args or (), negated is not None, None, self._pos(name))
+        return Condition(str(name), _tuple(args), negated is not None, None, self._pos(name))
 
     # --- tasks --------------------------------------------------------------------------
     def action(self, children: list[Any]) -> ActionTask:
-        return ActionTask(str(children[0]), children[1] or (), self._pos(children[0]))
+        return ActionTask(str(children[0]), _tuple(children[1]), self._pos(children[0]))
 
     def goal(self, children: list[Any]) -> GoalTask:
-        return GoalTask(str(children[0]), children[1] or (), self._pos(children[0]))
+        return GoalTask(str(children[0]), _tuple(children[1]), self._pos(children[0]))
 
     def call(self, children: list[Any]) -> CallTask:
-        return CallTask(str(children[0]), children[1] or (), self._pos(children[0]))
+        return CallTask(str(children[0]), _tuple(children[1]), self._pos(children[0]))
 
-    def sequence(self, children: list[TstDef]) -> SequenceTask:
-        return SequenceTask(tuple(children))
+    def sequence(self, children: list[list[TstDef]]) -> SequenceTask:
+        return SequenceTask(tuple(children[0]))
 
-    def concurrent(self, children: list[TstDef]) -> ConcurrentTask:
-        return ConcurrentTask(tuple(children))
+    def concurrent(self, children: list[list[TstDef]]) -> ConcurrentTask:
+        return ConcurrentTask(tuple(children[0]))
 
     @staticmethod
     def _timed(cond: Condition, time: str | None) -> Condition:
@@ -192,12 +226,13 @@ class _Builder(InlineBuilder):
 
     def foreach_task(self, children: list[Any]) -> ForeachTask:
         names, time, cond, body = children
-        return ForeachTask(names, self._timed(cond, time), body)
+        return ForeachTask(_names(names), self._timed(cond, time), body)
 
     def _tst(self, children: list[Any]) -> TstDef:
         name, params, with_vars, task, *rest = children
         where = rest[0] if rest and rest[0] is not None else ()
-        return TstDef(str(name), params, with_vars or (), task, where, self._pos(name))
+        with_names = () if with_vars is None else _names(with_vars)
+        return TstDef(str(name), _names(params), with_names, task, where, self._pos(name))
 
     tst = _tst
     child = _tst
@@ -206,11 +241,11 @@ class _Builder(InlineBuilder):
     def world_decl(self, children: list[Token]) -> WorldDecl:
         return WorldDecl(str(children[0]), self._pos(children[0]))
 
-    def agents_decl(self, children: list[Token]) -> AgentsDecl:
-        return AgentsDecl(tuple(str(c) for c in children), self._pos(children[0]))
+    def agents_decl(self, children: list[list[Token]]) -> AgentsDecl:
+        return AgentsDecl(_names(children[0]), self._pos(children[0][0]))
 
     def area_decl(self, children: list[Any]) -> AreaDecl:
-        return AreaDecl(str(children[0]), tuple(children[1:]), self._pos(children[0]))
+        return AreaDecl(str(children[0]), tuple(children[1]), self._pos(children[0]))
 
     def place_alt(self, children: list[Any]) -> tuple[str, float]:
         return (str(children[0]), children[1].value)
@@ -221,16 +256,23 @@ class _Builder(InlineBuilder):
             return PointDecl(name, None, where[0], where[1], pos)
         return PointDecl(name, where, None, 0.0, pos)
 
-    def path_decl(self, children: list[Token]) -> PathDecl:
-        return PathDecl(
-            str(children[0]), tuple(str(c) for c in children[1:]), self._pos(children[0])
-        )
+    def path_decl(self, children: list[Any]) -> PathDecl:
+        return PathDecl(str(children[0]), _names(children[1]), self._pos(children[0]))
 
     def cons_def(self, children: list[Any]) -> ConsDef:
-        return ConsDef(str(children[0]), children[1], self._pos(children[0]))
+        return ConsDef(str(children[0]), tuple(children[1]), self._pos(children[0]))
 
     def start(self, children: list[Any]) -> TstFile:
         return TstFile(tuple(children))
+
+
+def _tuple(items: list[Any] | None) -> tuple[Any, ...]:
+    """An optional list (``[args]``) as a tuple."""
+    return () if items is None else tuple(items)
+
+
+def _names(tokens: list[Token]) -> tuple[str, ...]:
+    return tuple(map(str, tokens))
 
 
 def _syntax_diagnostic(exc: lark.exceptions.UnexpectedInput, file: str, text: str) -> Diagnostic:

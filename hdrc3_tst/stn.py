@@ -25,7 +25,6 @@ import heapq
 import math
 from collections import deque
 from dataclasses import dataclass
-from operator import attrgetter
 from typing import NamedTuple
 
 Bound = tuple[float, int]
@@ -192,7 +191,8 @@ class SimpleTemporalNetwork:
         names = list(self._out)
         index = {name: i for i, name in enumerate(names)}
         # The graph's own dictionaries are the adjacency (no list per variable and direction:
-        # fewer objects for the garbage collector, which the benchmark's full heap feels).
+        # fewer objects for the garbage collector, which the benchmark's full heap feels);
+        # their keys are the edges' far ends.
         self._from = self._sweeps(names, index, list(self._out.values()), "target")
         self._to = self._sweeps(names, index, [self._in[name] for name in names], "source")
 
@@ -204,7 +204,6 @@ class SimpleTemporalNetwork:
         end: str,
     ) -> dict[str, Weight]:
         """Bellman-Ford, each pass a forward and a backward sweep over the variables."""
-        far = attrgetter(end)
         n = len(names)
         value = [math.inf] * n
         strict = [0] * n
@@ -223,8 +222,8 @@ class SimpleTemporalNetwork:
                         continue
                     stale[i] = False
                     base, sbase = value[i], strict[i]
-                    for edge in adjacency[i].values():
-                        j = index[far(edge)]
+                    for far, edge in adjacency[i].items():
+                        j = index[far]
                         w, s = edge.weight
                         cand = base + w
                         cs = sbase if sbase < s else s

@@ -1,7 +1,9 @@
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import lark
 import pytest
@@ -149,3 +151,53 @@ def test_tstdef_children_in_order() -> None:
     t = result.tree.tsts()[0]
     assert [c.name for c in t.children()] == ["a", "b"]
     assert all(isinstance(c, TstDef) and c.children() == () for c in t.children())
+
+
+def test_declarations_and_lists() -> None:
+    text = (
+        "agents a1, a2,\n  a3\n"
+        "area F = polygon((-1, 0), (2, -3.5), (4, 5))\n"
+        "path R = (p, q, r)\n"
+        "c = true and X - Y + 2 * Z - 3 >= -1 and true and X in {a1, -2, 4}\n"
+    )
+    result = parse_text(text, "d.tst")
+    assert result.status is ParseStatus.OK and result.tree is not None
+    agents, area, path, cons = result.tree.items
+    assert agents.names == ("a1", "a2", "a3") and (agents.pos.line, agents.pos.column) == (1, 8)
+    assert area.vertices == ((-1.0, 0.0), (2.0, -3.5), (4.0, 5.0))
+    assert path.points == ("p", "q", "r")
+    assert isinstance(cons, ConsDef)
+    assert cons.constraints == (  # `true` is dropped wherever it stands
+        Comparison(
+            Expr_(Term(1.0, Name("X")), Term(-1.0, Name("Y")), Term(2.0, Name("Z")), Term(-3.0)),
+            Cmp.GE,
+            Expr_(Term(-1.0)),
+        ),
+        Membership(Name("X"), (Name("a1"), Number(-2.0), Number(4.0))),
+    )
+    assert all(type(n) is str for n in (*agents.names, *path.points))
+
+
+@pytest.mark.parametrize(
+    ("text", "check"),
+    [
+        # A keyword is one only where the grammar takes it (lark's contextual lexer).
+        ("agents at, in, world", lambda t: t.items[0].names == ("at", "in", "world")),
+        ("m(TS, TE) = path(TS, TE)", lambda t: t.tsts()[0].task.name == "path"),
+        # Where only a keyword fits, it is matched even when letters follow it.
+        (
+            "m(T) = foreach X where c(X) do concn(T) = wait(T, 1)",
+            lambda t: t.tsts()[0].task.body.name == "n",
+        ),
+    ],
+)
+def test_keywords_depend_on_the_context(text: str, check: Callable[[Any], bool]) -> None:
+    result = parse_text(text)
+    assert result.status is ParseStatus.OK and result.tree is not None
+    assert check(result.tree)
+
+
+def test_a_constant_too_large_in_a_constraint_is_reported() -> None:
+    result = parse_text("t(TS, TE) = wait(TS, TE, 1) where TE <= 2e999 * TS", "big.tst")
+    assert result.status is ParseStatus.SYNTAX_ERROR
+    assert "out of range" in result.diagnostics[0].message
