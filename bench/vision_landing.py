@@ -66,7 +66,7 @@ from hdrc3_control.event_protocol import FINAL
 from hdrc3_control.kernel_harness import KernelFlight
 from hdrc3_control.measurements import VisionPoseMeasurement
 from hdrc3_control.pfc_state import Failsafe, FlightMode
-from hdrc3_control.ppc_modes import Pose, look_at_angles
+from hdrc3_control.ppc_modes import PadVision, Pose, look_at_angles
 from hdrc3_perception.camera import Intrinsics
 from hdrc3_perception.pad_fix import FixStatus, PadPlacement, helicopter_fix
 from hdrc3_perception.pad_pose import PoseStatus, estimate
@@ -147,9 +147,15 @@ class Camera:
             self.fixes += 1
             self.queue.append(VisionPoseMeasurement(now, fix.position, fix.sigma))
 
+    def on(self) -> None:
+        """Camera on from now: the kernel hears that the pad's pose runs (``ppc/pad_vision``)."""
+        self.next_image = self.flight.sim.time
+        self.flight.kernel.pad_vision(PadVision.RUNNING)
+
     def off(self) -> None:
         """Camera off: no more images; fixes in the pipeline are dropped."""
         self.next_image, self.queue = math.inf, deque()
+        self.flight.kernel.pad_vision(PadVision.NONE)
 
 
 def run_until(
@@ -204,7 +210,7 @@ def fly_one(
     said = command(f, camera, "Traj3D-Flyto-EV", (*target, 3.0))
     if said != "Traj-Arrived-EV":
         return Landing(offset, f"fly-to: {said}", None, None)
-    camera.next_image = f.sim.time
+    camera.on()
     settle = f.sim.time + 8.0  # the fixes win over the GPS/INS solution first (10 rejections)
     run_until(f, camera, lambda: f.sim.time >= settle, 10.0)
     airborne = [0.0]  # sink rate of the latest tick in the air

@@ -11,7 +11,8 @@ Topics (relative to the agent namespace): in ``sensors/{imu,attitude,gps/fix,gps
 barometer,ground_contact,rpm,power}``, ``pad_pose/fix`` (the landing pad camera's helicopter
 fix, ``PoseWithCovarianceStamped`` in the world's ENU frame, §5.4), ``color_tracker/track`` (the
 colour tracker's ``ColorTrack``: located TRACKING results are the car's ground fixes for
-``fcl_track``), ``yacs/status``, ``pfc/ui``
+``fcl_track``), ``ppc/pad_vision`` (the PPC's latched ``PadVision`` report: whether a landing
+can search for the pad's pattern, or must land on GPS at once), ``yacs/status``, ``pfc/ui``
 (std_msgs/String: arm, brake, land), ``/clock``; out ``yacs/command``, ``pfc/state`` (PfcState,
 every tick), ``pfc/aiding`` (std_msgs/String JSON, 5 Hz of sim time: the sources the Kalman
 filter used lately and each source's verdict counts, :class:`~hdrc3_control.aiding.AidingLog`),
@@ -41,7 +42,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, NavSatFix
-from std_msgs.msg import String
+from std_msgs.msg import String, UInt8
 
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
@@ -58,7 +59,7 @@ from hdrc3_control.measurements import (
     ImuMeasurement,
     VisionPoseMeasurement,
 )
-from hdrc3_control.perception_kernel_node import COLOR_TRACK_TOPIC
+from hdrc3_control.perception_kernel_node import COLOR_TRACK_TOPIC, LATCHED, PAD_VISION_TOPIC
 from hdrc3_control.pfc_state import PlatformStatus, PowerReading
 from hdrc3_control.takeoff import TakeoffConfig
 from hdrc3_control.warm_start import read_warm_start, write_warm_start
@@ -207,6 +208,7 @@ class ControlKernelNode(SteppedNode):
         sub(String, "pfc/ui", self._on_ui, SENSOR_QOS)
         sub(PoseWithCovarianceStamped, "pad_pose/fix", self._on_vision, SENSOR_QOS)
         sub(ColorTrack, COLOR_TRACK_TOPIC, self._on_color_track, TRACK_QOS)
+        sub(UInt8, PAD_VISION_TOPIC, self._on_pad_vision, LATCHED)
 
     # ------------------------------------------------------------------ inputs
     def _on_clock(self, msg: Any) -> None:
@@ -291,6 +293,10 @@ class ControlKernelNode(SteppedNode):
         position = (float(p.x), float(p.y), float(p.z))
         t = stamp_s(msg.header.stamp)
         self.kernel.feed(VisionPoseMeasurement(t, position, math.sqrt(variance)))
+
+    def _on_pad_vision(self, msg: Any) -> None:
+        if not self.kernel.pad_vision(int(msg.data)):
+            self.get_logger().warning(f"unknown pad vision state {msg.data} on {PAD_VISION_TOPIC}")
 
     def _on_color_track(self, msg: Any) -> None:
         if msg.status != ColorTrack.STATUS_TRACKING or not msg.located:

@@ -152,6 +152,7 @@ class EventProtocol:
         rejected_id: int,
         trigger_reason: Callable[[str], str | None] = lambda _trigger: None,
         finish_note: Callable[[int], str] = lambda _command_id: "",
+        accept_note: Callable[[int], str] = lambda _command_id: "",
     ) -> None:
         """``failure_reason`` gives the reason of the last control function failure.
 
@@ -159,11 +160,14 @@ class EventProtocol:
         ``trigger_reason`` gives the reason of replies sent on an internal event that carries
         one (the failsafe's Fs-Hold-EV, Fs-Land-EV), None for the others. ``finish_note`` gives
         (and forgets) what a command's control function has to say when the command ends (the
-        landing: which aid it used); a Cmd-Finished-EV carries it as its reason.
+        landing: which aid it used); a Cmd-Finished-EV carries it as its reason. ``accept_note``
+        likewise what it has to say as it starts (the landing: which aid it plans on and why);
+        a Cmd-Accepted-EV carries it.
         """
         self.failure_reason = failure_reason
         self.trigger_reason = trigger_reason
         self.finish_note = finish_note
+        self.accept_note = accept_note
         self.rejected_id = rejected_id
         self.active: set[int] = set()
         self.dropped = 0
@@ -211,7 +215,9 @@ class EventProtocol:
         if name == "Request-Segment-EV" and cid not in self.active:
             return None
         note = self.finish_note(cid) if name in FINAL else ""
-        if name == "Cmd-Finished-EV" and note:
+        if name == "Cmd-Accepted-EV":
+            note = self.accept_note(cid)
+        if name in ("Cmd-Finished-EV", "Cmd-Accepted-EV") and note:
             data = encode(cid, (), note)
         elif name in ID_ONLY:
             data = event.data[:8]

@@ -72,6 +72,7 @@ from hdrc3_control.pfc_state import (
     PlatformStatus,
     PowerReading,
 )
+from hdrc3_control.ppc_modes import PadVision
 from hdrc3_control.state_estimator import StateEstimator
 from hdrc3_control.warm_start import WarmStart
 from hdrc3_control.wind_estimate import WindEstimator
@@ -212,6 +213,7 @@ class PfcKernel:
             rejected,
             lambda trigger: self._fs_reasons.get(trigger),
             lambda command_id: self.ctx.notes.pop(command_id, ""),
+            lambda command_id: self.ctx.accept_notes.pop(command_id, ""),
         )
         self.interpreter = Interpreter(self.model, self._conditions(), trace=self.log)
         self.loop = MainLoop(self.interpreter, (self, self.braking, self.functions))
@@ -267,6 +269,17 @@ class PfcKernel:
     def feed_power(self, reading: PowerReading) -> None:
         """Latest power management unit report."""
         self._power = reading
+
+    def pad_vision(self, state: int) -> bool:
+        """The PPC's :class:`PadVision` report (``ppc/pad_vision``); False if not one of them.
+
+        The landing plans on it: it searches for the pad's pattern only when the PPC can see it.
+        """
+        try:
+            self.ctx.pad_vision = PadVision(state)
+        except ValueError:
+            return False
+        return True
 
     def target_fix(self, time: float, east: float, north: float, up: float) -> bool:
         """A ground fix of the colour tracker's car (image time, world ENU); False if not finite.

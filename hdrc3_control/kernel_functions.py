@@ -56,6 +56,7 @@ from hdrc3_control.path_following import (
     PathStatus,
 )
 from hdrc3_control.path_segment import PathSegment
+from hdrc3_control.ppc_modes import PadVision
 from hdrc3_control.takeoff import Takeoff, TakeoffConfig, TakeoffStatus
 from hdrc3_control.wind_estimate import WindEstimate
 from hdrc3_hcsm.control_function import HookResult, Phase
@@ -120,6 +121,9 @@ class FunctionContext:
     """Seconds since the navigation filter last accepted a vision fix (inf: never)."""
     vision_seen_age: float = math.inf
     """Seconds since the filter last received a vision fix, taken or rejected (inf: never)."""
+    pad_vision: PadVision = PadVision.NONE
+    """What the PPC can do for a vision landing (its latched ``ppc/pad_vision`` report; NONE
+    until one arrives)."""
     camera_aim: Vec3 | None = None
     """Where the landing's search wants the camera to look this tick (ENU ground point; None:
     at the pad, or no landing): ``Landing.camera_aim``, the PTU's target while it searches."""
@@ -127,6 +131,8 @@ class FunctionContext:
     """The on-board wind estimate of this tick (``wind_estimate.WindEstimator``)."""
     notes: dict[int, str] = field(default_factory=dict)
     """Text for a command's Cmd-Finished-EV, by command id (what the function used)."""
+    accept_notes: dict[int, str] = field(default_factory=dict)
+    """Text for a command's Cmd-Accepted-EV, by command id (what the function plans on)."""
     target_fixes: deque[TargetFix] = field(default_factory=lambda: deque(maxlen=TARGET_FIXES))
     """The colour tracker's latest ground fixes of its car, in arrival order (kernel clock)."""
 
@@ -515,7 +521,9 @@ class LandingFunction:
     estimated wind, ``FunctionContext.wind``) and re-chosen until the descent starts when the
     estimate moves by more than ``heading_hysteresis``. The Cmd-Finished-EV of the command says
     which aid the landing used, how a search went and the heading and wind
-    (``FunctionContext.notes``).
+    (``FunctionContext.notes``). A plan that engages the PPC's pad state estimation
+    (``LandingPlan.engage``) posts ``Fn-Pad-Engage-EV`` as it starts and ``Fn-Pad-Release-EV``
+    when it stops (the Pad Vision automaton forwards them to the PPC).
     """
 
     def __init__(self, ctx: FunctionContext, config: LandingConfig) -> None:
@@ -529,6 +537,8 @@ class LandingFunction:
         self.command_id = 0
         self.lowest_fix: float | None = None
         """Lowest height above the pad at which a vision fix was fresh, m."""
+        self.engaged = False
+        """This landing engaged the PPC's pad state estimation (released when it stops)."""
 
     def step(self, phase: Phase, memory: MemoryBank, now: float) -> HookResult:
         """Template hook."""
@@ -550,7 +560,13 @@ class LandingFunction:
             e, n, _ = state.position
             ground, sites = ctx.terrain(e, n), ctx.landing_sites
             self.plan = plan_landing(
-                state, self.heading.heading, ground, ctx.vision_age, sites, config
+                state,
+                self.heading.heading,
+                ground,
+                ctx.vision_age,
+                sites,
+                config,
+                pad_vision=ctx.pad_vision,
             )
             self.command_id, self.lowest_fix = command_id_of(data), None
             self.phase = self.core.start(
@@ -558,9 +574,17 @@ class LandingFunction:
             )
             if self.phase is LandingPhase.REFUSED_ON_GROUND:
                 return ctx.fail("landing refused: already on the ground")
+            if self.plan.engage:
+                ctx.post("Fn-Pad-Engage-EV", b"")
+                self.engaged = True
+            if self.command_id != 0:
+                ctx.accept_notes[self.command_id] = self._plans()
             self._note()
             return HookResult.DONE
         if phase is Phase.STOPPING:
+            if self.engaged:
+                ctx.post("Fn-Pad-Release-EV", b"")
+                self.engaged = False
             return HookResult.DONE
         state = ctx.state
         if state is None:
@@ -612,6 +636,18 @@ class LandingFunction:
             reason = f"{plan.reason} (found after a {took:.1f} s search from {up})"
             self.plan = replace(plan, reason=reason)
         self._note()
+
+    def _plans(self) -> str:
+        """What the command's acceptance says: the aid planned on and why."""
+        plan = self.plan
+        if plan is None:
+            return ""
+        if plan.aid is LandingAid.GPS:
+            return f"landing on GPS and barometer: {plan.reason}"
+        text = f"landing on vision: {plan.reason}"
+        if plan.search_height is not None:
+            text += f"; searching for the pattern from {plan.search_height:.1f} m first"
+        return text
 
     def _note(self) -> None:
         """What the command's final reply says about the aid."""

@@ -14,7 +14,12 @@ a patterned pad within ``engage_radius`` (the chapter's 20 m hemisphere) the lan
 the pad's centre and the position is held on it down to the skids while fixes keep coming;
 near such a pad (within ``engage_radius``) without a recent fix, the pattern must be seen first:
 the landing starts with SEARCH over the pad and becomes a vision landing on the first accepted fix,
-or a GPS landing on the pad's GIS position after ``search_timeout``. Otherwise (no pad nearby, or
+or a GPS landing on the pad's GIS position after ``search_timeout``. The search needs the PPC
+to be able to see the pad (its ``PadVision`` report, ``ppc/pad_vision``): without a camera and
+pad pose pipeline, or with image processing busy with another function, no fix can come, and the
+landing lands on the pad's GIS position on GPS at once and says why. When the pipeline is ready
+but idle, the plan says to engage it (``LandingPlan.engage``; the landing function does, through
+the Pad Vision automaton, and releases it when it ends). Otherwise (no pad nearby, or
 navigation not OK) the aircraft lands where it is on GPS and the barometer, and below
 ``final_height`` holds only its velocity (GPS position jitter would become horizontal speed at
 touchdown).
@@ -38,6 +43,7 @@ from hdrc3_control.commands import (
 )
 from hdrc3_control.outer_loop import OuterLoop, OuterLoopGains, Reference
 from hdrc3_control.ppc_hardware import COLOR, CameraSpec
+from hdrc3_control.ppc_modes import CAN_SEE_PAD, PadVision
 from hdrc3_control.wind_estimate import WindEstimate, WindStatus
 from sim.landing_pattern import PAD_HALF_WIDTH_M
 
@@ -231,6 +237,8 @@ class LandingPlan:
     """Search for the pattern from this height above the pad first, m (None: no search)."""
     pad: str = ""
     """Name of the pad a vision landing is on ('' on GPS)."""
+    engage: bool = False
+    """Engage the PPC's pad state estimation for this landing (ready there, but idle)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -327,13 +335,17 @@ def plan_landing(
     vision_age: float,
     sites: tuple[LandingSite, ...],
     config: LandingConfig,
+    *,
+    pad_vision: PadVision,
 ) -> LandingPlan:
     """Choose the landing point: the nearest patterned pad on vision, else here on GPS.
 
     Within ``engage_radius`` of the pad but without a recent fix, the plan is a vision landing on
     the pad that searches first (``search_height``), when the navigation is OK (not for an
-    emergency landing). ``vision_age``: seconds since the filter last accepted a vision fix (inf:
-    never); ``ground_height``: the terrain under the aircraft (the GPS landing point's height).
+    emergency landing) and the PPC can see the pad (``pad_vision`` in :data:`CAN_SEE_PAD`); when
+    it cannot, a GPS landing on the pad's GIS position, at once. ``vision_age``: seconds since
+    the filter last accepted a vision fix (inf: never); ``ground_height``: the terrain under the
+    aircraft (the GPS landing point's height).
     """
     e, n, u = state.position
     here = LandingTarget(e, n, ground_height, heading)
@@ -353,12 +365,23 @@ def plan_landing(
             return LandingPlan(here, LandingAid.GPS, reason)
         if state.health is not EstimatorHealth.OK:
             return LandingPlan(here, LandingAid.GPS, f"{reason} (navigation {state.health.value})")
+        if pad_vision not in CAN_SEE_PAD:
+            return LandingPlan(target, LandingAid.GPS, f"{reason}: {pad_vision.describe()}")
         height = search_height(config, state.position_sigma)
-        return LandingPlan(target, LandingAid.VISION, f"pad {site.name}", height, site.name)
+        return _vision(target, site, pad_vision, height)
     if not near:
         away = f"{far:.1f} m away (over {config.engage_radius:g} m)"
         return LandingPlan(here, LandingAid.GPS, f"pad {site.name} {away}")
-    return LandingPlan(target, LandingAid.VISION, f"pad {site.name}", pad=site.name)
+    return _vision(target, site, pad_vision, None)
+
+
+def _vision(
+    target: LandingTarget, site: LandingSite, pad_vision: PadVision, height: float | None
+) -> LandingPlan:
+    """A vision landing on ``site``; it engages the pad's pose when the PPC has it idle."""
+    engage = pad_vision is PadVision.READY
+    reason = f"pad {site.name}" + (", its pose engaged by the landing" if engage else "")
+    return LandingPlan(target, LandingAid.VISION, reason, height, site.name, engage)
 
 
 class Landing:

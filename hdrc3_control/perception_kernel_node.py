@@ -13,6 +13,12 @@ the pixel column, point.y the row, stamp the PPC time of the command), and talks
 ``hcsm/events/*``. While state estimation is engaged the PTU follows the landing pad's pose
 (``pad_pose/pose``), while colour tracking is engaged the tracked object (``color_tracker/track``,
 ``ColorTrack`` results with status TRACKING) (:mod:`hdrc3_control.visual_servoing`).
+
+It reports on ``ppc/pad_vision`` (latched ``UInt8``, :class:`~hdrc3_control.ppc_modes.PadVision`)
+what it can do for a vision landing: from the ROS graph, whether a colour camera publishes
+(``camera/color/image_raw`` has a publisher) and the pad pose pipeline is up (``pad_pose/result``
+has one), checked once a second of sim time; from the pipeline's ``pad_pose/result`` (one per
+processed image), whether images are actually processed. The control kernel's landing plans on it.
 """
 
 from __future__ import annotations
@@ -25,12 +31,12 @@ from rclpy.context import Context
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from std_msgs.msg import UInt8
+from std_msgs.msg import String, UInt8
 
 from hdrc3_base.ros_runtime import run_events_node
 from hdrc3_base.stamps import set_stamp_ns, set_stamp_s, stamp_s
 from hdrc3_control.ppc_kernel import ColorSeed, PpcKernel, PpcOutputs
-from hdrc3_control.ppc_modes import ImageProcessing, Pose
+from hdrc3_control.ppc_modes import ImageProcessing, PadVision, Pose
 from hdrc3_control.visual_servoing import Sighting
 from hdrc3_hcsm.ros_transport import RosTransport
 from hdrc3_interfaces.msg import (
@@ -51,6 +57,14 @@ COLOR_TRACKER_SEED_TOPIC = "ppc/color_tracker_seed"
 """The colour tracker's seed (latched ``PointStamped``; a new one restarts the tracking)."""
 COLOR_TRACK_TOPIC = "color_tracker/track"
 """The colour tracker's ``ColorTrack`` of every image while colour tracking is engaged."""
+PAD_VISION_TOPIC = "ppc/pad_vision"
+"""The PPC's :class:`PadVision` report (latched ``UInt8``)."""
+PAD_RESULT_TOPIC = "pad_pose/result"
+"""The pad pose pipeline's result of every image it processed (``std_msgs/String`` JSON)."""
+COLOR_IMAGE_TOPIC = "camera/color/image_raw"
+"""The colour camera's images (only their publisher is looked at: subscribing would render)."""
+DEVICE_CHECK_PERIOD_NS = 1_000_000_000
+"""How often the graph is asked for the camera and the pipeline, ns of sim time."""
 LATCHED = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
@@ -76,11 +90,15 @@ class PerceptionKernelNode(Node):
         self.state_pub = self.create_publisher(CameraState, "ppc/camera_state", QOS)
         self.ip_pub = self.create_publisher(UInt8, IMAGE_PROCESSING_TOPIC, LATCHED)
         self.seed_pub = self.create_publisher(PointStamped, COLOR_TRACKER_SEED_TOPIC, LATCHED)
+        self.pad_vision_pub = self.create_publisher(UInt8, PAD_VISION_TOPIC, LATCHED)
         self._publish_ip(self.kernel.image_processing)
+        self._publish_pad_vision(self.kernel.pad_vision)
+        self._devices_checked_ns: int | None = None
         self.create_subscription(PfcState, "pfc/state", self._on_pfc, QOS)
         self.create_subscription(PtuState, "sensors/ptu", self._on_ptu, QOS)
         self.create_subscription(PoseStamped, "pad_pose/pose", self._on_pad, QOS)
         self.create_subscription(ColorTrack, COLOR_TRACK_TOPIC, self._on_color_track, QOS)
+        self.create_subscription(String, PAD_RESULT_TOPIC, self._on_pad_result, QOS)
         for topic in ("sensors/color_camera", "sensors/thermal_camera"):
             self.create_subscription(CameraState, topic, self._on_camera, QOS)
 
@@ -100,6 +118,18 @@ class PerceptionKernelNode(Node):
         p, stamp = msg.pose.position, msg.header.stamp
         sighting = Sighting(stamp_s(stamp), (float(p.x), float(p.y), float(p.z)))
         self.kernel.see(ImageProcessing.STATE_ESTIMATION, sighting)
+
+    def _on_pad_result(self, _msg: Any) -> None:
+        self.kernel.pad_image(self._now_ns() * 1e-9)
+
+    def _check_devices(self, now_ns: int) -> None:
+        """Ask the graph (once a second of sim time) for the colour camera and the pipeline."""
+        last = self._devices_checked_ns
+        if last is not None and 0 <= now_ns - last < DEVICE_CHECK_PERIOD_NS:
+            return
+        self._devices_checked_ns = now_ns
+        camera = self.count_publishers(COLOR_IMAGE_TOPIC) > 0
+        self.kernel.devices(camera, self.count_publishers(PAD_RESULT_TOPIC) > 0)
 
     def _on_color_track(self, msg: Any) -> None:
         if msg.status != ColorTrack.STATUS_TRACKING:
@@ -121,6 +151,7 @@ class PerceptionKernelNode(Node):
         stamp = msg.header.stamp
         time = stamp_s(stamp)
         self.kernel.ptu_reading(time, float(msg.pan), float(msg.tilt))
+        self._check_devices(now_ns)
         try:
             out = self.kernel.step(
                 now_ns * 1e-9, self.pose, (float(msg.pan), float(msg.tilt)), dict(self.zooms)
@@ -157,6 +188,8 @@ class PerceptionKernelNode(Node):
             self._publish_seed(out.color_seed)
         if out.image_processing is not None:
             self._publish_ip(out.image_processing)
+        if out.pad_vision is not None:
+            self._publish_pad_vision(out.pad_vision)
 
     def _publish_seed(self, seed: ColorSeed) -> None:
         m = PointStamped()
@@ -166,6 +199,10 @@ class PerceptionKernelNode(Node):
 
     def _publish_ip(self, mode: ImageProcessing) -> None:
         self.ip_pub.publish(UInt8(data=int(mode)))
+
+    def _publish_pad_vision(self, state: PadVision) -> None:
+        self.get_logger().info(f"pad vision: {state.name.lower()} ({state.describe()})")
+        self.pad_vision_pub.publish(UInt8(data=int(state)))
 
 
 def main() -> int:

@@ -8,8 +8,12 @@ node of its own, runs while it is engaged; the colour tracker from the seed pixe
 ``ppcl_ip_color_tracker(x, y)``), and the source of the conditions (on target, zoom reached,
 timeouts). While the pad's pose or the colour tracker runs, the PTU keeps the pad or the tracked
 object in the image's centre (:mod:`hdrc3_control.visual_servoing`) instead of following its
-commanded mode. :meth:`PpcKernel.step` is one iteration, driven by the PTU angle reports (25 Hz
-of sim time) in the node.
+commanded mode. The PFC's landing engages the pad's pose itself (``Pad-Est-Engage-EV``, released
+by ``Pad-Est-Release-EV``; the Ip automaton's ``Ip-Land-Est-ST``) when the PPC reports it
+:attr:`PadVision.READY`; :attr:`PpcKernel.pad_vision` is that report, from the devices the node
+sees (:meth:`PpcKernel.devices`) and the images the pad pipeline processed
+(:meth:`PpcKernel.pad_image`). :meth:`PpcKernel.step` is one iteration, driven by the PTU angle
+reports (25 Hz of sim time) in the node.
 """
 
 from __future__ import annotations
@@ -21,7 +25,15 @@ from pathlib import Path
 
 from hdrc3_control.event_codec import Decoded, decode, encode
 from hdrc3_control.ppc_hardware import PtuLimits
-from hdrc3_control.ppc_modes import ImageProcessing, Pose, PtuController, PtuMode, on_target
+from hdrc3_control.ppc_modes import (
+    ImageProcessing,
+    PadVision,
+    Pose,
+    PtuController,
+    PtuMode,
+    on_target,
+    pad_vision,
+)
 from hdrc3_control.visual_servoing import PtuServo, Sighting
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.interpreter import Interpreter
@@ -80,6 +92,8 @@ class PpcOutputs:
     image_processing: ImageProcessing | None = None
     color_seed: ColorSeed | None = None
     """A new colour tracker seed (each ``ppcl_ip_color_tracker`` command, also the same pixel)."""
+    pad_vision: PadVision | None = None
+    """The PPC's changed :class:`PadVision` state."""
 
 
 def model_path() -> Path:
@@ -97,6 +111,7 @@ class PpcKernel:
         *,
         ptu_timeout: float = 10.0,
         zoom_timeout: float = 10.0,
+        image_timeout: float = 2.0,
     ) -> None:
         self.ptu = PtuController(limits)
         self.servo = PtuServo(limits)
@@ -115,6 +130,13 @@ class PpcKernel:
         self.image_processing = ImageProcessing.IDLE
         self.color_seed: ColorSeed | None = None
         """The colour tracker's seed while colour tracking is engaged."""
+        self.image_timeout = image_timeout
+        """Pad images processed within this count as running state estimation, s."""
+        self.camera = False
+        self.pipeline = False
+        self._pad_image_at = -math.inf
+        self.pad_vision = PadVision.NONE
+        """What the PPC can do for a vision landing (:func:`pad_vision`)."""
         self._ptu_since = 0.0
         self._zoom_since = 0.0
         self._zoom_camera = 0
@@ -208,6 +230,7 @@ class PpcKernel:
             self.color_seed = None
         if ip is not self.image_processing:
             self.image_processing = out.image_processing = ip
+            self._pad_image_at = -math.inf  # only images of this engagement count
 
     def _ptu_started(self, memory: MemoryBank, command_id: int, now: float) -> None:
         self._ptu_since = now
@@ -229,6 +252,15 @@ class PpcKernel:
         taken since its seed (older ones show the previous object).
         """
         self._sightings.append((source, sighting))
+
+    def devices(self, camera: bool, pipeline: bool) -> None:
+        """Whether a colour camera publishes images and the pad pose pipeline is up."""
+        self.camera, self.pipeline = camera, pipeline
+
+    def pad_image(self, time: float) -> None:
+        """The pad pose pipeline processed an image (its result arrived at PPC ``time``)."""
+        if math.isfinite(time):
+            self._pad_image_at = max(self._pad_image_at, time)
 
     def ptu_reading(self, time: float, pan: float, tilt: float) -> None:
         """A PTU read-out with its sensor time (the servo aims from the image's angles)."""
@@ -266,6 +298,12 @@ class PpcKernel:
         tracking = self._track(now)
         if tracking is not None:
             out.ptu = tracking
+        age = now - self._pad_image_at
+        state = pad_vision(
+            self.camera, self.pipeline, self.image_processing, age, self.image_timeout
+        )
+        if state is not self.pad_vision:
+            self.pad_vision = out.pad_vision = state
         self._send()  # replies leave in this iteration, not the next
         return out
 

@@ -35,6 +35,65 @@ class ImageProcessing(enum.IntEnum):
     """Colour tracking from a seed pixel (§6.2.3, ``hdrc3_perception.colour_tracking``)."""
 
 
+class PadVision(enum.IntEnum):
+    """What the PPC can do for a vision landing (latched on ``ppc/pad_vision``, §5.4).
+
+    From the PPC's own view (:func:`pad_vision`): whether a colour camera and the landing pad's
+    pose pipeline (the ``pad_node`` node) exist, which image processing function is engaged, and
+    whether that pipeline has processed images lately. The PFC's landing plans on it
+    (``landing.plan_landing``): it searches for the pattern only when the PPC can see it.
+    """
+
+    NONE = 0
+    """No colour camera or no pad pose pipeline: no vision fix can come."""
+    BUSY = 1
+    """Image processing runs another function (saliency, colour tracker), engaged by PPCL."""
+    READY = 2
+    """Camera and pipeline are up, state estimation is not engaged: a landing engages it."""
+    ENGAGED = 3
+    """State estimation is engaged, but no image was processed within ``image_timeout``."""
+    RUNNING = 4
+    """State estimation is engaged and processes images."""
+
+    def describe(self) -> str:
+        """Why a landing can or cannot see the pad, for the operator."""
+        return _PAD_VISION_TEXT[self]
+
+
+_PAD_VISION_TEXT = {
+    PadVision.NONE: "no vision pipeline (the PPC has no colour camera or pad pose node)",
+    PadVision.BUSY: "the PPC's image processing runs another function",
+    PadVision.READY: "pad state estimation ready",
+    PadVision.ENGAGED: "pad state estimation engaged, no image processed yet",
+    PadVision.RUNNING: "pad state estimation running",
+}
+
+CAN_SEE_PAD = frozenset({PadVision.READY, PadVision.ENGAGED, PadVision.RUNNING})
+"""States in which a landing may search for the pattern."""
+
+
+def pad_vision(
+    camera: bool, pipeline: bool, function: ImageProcessing, image_age: float, timeout: float
+) -> PadVision:
+    """The PPC's :class:`PadVision` state.
+
+    Args:
+        camera: A colour camera publishes images (its image topic has a publisher).
+        pipeline: The pad pose pipeline is up (its result topic has a publisher).
+        function: The engaged image processing function.
+        image_age: Seconds since the pipeline last reported a processed image (inf: never
+            since it was engaged).
+        timeout: Images older than this no longer count as running, s.
+    """
+    if not (camera and pipeline):
+        return PadVision.NONE
+    if function is ImageProcessing.IDLE:
+        return PadVision.READY
+    if function is not ImageProcessing.STATE_ESTIMATION:
+        return PadVision.BUSY
+    return PadVision.RUNNING if image_age <= timeout else PadVision.ENGAGED
+
+
 class PtuMode(enum.Enum):
     """Active pan-tilt control mode (ppcl_ptu_activity_info)."""
 

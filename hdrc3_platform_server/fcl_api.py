@@ -414,7 +414,10 @@ class FlightCommandLayer:
         if name == "Request-Segment-EV":
             self._segment_started(cur, cid)
         elif name == "Cmd-Accepted-EV":
-            self._emit(cid, cur.command, EventKind.INFO, "accepted by the PFC")
+            # the PFC's note, if any (fcl_land: which aid it plans on, and why)
+            note = _reason(event.data, "")
+            accepted = f"accepted by the PFC: {note}" if note else "accepted by the PFC"
+            self._emit(cid, cur.command, EventKind.INFO, accepted)
             if cur.queued(cid):
                 self._replaced_before(cur, cid)
         elif cur.queued(cid) and name in ("Cmd-Rejected-EV", "Cmd-Failed-EV", "Cmd-Cancelled-EV"):

@@ -16,9 +16,10 @@ two apart, 0.15-0.6 m of drift for 1-3 s (``test_state_estimator.py``). Hence at
 off the truth, 0.3 m on average over the last 2 s (measured: 0.09-0.11 m mean alone, 0.24-0.34
 m while other launches ran on the two cores).
 
-Then ``fcl land 30`` from there (§5.4): the landing mode sees fresh fixes and the pad within
-20 m, lands on the pad's centre, holds the position on the fixes down to the skids, and its
-FCL_FINISHED says so. The touchdown (ground truth, the centre of gravity) is within
+Then ``fcl land 30`` from there (§5.4): the landing mode sees fresh fixes (or, when the last one
+is over a second old, finds the pattern in a short search) and the pad within 20 m, lands on
+the pad's centre, holds the position on the fixes down to the skids, and its FCL_FINISHED says
+so. The touchdown (ground truth, the centre of gravity) is within
 ``TOUCHDOWN_BOUND`` of the pad's centre (the issue's mean target is 0.2 m, `bench/landing.py`
 measures the mean of many; the chapter's own was 0.42 m).
 """
@@ -151,7 +152,10 @@ def test_vision_fixes_are_fused_over_the_pad_and_land_the_aircraft_on_it(
     capsys.readouterr()
     assert hdrc3_main(["fcl", "uav0", "land", "30", "--timeout", "180"]) == 0
     said = capsys.readouterr().out
-    assert "FCL_FINISHED" in said and "landed on vision: pad L1, fixes down to" in said, said
+    # a vision landing, straight away or (when the last fix was over 1 s old at the command, as
+    # under load, where the renderer skips exposures) after a short search that found the pattern
+    assert "FCL_FINISHED" in said and "landed on vision: pad L1" in said, said
+    assert "fixes down to" in said, said
     assert spin_until(executor, lambda: bool(truth) and truth[-1].on_ground, 10.0)
     pad = load_world("revinge").pad("L1")
     down = truth[-1].position_enu

@@ -49,6 +49,22 @@ def test_a_function_s_note_rides_on_its_command_s_final_reply_once() -> None:
     assert notes == {}
 
 
+def test_a_function_s_plan_rides_on_its_command_s_acceptance_once() -> None:
+    plans = {4: "landing on GPS and barometer: no vision fix of pad L1: no vision pipeline"}
+    p = EventProtocol(lambda: "", REJECTED_ID, accept_note=lambda cid: plans.pop(cid, ""))
+    out = p.outgoing(
+        [ev("Cmd-Accepted-EV", encode(4, (0.0,))), ev("Cmd-Accepted-EV", encode(5, (0.0,)))],
+        [rec("Cmd-Accepted-EV", "L.2"), rec("Cmd-Accepted-EV", "A.28")],
+        [],
+    )
+    assert [(e.name, decode(e.data, 0, with_reason=True).reason) for e in out] == [
+        ("Cmd-Accepted-EV", "landing on GPS and barometer: no vision fix of pad L1: no vision "
+         "pipeline"),
+        ("Cmd-Accepted-EV", ""),  # no note: the id alone, as before
+    ]  # fmt: skip
+    assert out[1].data == encode(5) and plans == {} and p.active == {4, 5}
+
+
 def test_reasons_come_from_table_function_failure_or_function_event() -> None:
     p = EventProtocol(lambda: "rotor at 0 rpm", REJECTED_ID)
     p.active = {1, 2, 3}

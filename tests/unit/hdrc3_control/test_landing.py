@@ -27,6 +27,7 @@ from hdrc3_control.landing import (
 )
 from hdrc3_control.path_following import PathEvent, PathStatus
 from hdrc3_control.ppc_hardware import COLOR
+from hdrc3_control.ppc_modes import PadVision
 from hdrc3_control.state_estimator import EstimatorConfig
 from hdrc3_control.wind_estimate import WindEstimate, WindStatus
 from hdrc3_hcsm.control_function import HookResult, Phase
@@ -187,12 +188,68 @@ def test_the_landing_point_is_the_pad_on_a_recent_fix_within_20_m(
     search: float | None,
 ) -> None:
     state = EstimatedState(0.0, at, (0.0, 0.0, 0.0), 0.0, 0.0, 0.3, health=health)
-    plan = plan_landing(state, 0.3, 1.0, vision_age, sites, LandingConfig())
+    plan = plan_landing(
+        state, 0.3, 1.0, vision_age, sites, LandingConfig(), pad_vision=PadVision.RUNNING
+    )
     assert (plan.aid, plan.reason) == (aid, reason)
+    assert not plan.engage
     assert plan.search_height == (None if search is None else pytest.approx(search))
     expected = (L1.east, L1.north, L1.ground_height) if aid is LandingAid.VISION else (*at[:2], 1.0)
     target = plan.target
     assert (target.east, target.north, target.ground_height, target.heading) == (*expected, 0.3)
+
+
+@pytest.mark.parametrize(
+    ("pad_vision", "vision_age", "aid", "reason", "search", "engage"),
+    [
+        # the PPC cannot see the pad: GPS on the pad's GIS position at once, saying why
+        (
+            PadVision.NONE,
+            math.inf,
+            LandingAid.GPS,
+            f"{NO_FIX}: no vision pipeline (the PPC has no colour camera or pad pose node)",
+            None,
+            False,
+        ),
+        (
+            PadVision.BUSY,
+            3.0,
+            LandingAid.GPS,
+            f"{NO_FIX}: the PPC's image processing runs another function",
+            None,
+            False,
+        ),
+        # ready but idle: the landing engages the pad's pose and searches
+        (
+            PadVision.READY,
+            math.inf,
+            LandingAid.VISION,
+            "pad L1, its pose engaged by the landing",
+            SEARCH_H,
+            True,
+        ),
+        # engaged (by PPCL or starting up) or running: it searches as before
+        (PadVision.ENGAGED, math.inf, LandingAid.VISION, "pad L1", SEARCH_H, False),
+        (PadVision.RUNNING, math.inf, LandingAid.VISION, "pad L1", SEARCH_H, False),
+        # a recent fix: no search
+        (PadVision.RUNNING, 0.2, LandingAid.VISION, "pad L1", None, False),
+    ],
+)
+def test_the_landing_searches_only_when_the_ppc_can_see_the_pad(
+    pad_vision: PadVision,
+    vision_age: float,
+    aid: LandingAid,
+    reason: str,
+    search: float | None,
+    engage: bool,
+) -> None:
+    state = EstimatedState(0.0, (110.0, 55.0, 14.0), (0.0, 0.0, 0.0), 0.0, 0.0, 0.3)
+    config = LandingConfig()
+    plan = plan_landing(state, 0.3, 1.0, vision_age, (L1,), config, pad_vision=pad_vision)
+    assert (plan.aid, plan.reason, plan.engage) == (aid, reason, engage)
+    assert plan.search_height == (None if search is None else pytest.approx(search))
+    target = plan.target  # the pad's GIS position either way (it is within 20 m)
+    assert (target.east, target.north, target.ground_height) == (L1.east, L1.north, 2.0)
 
 
 @pytest.mark.parametrize(("precise", "roll_towards_pad"), [(True, True), (False, False)])
@@ -359,7 +416,7 @@ def test_the_landing_function_searches_for_the_pattern_before_falling_back_to_gp
     """Driven as the kernel does (20 ms steps, 30 s), the aircraft held still: the phases it
     goes through, the aid it ends on and what the command's Cmd-Finished-EV would say."""
     ctx = FunctionContext(terrain=lambda e, n: 1.0, landing_sites=(L1,))
-    ctx.state, ctx.vision_age = at, age_at_land
+    ctx.state, ctx.vision_age, ctx.pad_vision = at, age_at_land, PadVision.RUNNING
     fn = LandingFunction(ctx, LandingConfig())
     memory = MemoryBank({"Land-DO": 64})
     memory.write("Land-DO", encode(7, (0.0,)))  # command 7: land, heading north
@@ -372,6 +429,49 @@ def test_the_landing_function_searches_for_the_pattern_before_falling_back_to_gp
             seen.append(fn.phase)
     assert seen == phases
     assert fn.plan is not None and fn.plan.aid is aid
+    assert ctx.notes[7] == f"{note}; heading 0 deg as commanded, no wind estimate"
+
+
+@pytest.mark.parametrize(
+    ("pad_vision", "first_phase", "posted", "note"),
+    [
+        (
+            PadVision.NONE,
+            LandingPhase.APPROACH,
+            [],
+            f"landed on GPS and barometer: {NO_FIX}: no vision pipeline (the PPC has no colour "
+            "camera or pad pose node)",
+        ),
+        (
+            PadVision.READY,
+            LandingPhase.SEARCH,
+            ["Fn-Pad-Engage-EV", "Fn-Pad-Release-EV"],
+            "landed on vision: pad L1, its pose engaged by the landing",
+        ),
+        (PadVision.RUNNING, LandingPhase.SEARCH, [], "landed on vision: pad L1"),
+    ],
+)
+def test_the_landing_engages_the_pads_pose_only_when_the_ppc_has_it_idle(
+    pad_vision: PadVision, first_phase: LandingPhase, posted: list[str], note: str
+) -> None:
+    """Near L1 without a fix: the PPC's report decides between GPS at once and a search, and a
+    landing that engaged the pad's pose releases it when it stops (landed, cancelled)."""
+    ctx = FunctionContext(terrain=lambda e, n: 1.0, landing_sites=(L1,))
+    ctx.state, ctx.pad_vision = _at(110.0, 55.0, 14.0), pad_vision
+    fn = LandingFunction(ctx, LandingConfig())
+    memory = MemoryBank({"Land-DO": 64})
+    memory.write("Land-DO", encode(7, (0.0,)))
+    assert fn.step(Phase.INITIALIZING, memory, 0.0) is HookResult.DONE
+    assert fn.phase is first_phase
+    assert [name for name, _ in ctx.events] == posted[:1]
+    plans_on = note.replace("landed on", "landing on")  # said as it starts (Cmd-Accepted-EV)
+    if first_phase is LandingPhase.SEARCH:
+        plans_on += f"; searching for the pattern from {SEARCH_H:.1f} m first"
+    assert ctx.accept_notes[7] == plans_on
+    fn.step(Phase.RUNNING, memory, 0.02)
+    assert fn.step(Phase.STOPPING, memory, 0.04) is HookResult.DONE
+    assert fn.step(Phase.STOPPING, memory, 0.06) is HookResult.DONE  # released once
+    assert [name for name, _ in ctx.events] == posted
     assert ctx.notes[7] == f"{note}; heading 0 deg as commanded, no wind estimate"
 
 

@@ -8,7 +8,7 @@ import pytest
 
 from hdrc3_control.event_codec import decode, encode
 from hdrc3_control.ppc_kernel import ColorSeed, PpcKernel, model_path
-from hdrc3_control.ppc_modes import ImageProcessing, Pose, PtuMode
+from hdrc3_control.ppc_modes import ImageProcessing, PadVision, Pose, PtuMode
 from hdrc3_control.visual_servoing import Sighting
 from hdrc3_hcsm.event import WireEvent
 from hdrc3_hcsm.loader import load_file
@@ -32,6 +32,7 @@ class Bench:
     def __init__(self, ptu_timeout: float = 10.0) -> None:
         net = LoopbackNetwork()
         self.drc: LoopbackTransport = net.endpoint("DRC")
+        self.pfc: LoopbackTransport = net.endpoint("PFC")
         self.kernel = PpcKernel(net.endpoint("PPC"), ptu_timeout=ptu_timeout)
         self.t = 0.0
         self.pan = self.tilt = self.zoom = 0.0
@@ -40,9 +41,15 @@ class Bench:
         self.seeds: list[ColorSeed] = []
         self.functions: list[ImageProcessing] = []
         """The published image processing functions and colour tracker seeds, in order."""
+        self.pad_vision: list[PadVision] = []
+        """The published pad vision reports, in order."""
 
     def send(self, name: str, cid: int, *numbers: float) -> None:
         self.drc.send(WireEvent(EVENTS.id_of(name), name, encode(cid, numbers), "DRC", "PPC"))
+
+    def from_pfc(self, name: str) -> None:
+        """An event of the PFC's Pad Vision automaton (no payload)."""
+        self.pfc.send(WireEvent(EVENTS.id_of(name), name, b"", "PFC", "PPC"))
 
     def run(self, seconds: float) -> None:
         for _ in range(round(seconds / 0.04)):
@@ -57,6 +64,8 @@ class Bench:
                 self.seeds.append(out.color_seed)
             if out.image_processing is not None:
                 self.functions.append(out.image_processing)
+            if out.pad_vision is not None:
+                self.pad_vision.append(out.pad_vision)
             for cam in out.cameras:
                 if cam.camera_id == 0:
                     self.zoom = cam.zoom
@@ -243,3 +252,65 @@ def test_a_new_seed_holds_the_pointing_until_its_object_is_seen() -> None:
     assert not b.kernel.tracking
     b.run(1.0)
     assert b.tilt == pytest.approx(0.0, abs=1e-9)
+
+
+def test_pad_vision_follows_the_devices_the_function_and_the_images() -> None:
+    """NONE without camera and pipeline; READY when both are up; ENGAGED once state estimation
+    is; RUNNING while the pipeline reports images, ENGAGED again 2 s after the last one."""
+    b = Bench()
+    b.run(0.2)
+    assert b.kernel.pad_vision is PadVision.NONE and b.pad_vision == []
+    b.kernel.devices(camera=True, pipeline=True)
+    b.run(0.04)
+    b.engage(IP.STATE_ESTIMATION, 1)
+    for _ in range(10):
+        b.kernel.pad_image(b.t)
+        b.run(0.2)
+    b.run(2.2)
+    b.kernel.devices(camera=False, pipeline=True)
+    b.run(0.04)
+    assert b.pad_vision == [
+        PadVision.READY,
+        PadVision.ENGAGED,
+        PadVision.RUNNING,
+        PadVision.ENGAGED,
+        PadVision.NONE,
+    ]
+
+
+@pytest.mark.parametrize(
+    ("before", "ppcl_between", "engaged", "after"),
+    [
+        # idle: the landing engages the pad's pose and releases it, no PPCL reply
+        (IP.IDLE, None, IP.STATE_ESTIMATION, IP.IDLE),
+        # another function runs (engaged by PPCL): the landing changes nothing
+        (IP.SALIENCY, None, IP.SALIENCY, IP.SALIENCY),
+        (IP.STATE_ESTIMATION, None, IP.STATE_ESTIMATION, IP.STATE_ESTIMATION),
+        # the operator takes the pad's pose over during the landing: it stays after it
+        (IP.IDLE, IP.STATE_ESTIMATION, IP.STATE_ESTIMATION, IP.STATE_ESTIMATION),
+        # or switches to another function: the release does not stop that one
+        (IP.IDLE, IP.COLOR_TRACKER, IP.COLOR_TRACKER, IP.COLOR_TRACKER),
+    ],
+)
+def test_the_landing_engages_the_pads_pose_from_idle_and_releases_only_its_own(
+    before: ImageProcessing,
+    ppcl_between: ImageProcessing | None,
+    engaged: ImageProcessing,
+    after: ImageProcessing,
+) -> None:
+    b = Bench()
+    b.kernel.devices(camera=True, pipeline=True)
+    b.run(0.04)  # the first step announces the PPC (PPC-Started-EV)
+    if before is not IP.IDLE:
+        b.engage(before, 1)
+    replies = len(b.replies)
+    b.from_pfc("Pad-Est-Engage-EV")
+    b.run(0.04)
+    if ppcl_between is not None:
+        b.engage(ppcl_between, 2)
+        assert b.outcome(2) == "PPCL-Finished-EV"
+    assert b.kernel.image_processing is engaged
+    b.from_pfc("Pad-Est-Release-EV")
+    b.run(0.04)
+    assert b.kernel.image_processing is after
+    assert len(b.replies) == replies + (ppcl_between is not None)  # the landing's: no reply

@@ -7,7 +7,17 @@ import math
 import pytest
 
 from hdrc3_control.ppc_hardware import COLOR, THERMAL, PtuLimits
-from hdrc3_control.ppc_modes import Pose, PtuController, PtuMode, clamp, look_at_angles, on_target
+from hdrc3_control.ppc_modes import (
+    ImageProcessing,
+    PadVision,
+    Pose,
+    PtuController,
+    PtuMode,
+    clamp,
+    look_at_angles,
+    on_target,
+    pad_vision,
+)
 
 LEVEL = Pose((0.0, 0.0, 50.0), 0.0, 0.0, 0.0)
 
@@ -76,3 +86,27 @@ def test_camera_focal_and_fov(spec: object) -> None:
     assert spec.hfov(0.0) == pytest.approx(spec.hfov_wide)
     assert spec.hfov(1.0) == pytest.approx(spec.hfov_tele)
     assert spec.focal(2.0) == spec.focal(1.0)
+
+
+IP = ImageProcessing
+
+
+@pytest.mark.parametrize(
+    ("camera", "pipeline", "function", "image_age", "state"),
+    [
+        (False, False, IP.IDLE, math.inf, PadVision.NONE),  # hdrc3 demo --basic: nothing
+        (False, True, IP.STATE_ESTIMATION, 0.1, PadVision.NONE),  # no camera: nothing to see
+        (True, False, IP.IDLE, math.inf, PadVision.NONE),  # camera, but no pad pose node
+        (True, True, IP.IDLE, math.inf, PadVision.READY),
+        (True, True, IP.SALIENCY, math.inf, PadVision.BUSY),
+        (True, True, IP.COLOR_TRACKER, 0.1, PadVision.BUSY),
+        (True, True, IP.STATE_ESTIMATION, math.inf, PadVision.ENGAGED),  # just engaged
+        (True, True, IP.STATE_ESTIMATION, 2.5, PadVision.ENGAGED),  # images stopped
+        (True, True, IP.STATE_ESTIMATION, 1.9, PadVision.RUNNING),
+    ],
+)
+def test_pad_vision_says_what_the_ppc_can_do_for_a_vision_landing(
+    camera: bool, pipeline: bool, function: ImageProcessing, image_age: float, state: PadVision
+) -> None:
+    assert pad_vision(camera, pipeline, function, image_age, 2.0) is state
+    assert state.describe()

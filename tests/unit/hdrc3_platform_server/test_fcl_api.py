@@ -229,6 +229,32 @@ def test_pfc_fault_is_reported_as_info(state: str, command_id_is_zero: bool) -> 
     assert (info[0].command_id == 0) is command_id_is_zero
 
 
+@pytest.mark.parametrize(
+    ("note", "said"),
+    [
+        ("", "accepted by the PFC"),
+        (
+            "landing on GPS and barometer: no vision fix of pad L1: no vision pipeline",
+            "accepted by the PFC: landing on GPS and barometer: no vision fix of pad L1: no "
+            "vision pipeline",
+        ),
+    ],
+)
+def test_the_pfc_s_plan_rides_on_its_acceptance(note: str, said: str) -> None:
+    from hdrc3_control.event_codec import encode
+    from hdrc3_hcsm.event import WireEvent
+
+    rig = rig_in("hover")
+    answer = rig.core.fcl.submit(C.LAND, (0.5,), rig.t)
+    assert answer.code is FclCode.OK
+    rig.run(0.04)  # the fake PFC's own acceptance (no note)
+    data = encode(answer.command_id, (), note)
+    rig.pfc.transport.send(WireEvent(2101, "Cmd-Accepted-EV", data, "PFC", "DRC"))
+    rig.run(0.04)
+    info = [e.reason for e in rig.log.events if e.reason.startswith("accepted")]
+    assert info[-1] == said, info
+
+
 def test_the_drc_model_decides_the_answer(monkeypatch: pytest.MonkeyPatch) -> None:
     # A DRC model whose land transition wants the ground: landing on the ground is then taken
     # and sent to the PFC, and landing in the air refused, with no change to the Python side.
