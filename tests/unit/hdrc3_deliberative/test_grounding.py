@@ -3,6 +3,7 @@ from __future__ import annotations
 import gc
 import itertools
 import math
+from pathlib import Path
 
 import pytest
 
@@ -249,10 +250,10 @@ def _naive_reachable(domain_text: str, problem_text: str) -> set[tuple[str, tupl
     ],
 )
 def test_reachability_grounds_exactly_the_naively_reachable_instances(
-    domain: object, problem: str
+    domain: Path, problem: str
 ) -> None:
     """The join-based grounder finds the same instances as the cross product to fixpoint."""
-    text = domain.read_text()  # type: ignore[attr-defined]
+    text = domain.read_text()
     task = ground(text, problem)
     assert {(op.name, op.args) for op in task.ops} == _naive_reachable(text, problem)
     for op in task.ops:
