@@ -8,7 +8,7 @@ from pathlib import Path
 
 from hdrc3_deliberative.control import ControlCompiler
 from hdrc3_deliberative.errors import GroundingTimeout, PlanningInputError
-from hdrc3_deliberative.grounding import Grounder
+from hdrc3_deliberative.grounding import Grounder, paused_gc
 from hdrc3_deliberative.model import ControlSpec, Domain, Problem
 from hdrc3_deliberative.motion_plan_info import MotionPlanInfo
 from hdrc3_deliberative.pddl import PddlReader
@@ -100,7 +100,19 @@ class TaskPlanner:
 
         ``progress`` hears each phase as it begins and the search's effort as it goes;
         ``cycle_check`` selects the visited states that prune (see ``search.CycleCheck``).
+        The cyclic garbage collector is paused for the call (see ``grounding.paused_gc``).
         """
+        with paused_gc():
+            return self._plan(request, timeout, sequential, progress, cycle_check)
+
+    def _plan(
+        self,
+        request: PlanRequest,
+        timeout: float,
+        sequential: bool,
+        progress: ProgressHook | None,
+        cycle_check: CycleCheck,
+    ) -> PlanResult:
         t0 = time.perf_counter()
         cpu0 = time.process_time()  # CPU time too: wall time is noisy on a shared machine
         try:

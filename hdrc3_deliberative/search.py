@@ -248,7 +248,7 @@ class TalPlanner:
         self._index: dict[int, list[GroundOp]] = {}
         self._unindexed: list[GroundOp] = []
         counts: dict[int, int] = {}
-        pre_bits = [_bits(op.pre_pos) for op in task.ops]
+        pre_bits = [op.pre_bits or _bits(op.pre_pos) for op in task.ops]
         for bits in pre_bits:
             for bit in bits:
                 counts[bit] = counts.get(bit, 0) + 1

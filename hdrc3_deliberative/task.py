@@ -50,6 +50,7 @@ class GroundOp:
     writes: int
     add_atoms: tuple[GroundAtom, ...]
     del_atoms: tuple[GroundAtom, ...]
+    pre_bits: tuple[int, ...] = ()  # the bits set in pre_pos, ascending (indexes the search)
 
     @property
     def label(self) -> str:

@@ -1,18 +1,39 @@
 from __future__ import annotations
 
+import gc
+import itertools
 import math
+from pathlib import Path
 
 import pytest
 
 from hdrc3_deliberative.errors import GroundingTimeout, PlanningInputError
 from hdrc3_deliberative.generators import (
+    BLOCKS_DOMAIN,
+    DEPOTS_DOMAIN,
+    DRIVERLOG_DOMAIN,
     LOGISTICS_DOMAIN,
+    ROVERS_DOMAIN,
+    SATELLITE_DOMAIN,
     UAV_DOMAIN,
     UAV_SCENARIO,
+    ZENOTRAVEL_DOMAIN,
+    DepotsSize,
+    DriverLogSize,
     LogisticsSize,
+    RoversSize,
+    SatelliteSize,
+    ZenoSize,
+    blocks_problem,
+    depots_problem,
+    driverlog_problem,
     logistics_problem,
+    rovers_problem,
+    satellite_problem,
+    zenotravel_problem,
 )
-from hdrc3_deliberative.grounding import Grounder
+from hdrc3_deliberative.grounding import Grounder, paused_gc
+from hdrc3_deliberative.model import AtomEffect, Equality, Literal
 from hdrc3_deliberative.motion_plan_info import StraightLineMotionPlanInfo
 from hdrc3_deliberative.pddl import PddlReader
 from hdrc3_deliberative.planner import PlanRequest, TaskPlanner
@@ -169,3 +190,131 @@ def test_grounding_stops_at_the_deadline() -> None:
     text = logistics_problem(LogisticsSize(30, 10, 3), 1)
     result = TaskPlanner().plan(PlanRequest(LOGISTICS_DOMAIN.read_text(), text), timeout=0.0)
     assert result.status is PlanStatus.TIMEOUT and "grounding" in result.reason
+
+
+def _naive_reachable(domain_text: str, problem_text: str) -> set[tuple[str, tuple[str, ...]]]:
+    """Reference: relaxed reachability over the cross product of typed objects, to fixpoint."""
+    tp = TaskPlanner()
+    d, p, _ = tp.read(PlanRequest(domain_text, problem_text))
+    g = Grounder(d, p)
+    reached = set(g.init_fluents)
+    found: set[tuple[str, tuple[str, ...]]] = set()
+    grew = True
+    while grew:
+        grew = False
+        for op in d.operators:
+            pools = [g.types.objects.get(param.type, ()) for param in op.params]
+            for values in itertools.product(*pools):
+                env = dict(zip((param.name for param in op.params), values, strict=True))
+
+                def sub(name: str, env: dict[str, str] = env) -> str:
+                    return env.get(name, name)
+
+                ok = True
+                for c in op.pre:
+                    if isinstance(c, Equality):
+                        ok = (sub(c.left.name) == sub(c.right.name)) == c.positive
+                    elif isinstance(c, Literal):
+                        atom = (c.atom.pred, tuple(sub(t.name) for t in c.atom.args))
+                        if c.atom.pred in g.static_preds:
+                            ok = (atom in g.static_facts) == c.positive
+                        elif c.positive:
+                            ok = atom in reached
+                    if not ok:
+                        break
+                if not ok:
+                    continue
+                found.add((op.name, values))
+                for e in op.effects:
+                    if isinstance(e, AtomEffect) and e.literal.positive:
+                        atom = (
+                            e.literal.atom.pred,
+                            tuple(sub(t.name) for t in e.literal.atom.args),
+                        )
+                        if atom not in reached:
+                            reached.add(atom)
+                            grew = True
+    return found
+
+
+@pytest.mark.parametrize(
+    ("domain", "problem"),
+    [
+        (LOGISTICS_DOMAIN, logistics_problem(LogisticsSize(4, 2, 1), 1)),
+        (BLOCKS_DOMAIN, blocks_problem(4, 1)),
+        (DEPOTS_DOMAIN, depots_problem(DepotsSize(1, 2, 2, 3, 3, 6), 1)),
+        (DRIVERLOG_DOMAIN, driverlog_problem(DriverLogSize(3, 1, 2, 1), 1)),
+        (SATELLITE_DOMAIN, satellite_problem(SatelliteSize(1, 1, 3, 3, 3), 1)),
+        (ROVERS_DOMAIN, rovers_problem(RoversSize(1, 4, 2, 1, 3), 1)),
+        (ZENOTRAVEL_DOMAIN, zenotravel_problem(ZenoSize(3, 1, 2), 1)),
+    ],
+)
+def test_reachability_grounds_exactly_the_naively_reachable_instances(
+    domain: Path, problem: str
+) -> None:
+    """The join-based grounder finds the same instances as the cross product to fixpoint."""
+    text = domain.read_text()
+    task = ground(text, problem)
+    assert {(op.name, op.args) for op in task.ops} == _naive_reachable(text, problem)
+    for op in task.ops:
+        bits = [b for b in range(op.pre_pos.bit_length()) if op.pre_pos >> b & 1]
+        assert op.pre_bits == tuple(bits)
+
+
+CONSTS = """(define (domain consts)
+  (:requirements :typing :negative-preconditions :equality)
+  (:types place robot)
+  (:constants home - place)
+  (:predicates (at ?r - robot ?p - place) (road ?a - place ?b - place)
+               (closed ?p - place) (visited ?p - place))
+  (:action go
+    :parameters (?r - robot ?a - place ?b - place)
+    :precondition (and (at ?r ?a) (road ?a ?b) (not (= ?a ?b)) (not (closed ?b)))
+    :effect (and (not (at ?r ?a)) (at ?r ?b) (visited ?b)))
+  (:action home-again
+    :parameters (?r - robot ?a - place)
+    :precondition (and (at ?r ?a) (visited home) (road ?a home))
+    :effect (and (not (at ?r ?a)) (at ?r home))))
+"""
+
+
+def test_equalities_negative_statics_and_constants_filter_instances() -> None:
+    problem = """(define (problem p) (:domain consts)
+  (:objects a b c d - place r - robot)
+  (:init (at r a) (road a a) (road a b) (road b home) (road home c) (road c d)
+         (road a c) (closed c))
+  (:goal (at r home)))
+"""
+    task = ground(CONSTS, problem)
+    labels = sorted(op.label for op in task.ops)
+    # go a a: equal places; go a c, go home c: c is closed, so d is unreachable;
+    # home-again needs the constant's visited(home) and road(?a, home): only from b
+    assert labels == ["(go r a b)", "(go r b home)", "(home-again r b)"]
+    assert labels == sorted(f"({n} {' '.join(a)})" for n, a in _naive_reachable(CONSTS, problem))
+
+
+def test_unreachable_operators_are_not_grounded() -> None:
+    """An operator whose precondition needs an atom no action adds has no instance."""
+    domain = CONSTS.replace("(visited ?b)))", "))")  # nothing adds visited any more
+    problem = """(define (problem p) (:domain consts)
+  (:objects a b - place r - robot)
+  (:init (at r a) (road a b) (road b home))
+  (:goal (at r home)))
+"""
+    task = ground(domain, problem)
+    assert sorted(op.label for op in task.ops) == ["(go r a b)", "(go r b home)"]
+
+
+@pytest.mark.parametrize("enabled", [True, False])
+def test_paused_gc_restores_the_collector_state(enabled: bool) -> None:
+    was = gc.isenabled()
+    try:
+        (gc.enable if enabled else gc.disable)()
+        with paused_gc():
+            assert not gc.isenabled()
+        assert gc.isenabled() is enabled
+        with pytest.raises(RuntimeError), paused_gc():
+            raise RuntimeError
+        assert gc.isenabled() is enabled
+    finally:
+        (gc.enable if was else gc.disable)()

@@ -439,3 +439,27 @@ def test_better_or_equal_is_checked_along_the_path(
     else:
         assert result.status is PlanStatus.UNSOLVABLE_PROVEN
         assert result.stats.pruned_by_cycle > 0
+
+
+def test_search_leaves_no_cyclic_garbage(planner: TaskPlanner) -> None:
+    """The planner pauses the cyclic GC through the search: the search must make no cycles."""
+    import gc
+
+    request = PlanRequest(
+        LOGISTICS_DOMAIN.read_text(),
+        logistics_problem(LogisticsSize(10, 4, 2), 1),
+        LOGISTICS_CONTROL.read_text(),
+    )
+    d, p, spec = planner.read(request)
+    task = planner.ground(d, p)
+    program = ControlCompiler(task, spec).compile()
+    was = gc.isenabled()
+    gc.collect()
+    gc.disable()
+    try:
+        result = TalPlanner(task, program, SearchConfig(timeout=60.0)).solve()
+        assert result.status is PlanStatus.SOLVED and result.stats.nodes_expanded > 10
+        assert gc.collect() == 0
+    finally:
+        if was:
+            gc.enable()
