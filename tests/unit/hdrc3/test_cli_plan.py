@@ -14,7 +14,7 @@ from hdrc3_deliberative.generators import (
     LogisticsSize,
     logistics_problem,
 )
-from tests.unit.hdrc3_deliberative.test_search import FUEL_DOMAIN, FUEL_PROBLEM
+from tests.unit.hdrc3_deliberative.fuel_domain import FUEL_DOMAIN, FUEL_PROBLEM
 
 
 def test_solves_uav_scenario(capsys: pytest.CaptureFixture[str]) -> None:

@@ -25,6 +25,7 @@ from hdrc3_deliberative.result import (
 )
 from hdrc3_deliberative.search import CycleCheck, SearchConfig, TalPlanner
 from hdrc3_deliberative.task import Task
+from tests.unit.hdrc3_deliberative.fuel_domain import FUEL_DOMAIN, FUEL_PROBLEM
 
 
 @pytest.fixture(scope="module")
@@ -317,36 +318,6 @@ operator raise(w: worker)
 end
 """
 SWAP_PROBLEM = "problem s for swap\nobject a: worker\ninit p()\ngoal not p()\n"
-
-FUEL_DOMAIN = """domain hops
-type spot
-type craft
-predicate at(c: craft, s: spot)
-predicate road(a: spot, b: spot)
-predicate landed(c: craft)
-resource fuel(c: craft)
-operator hop(c: craft, a: spot, b: spot)
-  agent c
-  pre at(c, a) and road(a, b) and fuel(c) >= 1
-  effect [t'] not at(c, a), at(c, b), fuel(c) -= 1
-end
-operator jump(c: craft, a: spot, b: spot)
-  agent c
-  pre at(c, a) and road(a, b) and fuel(c) >= 2
-  effect [t'] not at(c, a), at(c, b), fuel(c) -= 2
-end
-operator land(c: craft, s: spot)
-  agent c
-  pre at(c, s) and fuel(c) <= 38
-  effect [t'] landed(c)
-end
-"""
-FUEL_PROBLEM = """problem h for hops
-object a, b: spot
-object s: craft
-init at(s, a), road(a, b), fuel(s) = 40
-goal GOAL
-"""
 
 
 def _prevail_holds_on_timeline(task: Task, plan: tuple[Occurrence, ...]) -> bool:
