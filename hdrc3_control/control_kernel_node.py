@@ -45,16 +45,9 @@ from sensor_msgs.msg import Imu, NavSatFix
 from std_msgs.msg import String, UInt8
 
 from hdrc3_base.errors import ConfigError
-from hdrc3_base.raw_cdr import (
-    RawMessageError,
-    read_attitude,
-    read_ground_contact,
-    read_imu,
-    read_stamp,
-    read_yacs_status,
-)
+from hdrc3_base.raw_cdr import CdrReader, RawMessageError
 from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
-from hdrc3_base.stamps import ns_to_s, set_stamp_ns, stamp_ns, stamp_s
+from hdrc3_base.stamps import NS_PER_S, ns_to_s, set_stamp_ns, stamp_ns, stamp_s
 from hdrc3_control.commands import EstimatorHealth, VerticalMode
 from hdrc3_control.kernel import PfcKernel, TickResult, UiCommand
 from hdrc3_control.kernel_config import KernelConfig
@@ -89,6 +82,21 @@ from sim.geodesy import LocalFrame
 from sim.world_loader import load_world, shipped_worlds
 
 NODE_NAME = "control_kernel"
+STAMP = ("header.stamp.sec", "header.stamp.nanosec")
+CLOCK = CdrReader(Clock, ("clock.sec", "clock.nanosec"))
+"""The per-tick inputs are read from the raw bytes (:mod:`hdrc3_base.raw_cdr`): building each
+rclpy message cost 15-56 us, reading the few fields used 1-3 us."""
+STATUS = CdrReader(YacsStatus, (*STAMP, "mode", "rc_link_ok", "engine_running", "rotor_rpm"))
+IMU = CdrReader(
+    Imu,
+    (
+        *STAMP,
+        *(f"angular_velocity.{a}" for a in "xyz"),
+        *(f"linear_acceleration.{a}" for a in "xyz"),
+    ),
+)
+ATTITUDE = CdrReader(Attitude, (*STAMP, "roll", "pitch", "heading"))
+GROUND_CONTACT = CdrReader(GroundContact, (*STAMP, "on_ground"))
 PERIOD = 0.02
 """Control period, s (50 Hz)."""
 SENSOR_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
@@ -244,7 +252,8 @@ class ControlKernelNode(SteppedNode):
 
     # ------------------------------------------------------------------ inputs
     def _on_clock(self, data: bytes) -> None:
-        ns = read_stamp(data)
+        sec, nanosec = CLOCK.read(data)
+        ns = sec * NS_PER_S + nanosec
         if ns == self._clock_ns == self._answered_ns:
             # world_sim re-announces a tick it still waits for: our answer never reached it (a
             # writer that has not matched world_sim's reader yet sends it to nobody, as at a
@@ -254,27 +263,27 @@ class ControlKernelNode(SteppedNode):
         self._clock_ns = ns
 
     def _on_status(self, data: bytes) -> None:
-        msg = read_yacs_status(data)
-        self._status_ns = msg.stamp_ns
+        sec, nanosec, mode, rc_link_ok, engine_running, rotor_rpm = STATUS.read(data)
+        self._status_ns = sec * NS_PER_S + nanosec
         self.kernel.feed_status(
             PlatformStatus(
-                ns_to_s(msg.stamp_ns),
-                msg.mode == YacsStatus.MODE_AUTONOMOUS,
-                msg.rc_link_ok,
-                msg.engine_running,
-                msg.rotor_rpm,
+                ns_to_s(self._status_ns),
+                mode == YacsStatus.MODE_AUTONOMOUS,
+                rc_link_ok,
+                engine_running,
+                rotor_rpm,
             )
         )
 
     def _on_imu(self, data: bytes) -> None:
-        msg = read_imu(data)
-        t = ns_to_s(msg.stamp_ns)
-        self.kernel.feed(ImuMeasurement(t, msg.linear_acceleration, msg.angular_velocity))
+        sec, nanosec, wx, wy, wz, ax, ay, az = IMU.read(data)
+        t = ns_to_s(sec * NS_PER_S + nanosec)
+        self.kernel.feed(ImuMeasurement(t, (ax, ay, az), (wx, wy, wz)))
 
     def _on_attitude(self, data: bytes) -> None:
-        msg = read_attitude(data)
-        t = ns_to_s(msg.stamp_ns)
-        self.kernel.feed(AttitudeMeasurement(t, msg.roll, msg.pitch, msg.heading))
+        sec, nanosec, roll, pitch, heading = ATTITUDE.read(data)
+        t = ns_to_s(sec * NS_PER_S + nanosec)
+        self.kernel.feed(AttitudeMeasurement(t, roll, pitch, heading))
 
     def _on_fix(self, msg: Any) -> None:
         o = self.origin
@@ -310,9 +319,9 @@ class ControlKernelNode(SteppedNode):
         self.kernel.feed(BaroMeasurement(t, msg.altitude - self.origin.altitude))
 
     def _on_ground(self, data: bytes) -> None:
-        msg = read_ground_contact(data)
-        t = ns_to_s(msg.stamp_ns)
-        self.kernel.feed(GroundContactMeasurement(t, msg.on_ground, 0.0))
+        sec, nanosec, on_ground = GROUND_CONTACT.read(data)
+        t = ns_to_s(sec * NS_PER_S + nanosec)
+        self.kernel.feed(GroundContactMeasurement(t, on_ground, 0.0))
 
     def _on_vision(self, msg: Any) -> None:
         p, cov = msg.pose.pose.position, msg.pose.covariance
