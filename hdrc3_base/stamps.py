@@ -21,6 +21,12 @@ def stamp_s(stamp: Any) -> float:
     return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
 
 
+def ns_to_s(ns: int) -> float:
+    """Seconds of integer nanoseconds, exactly as :func:`stamp_s` of the stamp holding them."""
+    sec, nanosec = divmod(ns, NS_PER_S)
+    return float(sec) + 1e-9 * float(nanosec)
+
+
 def set_stamp_ns(stamp: Any, ns: int) -> None:
     """Write integer nanoseconds (negative: 0) into a stamp."""
     ns = max(0, ns)

@@ -109,10 +109,10 @@ class AgentTopics:
         self.last_exposure_ns: int | None = None
         """Stamp of the newest exposure pose published (None: none yet, or nobody listens)."""
 
-    def publish_readings(self, readings: Sequence[SensorReadings]) -> None:
+    def publish_readings(self, readings: Sequence[SensorReadings], poses: bool = True) -> None:
         """Publish every sample of ``readings``: :meth:`publish_control`, then the payload's."""
         self.publish_control(readings)
-        self.publish_payload(readings)
+        self.publish_payload(readings, poses)
 
     def publish_control(self, readings: Sequence[SensorReadings]) -> None:
         """The samples the control kernel reads (time order), those somebody subscribes to.
@@ -164,8 +164,14 @@ class AgentTopics:
                 m.status, m.voltage, m.current = r.power.status, r.power.voltage, r.power.current
                 self.power.publish(m)
 
-    def publish_payload(self, readings: Sequence[SensorReadings]) -> None:
-        """The payload's samples (time order): PTU, cameras and their poses, laser, radiation."""
+    def publish_payload(self, readings: Sequence[SensorReadings], poses: bool = True) -> None:
+        """The payload's samples (time order): PTU, cameras and their poses, laser, radiation.
+
+        ``poses`` False skips the exposures' poses (``ground_truth/<camera>_camera_pose``):
+        world_sim publishes them only while world_render runs. A recorder subscribing to every
+        topic would otherwise make a run without cameras pay for them (a rotation matrix to a
+        quaternion and a message per exposure, ~7 % of world_sim's CPU in the basic demo).
+        """
         for r in readings:
             if r.ptu is not None and self.ptu.get_subscription_count():
                 m = self.m_ptu
@@ -183,7 +189,7 @@ class AgentTopics:
                     m.pan, m.tilt, m.zoom = frame.pan, frame.tilt, frame.zoom
                     m.ipc_time = m.header.stamp
                     publisher.publish(m)
-                if frame is not None and pose_publisher.get_subscription_count():
+                if frame is not None and poses and pose_publisher.get_subscription_count():
                     self._camera_pose(frame, pose_publisher)
             if r.laser is not None and self.laser.get_subscription_count():
                 self._laser(r)

@@ -482,9 +482,11 @@ class WorldSimNode(SteppedNode):
                 self._publish_status(topics, name, ns)
         set_stamp_ns(self._clock_msg.clock, ns)
         self._clock_pub.publish(self._clock_msg)
+        # exposure poses only while world_render runs (its progress publisher is the sign)
+        poses = self._render_sub.get_publisher_count() > 0
         for name, topics in self.topics.items():
             if not repeat:
-                topics.publish_payload(readings[name])
+                topics.publish_payload(readings[name], poses)
                 if topics.last_exposure_ns is not None:
                     self.render_gate.announce(name, topics.last_exposure_ns)
             topics.publish_truth(sim.truth(name), ns)

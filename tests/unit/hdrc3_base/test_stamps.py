@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import pytest
 
-from hdrc3_base.stamps import set_stamp_ns, set_stamp_s, stamp_ns, stamp_s
+from hdrc3_base.stamps import ns_to_s, set_stamp_ns, set_stamp_s, stamp_ns, stamp_s
 
 
 @dataclass
@@ -40,3 +40,12 @@ def test_nanoseconds_round_trip(ns: int) -> None:
     stamp = Stamp()
     set_stamp_ns(stamp, ns)
     assert stamp_ns(stamp) == ns and 0 <= stamp.nanosec < 1_000_000_000
+
+
+@pytest.mark.parametrize(
+    "ns", [0, 1, 999_999_999, 1_000_000_000, 254_980_000_000, 86_400_123_456_789]
+)
+def test_ns_to_s_is_stamp_s(ns: int) -> None:
+    stamp = Stamp()
+    set_stamp_ns(stamp, ns)
+    assert ns_to_s(ns) == stamp_s(stamp)  # bit for bit: raw readers feed the same floats
