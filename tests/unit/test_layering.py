@@ -36,11 +36,13 @@ SIM_DATA = frozenset(
         "sim.world_generator",
         "sim.landing_pattern",
         "sim.airframe",
+        "sim.geodesy",
     }
 )
 """The simulator modules the autonomy stack may use: world files are data (terrain, origin),
 and so is the landing pad's printed pattern (the pose estimator knows it) and the payload's
-mounting calibration (``sim.airframe``);
+mounting calibration (``sim.airframe``), and so is the geodesy of a world's origin
+(``sim.geodesy``: the origin's type and its local ENU frame, the control kernel's WGS84 output);
 the generator writes such files (``hdrc3 world generate``)."""
 SIM_HARNESSES = frozenset({"hdrc3_control.kernel_harness"})
 """Stack modules that couple a kernel with the simulator in one process (tests and benches)."""
