@@ -93,13 +93,25 @@ IMU = CdrReader(Imu, ("header.stamp.sec", "angular_velocity.x", "linear_accelera
 @pytest.mark.parametrize(
     ("reader", "data"),
     [
-        (IMU, b""),
-        (IMU, b"\x00\x01\x00"),
-        (IMU, b"\x07\x07\x00\x00" + bytes(300)),  # unknown encapsulation
-        (IMU, serialize_message(Imu())[:100]),  # cut short
-        (IMU, b"\x00\x01\x00\x00" + bytes(8) + (1000).to_bytes(4, "little") + bytes(40)),
-        (CdrReader(GroundContact, ("on_ground",)), serialize_message(GroundContact())[:-1]),
-        (CdrReader(Clock, ("clock.nanosec",)), b"\x00\x01\x00\x00\x01"),
+        pytest.param(IMU, b"", id="empty"),
+        pytest.param(IMU, b"\x00\x01\x00", id="no-encapsulation"),
+        pytest.param(IMU, b"\x07\x07\x00\x00" + bytes(300), id="unknown-encapsulation"),
+        # named ids: rmw leaves CDR padding bytes unset, so serialized bytes differ between
+        # processes, and pytest-xdist's workers must collect the same test names
+        pytest.param(IMU, serialize_message(Imu())[:100], id="imu-cut-short"),
+        pytest.param(
+            IMU,
+            b"\x00\x01\x00\x00" + bytes(8) + (1000).to_bytes(4, "little") + bytes(40),
+            id="string-past-the-end",
+        ),
+        pytest.param(
+            CdrReader(GroundContact, ("on_ground",)),
+            serialize_message(GroundContact())[:-1],
+            id="ground-contact-cut-short",
+        ),
+        pytest.param(
+            CdrReader(Clock, ("clock.nanosec",)), b"\x00\x01\x00\x00\x01", id="clock-cut-short"
+        ),
     ],
 )
 def test_bad_data_raises(reader: CdrReader, data: bytes) -> None:
