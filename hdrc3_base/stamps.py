@@ -11,20 +11,24 @@ from typing import Any
 NS_PER_S = 1_000_000_000
 
 
+def nanoseconds(sec: int, nanosec: int) -> int:
+    """Integer nanoseconds of a stamp's two fields (as a raw reader gives them)."""
+    return int(sec) * NS_PER_S + int(nanosec)
+
+
+def seconds(sec: int, nanosec: int) -> float:
+    """Seconds of a stamp's two fields (as a raw reader gives them)."""
+    return float(sec) + 1e-9 * float(nanosec)
+
+
 def stamp_ns(stamp: Any) -> int:
     """Integer nanoseconds of a stamp."""
-    return int(stamp.sec) * NS_PER_S + int(stamp.nanosec)
+    return nanoseconds(stamp.sec, stamp.nanosec)
 
 
 def stamp_s(stamp: Any) -> float:
     """Seconds of a stamp."""
-    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
-
-
-def ns_to_s(ns: int) -> float:
-    """Seconds of integer nanoseconds, exactly as :func:`stamp_s` of the stamp holding them."""
-    sec, nanosec = divmod(ns, NS_PER_S)
-    return float(sec) + 1e-9 * float(nanosec)
+    return seconds(stamp.sec, stamp.nanosec)
 
 
 def set_stamp_ns(stamp: Any, ns: int) -> None:

@@ -47,7 +47,7 @@ from std_msgs.msg import String, UInt8
 from hdrc3_base.errors import ConfigError
 from hdrc3_base.raw_cdr import CdrReader, RawMessageError
 from hdrc3_base.ros_runtime import SERVICE_QOS, SteppedNode, run_stepped_node
-from hdrc3_base.stamps import NS_PER_S, ns_to_s, set_stamp_ns, stamp_ns, stamp_s
+from hdrc3_base.stamps import nanoseconds, seconds, set_stamp_ns, stamp_ns, stamp_s
 from hdrc3_control.commands import EstimatorHealth, VerticalMode
 from hdrc3_control.kernel import PfcKernel, TickResult, UiCommand
 from hdrc3_control.kernel_config import KernelConfig
@@ -252,8 +252,7 @@ class ControlKernelNode(SteppedNode):
 
     # ------------------------------------------------------------------ inputs
     def _on_clock(self, data: bytes) -> None:
-        sec, nanosec = CLOCK.read(data)
-        ns = sec * NS_PER_S + nanosec
+        ns = nanoseconds(*CLOCK.read(data))
         if ns == self._clock_ns == self._answered_ns:
             # world_sim re-announces a tick it still waits for: our answer never reached it (a
             # writer that has not matched world_sim's reader yet sends it to nobody, as at a
@@ -264,10 +263,10 @@ class ControlKernelNode(SteppedNode):
 
     def _on_status(self, data: bytes) -> None:
         sec, nanosec, mode, rc_link_ok, engine_running, rotor_rpm = STATUS.read(data)
-        self._status_ns = sec * NS_PER_S + nanosec
+        self._status_ns = nanoseconds(sec, nanosec)
         self.kernel.feed_status(
             PlatformStatus(
-                ns_to_s(self._status_ns),
+                seconds(sec, nanosec),
                 mode == YacsStatus.MODE_AUTONOMOUS,
                 rc_link_ok,
                 engine_running,
@@ -277,12 +276,12 @@ class ControlKernelNode(SteppedNode):
 
     def _on_imu(self, data: bytes) -> None:
         sec, nanosec, wx, wy, wz, ax, ay, az = IMU.read(data)
-        t = ns_to_s(sec * NS_PER_S + nanosec)
+        t = seconds(sec, nanosec)
         self.kernel.feed(ImuMeasurement(t, (ax, ay, az), (wx, wy, wz)))
 
     def _on_attitude(self, data: bytes) -> None:
         sec, nanosec, roll, pitch, heading = ATTITUDE.read(data)
-        t = ns_to_s(sec * NS_PER_S + nanosec)
+        t = seconds(sec, nanosec)
         self.kernel.feed(AttitudeMeasurement(t, roll, pitch, heading))
 
     def _on_fix(self, msg: Any) -> None:
@@ -320,7 +319,7 @@ class ControlKernelNode(SteppedNode):
 
     def _on_ground(self, data: bytes) -> None:
         sec, nanosec, on_ground = GROUND_CONTACT.read(data)
-        t = ns_to_s(sec * NS_PER_S + nanosec)
+        t = seconds(sec, nanosec)
         self.kernel.feed(GroundContactMeasurement(t, on_ground, 0.0))
 
     def _on_vision(self, msg: Any) -> None:
