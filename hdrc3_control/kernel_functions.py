@@ -512,6 +512,10 @@ class TrackFunction:
         return HookResult.BUSY
 
 
+_AID_TEXT = {LandingAid.GPS: "GPS and barometer", LandingAid.VISION: "vision"}
+"""How the landing's acceptance and final reply name the aid."""
+
+
 class LandingFunction:
     """Landing (Land-Mode-AC): on the pad's vision fixes or on GPS, touchdown, engine shutdown.
 
@@ -642,10 +646,8 @@ class LandingFunction:
         plan = self.plan
         if plan is None:
             return ""
-        if plan.aid is LandingAid.GPS:
-            return f"landing on GPS and barometer: {plan.reason}"
-        text = f"landing on vision: {plan.reason}"
-        if plan.search_height is not None:
+        text = f"landing on {_AID_TEXT[plan.aid]}: {plan.reason}"
+        if plan.aid is LandingAid.VISION and plan.search_height is not None:
             text += f"; searching for the pattern from {plan.search_height:.1f} m first"
         return text
 
@@ -654,12 +656,9 @@ class LandingFunction:
         plan = self.plan
         if plan is None or self.command_id == 0:
             return
-        if plan.aid is LandingAid.GPS:
-            text = f"landed on GPS and barometer: {plan.reason}"
-        else:
-            text = f"landed on vision: {plan.reason}"
-            if self.lowest_fix is not None:
-                text += f", fixes down to {self.lowest_fix:.1f} m above it"
+        text = f"landed on {_AID_TEXT[plan.aid]}: {plan.reason}"
+        if plan.aid is LandingAid.VISION and self.lowest_fix is not None:
+            text += f", fixes down to {self.lowest_fix:.1f} m above it"
         if self.heading is not None:
             text += f"; {self.heading.describe()}"
         self.ctx.notes[self.command_id] = text
